@@ -1,0 +1,49 @@
+// gmslab command line: one CLI11 app, one file per command (app/cli/cmd_*.cpp).
+//
+// Commands that need GL (render, figures) run in gmslab-headless (OSMesa); `gmslab` forwards them
+// there through Host, so both executables print the same help and accept the same options.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace gmslab::cli {
+
+struct RenderOptions {
+  std::string preset;              // scenario JSON
+  std::string out;                 // PNG path
+  std::string size = "1600x1000";  // WIDTHxHEIGHT in pixels
+  std::string view = "auto";       // which view to draw (auto: what the preset is for)
+  double time = -1.0;              // simulated time to show [s]; < 0: the whole run
+};
+
+struct FiguresOptions {
+  std::string out = "figures";  // folder for PNG + CSV
+  std::string only;             // comma-separated figure ids; empty = all
+  std::string size = "1400x900";
+};
+
+void add_render_options(CLI::App& sub, RenderOptions& o);
+void add_figures_options(CLI::App& sub, FiguresOptions& o);
+// Parses "1600x1000"; throws InputError naming the option on bad input.
+void parse_size(const std::string& text, int& w, int& h);
+
+struct Host {
+  std::function<int(const RenderOptions&)> render;
+  std::function<int(const FiguresOptions&)> figures;
+  std::function<int()> window;  // no command given
+};
+
+// The action a command registers; run() calls it after a successful parse.
+using Action = std::function<int()>;
+
+void register_simulate(CLI::App& app, Action& action);
+void register_design(CLI::App& app, Action& action);
+void register_identify(CLI::App& app, Action& action);
+
+// Parses argv, runs the command; returns the process exit code. Bad input prints one clear error
+// (file, line or key, what is accepted) and returns 2; never throws.
+int run(int argc, char** argv, const Host& host);
+
+}  // namespace gmslab::cli
