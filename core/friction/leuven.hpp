@@ -2,14 +2,16 @@
 // the modified form of Lampaert, Swevers, Al-Bender (IEEE TAC 47(4), 2002): the hysteresis force
 // F_h(z) is a Maxwell-slip model driven by the state z.
 //
-//   dz/dt = v (1 - sgn(F_h(z)/S(v)) |F_h(z)/S(v)|^n)
+//   dz/dt = v (1 - sgn(F_h(z)/s(v)) |F_h(z)/s(v)|^n),   s(v) = sgn(v) S(v)
 //   F     = F_h(z) + sigma1 dz/dt + sigma2 v
 //   F_h(z) = sum_i F_i,  Jenkin element i: dF_i/dz = k_i while |F_i| < W_i, F_i = +-W_i in slip
 //   S(v)  = Fc + (Fs - Fc) exp(-(|v|/Vs)^delta)
 //
 // z [m] state (only its increments matter), n [-] transition exponent, sigma1, sigma2 [N s/m],
 // k_i [N/m], W_i [N] with sum W_i >= Fs (F_h must be able to reach S(v), else z runs away).
-// Steady sliding: F_h = sgn(v) S(v), dz/dt = 0, F = sgn(v) S(v) + sigma2 v.
+// Steady sliding: F_h = sgn(v) S(v), dz/dt = 0, F = sgn(v) S(v) + sigma2 v. The level s(v) must
+// carry the sign of v (as in Swevers et al.): with the magnitude S(v) the v < 0 fixed point is
+// unstable and z runs away.
 //
 // Step with v frozen: z moves monotonically towards the fixed point F_h = sgn(v) S(v), so the
 // element forces after a state increment dz are exactly F_i(dz) = clamp(F_i + k_i dz, -W_i, W_i)
