@@ -28,7 +28,7 @@ ModelInfo leuven_model_info() {
   m.max_elements = 100000;
   m.defaults = [] {
     return ModelParams{"leuven",
-                       {1.5, 1.0, 1e-3, 2.0, 2.0, 182.7, 0.4},
+                       {1.5, 1.0, 1e-3, 2.0, 8.0, 0.0, 0.4},
                        {{75000, 0.15}, {60000, 0.3}, {45000, 0.45}, {30000, 0.6}}};
   };
   m.check = [](const ModelParams& p, std::vector<std::string>& out) {

@@ -13,6 +13,15 @@
 // carry the sign of v (as in Swevers et al.): with the magnitude S(v) the v < 0 fixed point is
 // unstable and z runs away.
 //
+// Memory: F_h has exact nonlocal memory in z, but z follows x only as far as
+// dz/dx = 1 - sgn(F_h/s)|F_h/s|^n is close to 1. Presliding loops in x therefore close only
+// approximately, and a sub-break-away oscillating force makes the body creep slowly (both vanish
+// as n grows). The default n = 8 keeps presliding Maxwell-slip-like (with n = 2 the Fig. 2A inner
+// loop misses closing by 0.14 N and the 2D protocol drifts 14 um in 6 s; with n = 8: 0.016 N and
+// 0.2 um). sigma1 defaults to 0: in sliding dz/dt follows (dS/dt) / (stiffness of the sticking
+// elements), so a large sigma1 inverts the frictional lag (with sigma1 = 183 N s/m, the GMS
+// reference's total micro-damping, the Fig. 2B loop runs the wrong way round).
+//
 // Step with v frozen: z moves monotonically towards the fixed point F_h = sgn(v) S(v), so the
 // element forces after a state increment dz are exactly F_i(dz) = clamp(F_i + k_i dz, -W_i, W_i)
 // (one monotone move from the step start). dz over the step is integrated by classical RK4 on
