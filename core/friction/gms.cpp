@@ -128,6 +128,7 @@ __attribute__((target_clones("avx2", "default"))) Sums gms_elements_step(
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   const double v = in.v;
   const double h = in.h;
+  const double inv_h = 1.0 / h;  // independent of v: off the step's critical path
   const double s = sgn(v);
   const double S = p_.S.at_scaled(std::abs(v) * inv_vs_);
   const double E = exp_neg(p_.C * h / S);  // slip relaxation over the step, common to all
@@ -135,7 +136,7 @@ double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   const auto [sum_f, sum_damp] =
       gms_elements_step(n_, state.data(), state.data() + n_, p_.alpha.data(), p_.k.data(),
                         sigma_over_k_.data(), s, S, E, vh);
-  return sum_f + sum_damp / h + p_.sigma2 * v;
+  return sum_f + sum_damp * inv_h + p_.sigma2 * v;
 }
 
 double GmsModel::steady_state(double v) const { return sgn(v) * p_.S(v) + p_.sigma2 * v; }

@@ -12,9 +12,9 @@
 namespace gmslab {
 namespace {
 
-using testing::at_time;
-using testing::gms_displacement_scenario;
-using testing::preset_path;
+using test_util::at_time;
+using test_util::gms_displacement_scenario;
+using test_util::preset_path;
 
 // Time at which the turning-point signal reaches its k-th point.
 double turn_time(const Signal& s, std::size_t k) { return s.pt.at(k); }

@@ -37,7 +37,7 @@ Phases find_phases(const Trace& tr) {
 class GmsStickSlip : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scenario_ = new Scenario(load_scenario(testing::preset_path("fig4_stick_slip.json")));
+    scenario_ = new Scenario(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
     trace_ = new Trace(simulate(*scenario_));
   }
   static void TearDownTestSuite() {

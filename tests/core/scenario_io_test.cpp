@@ -45,7 +45,7 @@ std::string load_error(const std::string& text) {
   return "";
 }
 
-std::string fig4_text() { return read_file(testing::preset_path("fig4_stick_slip.json")); }
+std::string fig4_text() { return read_file(test_util::preset_path("fig4_stick_slip.json")); }
 
 std::string replace(std::string s, const std::string& from, const std::string& to) {
   const auto p = s.find(from);
@@ -101,7 +101,7 @@ TEST(ScenarioIo, UnknownModelListsKnownModels) {
 }
 
 TEST(ScenarioIo, StepTooLargeForStiffestElementIsRejectedBySimulation) {
-  Scenario s = load_scenario(testing::preset_path("fig4_stick_slip.json"));
+  Scenario s = load_scenario(test_util::preset_path("fig4_stick_slip.json"));
   s.run.dt = 0.01;  // omega = sqrt(210002) ~ 458 rad/s -> limit 2/omega ~ 4.4 ms
   try {
     Simulation sim(s);

@@ -8,7 +8,7 @@
 #include "core/friction/gms.hpp"
 #include "core/sim/simulation.hpp"
 
-namespace gmslab::testing {
+namespace gmslab::test_util {
 
 inline std::string preset_path(const std::string& name) {
   return std::string(GMSLAB_SOURCE_DIR) + "/presets/" + name;
@@ -39,4 +39,4 @@ inline double at_time(const Trace& tr, const std::vector<double>& col, double t)
   return col[best];
 }
 
-}  // namespace gmslab::testing
+}  // namespace gmslab::test_util
