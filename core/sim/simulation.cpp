@@ -108,9 +108,10 @@ void Simulation::set_friction(const ModelParams& p) {
   if (!same_shape) {
     state_.assign(model_->state_size(), 0.0);
     model_->reset(state_);
+    // Keep the trace's element columns aligned with its samples: earlier samples get zeros.
     trace_.n_elements = std::min(model_->element_count(), kMaxRecordedElements);
-    trace_.element_force.clear();
-    trace_.element_slip.clear();
+    trace_.element_force.assign(trace_.size() * trace_.n_elements, 0.0);
+    trace_.element_slip.assign(trace_.size() * trace_.n_elements, 0);
   }
 }
 
