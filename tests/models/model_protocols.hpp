@@ -10,12 +10,12 @@
 #include "core/friction/model.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/sim/simulation.hpp"
+#include "tests/core/test_util.hpp"
 
 namespace gmslab::testing {
 
-inline std::string preset_path(const std::string& name) {
-  return std::string(GMSLAB_SOURCE_DIR) + "/presets/" + name;
-}
+using test_util::at_time;
+using test_util::preset_path;
 
 // Every registered model tag.
 inline std::vector<std::string> all_tags() {
@@ -42,14 +42,6 @@ inline double value_at_crossing(const std::vector<double>& t, const std::vector<
     if (a < 0.0 && b >= 0.0) return y[k - 1] + (y[k] - y[k - 1]) * (x0 - x[k - 1]) / (x[k] - x[k - 1]);
   }
   return std::numeric_limits<double>::quiet_NaN();
-}
-
-// Value of y at the sample nearest to time t0.
-inline double at_time(const Trace& tr, const std::vector<double>& y, double t0) {
-  std::size_t best = 0;
-  for (std::size_t k = 0; k < tr.size(); ++k)
-    if (std::abs(tr.t[k] - t0) < std::abs(tr.t[best] - t0)) best = k;
-  return y[best];
 }
 
 // Steps a model along prescribed positions x[0..n] with step h (mass 0); returns the forces

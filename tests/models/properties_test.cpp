@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/friction/gms.hpp"
 #include "tests/models/model_protocols.hpp"
 
 namespace gmslab {
@@ -77,22 +76,7 @@ TEST(NonlocalMemory, MaxwellSlipTurningPointsAreTheReferenceNumbers) {
   }
 }
 
-// The seed, Sec. IV-A: with S(v) replaced by a constant, GMS reduces to Maxwell-slip.
-TEST(NonlocalMemory, GmsWithConstantStribeckLevelIsMaxwellSlip) {
-  GmsParams g = GmsParams::reference(false);
-  g.S.Fs = g.S.Fc = 1.2;
-  const auto gms = build_model(g.to_params());
-  ModelParams mp{"maxwell_slip", {g.sigma2}, {}};
-  for (std::size_t i = 0; i < g.k.size(); ++i) mp.elements.push_back({g.k[i], g.alpha[i] * 1.2});
-  const auto ms = build_model(mp);
-  std::vector<double> sg(gms->state_size(), 0.0), sm(ms->state_size(), 0.0);
-  const double h = 1e-4;
-  for (int k = 0; k < 50000; ++k) {  // presliding wiggles riding on slow sliding, 5 s
-    const double t = k * h;
-    const double v = 1e-4 * std::sin(1.3 * t) + 3e-4 * std::sin(40.0 * t) * std::cos(3.0 * t);
-    ASSERT_NEAR(gms->step(sg, {v, h}), ms->step(sm, {v, h}), 1e-12) << "t = " << t;
-  }
-}
+// (GMS with a constant Stribeck level reducing to Maxwell-slip is tests/core's.)
 
 // ---- drift under a sub-break-away oscillating force (Fig. 2D protocol) --------------------------
 double drift_6_to_12s(const std::string& tag) {
