@@ -74,8 +74,8 @@ double ElastoPlasticModel::advance_w(double w, double u, double w_max, double h)
     const double phase = c * (w - mid);
     const double alpha = 0.5 + 0.5 * std::sin(phase);
     if (1.0 - alpha < 1e-10) return w_max + (w - w_max) * std::exp(-u * h / w_max);
-    const double dalpha = 0.5 * c * std::cos(phase);
-    const double lipschitz = u * (dalpha * w + alpha) / w_max;
+    const double dalpha = std::abs(0.5 * c * std::cos(phase));  // cos(-pi/2) may be -1e-17
+    const double lipschitz = u * (dalpha * w + alpha + 1e-6) / w_max;  // > 0
     const double travel_rate = u * (1.0 - alpha * w / w_max);
     const double hs = std::min({h, 0.2 / lipschitz, 0.0625 * width / travel_rate});
     const double k1 = travel_rate;
