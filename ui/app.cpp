@@ -115,6 +115,18 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
   }
 }
 
+Session make_session(const AppState& s) {
+  return {s.scenario_path, s.scenario, s.compare, s.view};
+}
+
+void restore_session(AppState& s, const Session& session) {
+  if (session.compare) build_model(*session.compare);  // validate before changing anything
+  load_scenario_into(s, session.scenario, session.scenario_path);
+  s.view = session.view;
+  s.select_tab = 2;
+  if (session.compare) apply_compare(s, *session.compare);
+}
+
 void apply_pending(AppState& s) {
   PendingRequests p = std::move(s.pending);
   s.pending = {};

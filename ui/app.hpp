@@ -15,18 +15,14 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/io/session_io.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace gmslab::ui {
 
 // What the user chose to see; saved in sessions (core/io/session_io.hpp).
-struct ViewSettings {
-  double speed = 1.0;            // simulated seconds per wall-clock second, (0, 1e3]
-  bool color_phases = true;      // colour stick (blue) and slip (orange) in the time plots
-  double slip_velocity = 1e-4;   // |v| above which a body counts as slipping [m/s]
-  std::string tab = "Simulation";  // selected panel
-};
+using gmslab::ViewSettings;
 
 // UI edits waiting to be applied (apply_pending). Each field is one request.
 struct PendingRequests {
@@ -87,6 +83,10 @@ void apply_pending(AppState& s);
 void advance(AppState& s);
 // Runs both simulations up to simulated time t (t < 0: to the end). Throws SimulationError.
 void run_until(AppState& s, double t);
+// The session of the current state, and the state restored from a session (throws InputError
+// when its scenario or overlay model is invalid; nothing changes then).
+Session make_session(const AppState& s);
+void restore_session(AppState& s, const Session& session);
 // One frame: draws the main window with its panels (full display), then apply_pending + advance.
 void draw_frame(AppState& s);
 

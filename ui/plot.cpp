@@ -53,6 +53,8 @@ struct Building {
   PlotOptions opt;
   Axis ax, ay;
   bool has_limits = false, limits_always = false;
+  bool has_hint = false;
+  double hx0 = 0, hx1 = 1;  // autoscale covers at least this x range
   double lx0 = 0, lx1 = 1, ly0 = 0, ly1 = 1;
   std::vector<SeriesRef> series;
 };
@@ -94,9 +96,9 @@ void add_bounds(const SeriesRef& s, Bounds& b) {
 // Pads a range by `frac` on each side; widens a degenerate one.
 void pad(double& lo, double& hi, double frac) {
   if (!(hi > lo)) {
-    const double m = std::max(std::fabs(lo), 1e-12);
-    lo -= 0.1 * m;
-    hi += 0.1 * m;
+    const double m = lo == 0.0 ? 1.0 : 0.1 * std::fabs(lo);  // a flat trace sits mid-plot
+    lo -= m;
+    hi += m;
     return;
   }
   const double d = (hi - lo) * frac;
@@ -104,15 +106,19 @@ void pad(double& lo, double& hi, double frac) {
   hi += d;
 }
 
-void fit(View& v, const std::vector<SeriesRef>& series) {
+void fit(View& v, const Building& p) {
   Bounds b;
   bool all_sorted = true;
-  for (const auto& s : series) {
+  for (const auto& s : p.series) {
     add_bounds(s, b);
     all_sorted = all_sorted && s.style.x_sorted;
   }
   if (!b.valid()) b = {0, 1, 0, 1};
-  pad(b.x0, b.x1, all_sorted ? 0.0 : 0.04);
+  if (p.has_hint) {
+    b.x0 = std::min(b.x0, p.hx0);
+    b.x1 = std::max(b.x1, p.hx1);
+  }
+  pad(b.x0, b.x1, all_sorted || p.has_hint ? 0.0 : 0.04);
   pad(b.y0, b.y1, 0.06);
   v.x0 = b.x0;
   v.x1 = b.x1;
@@ -436,6 +442,12 @@ void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always) {
   g_plot.ly1 = y1;
 }
 
+void SetupFitRangeX(double x0, double x1) {
+  g_plot.has_hint = x1 > x0;
+  g_plot.hx0 = x0;
+  g_plot.hx1 = x1;
+}
+
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style) {
   const int index = static_cast<int>(g_plot.series.size());
@@ -448,7 +460,7 @@ void EndPlot() {
   View& v = views()[b.id];
   if (b.has_limits && (b.limits_always || !v.initialized))
     v = {b.lx0, b.lx1, b.ly0, b.ly1, false, true};
-  if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b.series);
+  if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b);
   v.initialized = true;
   choose_prefix(b.ax, v.x0, v.x1);
   choose_prefix(b.ay, v.y0, v.y1);

@@ -57,6 +57,8 @@ void SetupAxes(const char* x_label, const char* y_label);
 void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, const char* y_unit);
 // Limits of the first frame (or of every frame with always = true, which also disables autoscale).
 void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always = false);
+// Autoscale covers at least [x0, x1] in x (e.g. [0, duration] for a trace that is still growing).
+void SetupFitRangeX(double x0, double x1);
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style = {});
 void EndPlot();

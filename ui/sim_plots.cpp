@@ -58,6 +58,7 @@ void force_plot(const Runs& r, const AppState& s, ImVec2 size) {
   o.title = "Forces against time";
   if (!BeginPlot("##forces", size, o)) return;
   SetupAxesSI("t", "s", "F", "N");
+  SetupFitRangeX(0.0, s.scenario.run.duration);
   const Trace& m = *r.main;
   const std::string ff = "friction F_f (" + r.main_name + ")";
   PlotLine(ff.c_str(), m.t.data(), m.friction.data(), m.size(), time_style(r, s.view.color_phases));
@@ -84,6 +85,7 @@ void time_plot(const char* id, const char* title, const char* name, const char* 
   o.title = title;
   if (!BeginPlot(id, size, o)) return;
   SetupAxesSI("t", "s", name, unit);
+  SetupFitRangeX(0.0, s.scenario.run.duration);
   const Trace& m = *r.main;
   PlotLine(r.main_name.c_str(), m.t.data(), (m.*field).data(), m.size(), time_style(r, s.view.color_phases));
   if (r.overlay)
