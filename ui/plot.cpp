@@ -312,11 +312,15 @@ ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotT
                        ImVec2(L.area.Max.x - m - box.x, L.area.Max.y - m - box.y),
                        ImVec2(L.area.Min.x + m, L.area.Max.y - m - box.y)};
   std::size_t count[4] = {0, 0, 0, 0};
-  for (const auto& s : b.series)
-    for (const std::size_t i : s.drawn) {
-      const double px = t.to_px_x(s.x[i]), py = t.to_px_y(s.y[i]);
+  for (const auto& s : b.series)  // segments whose bounding box meets the legend box
+    for (std::size_t j = 1; j < s.drawn.size(); ++j) {
+      const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
+      const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
+      const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
       for (int k = 0; k < 4; ++k)
-        if (px >= c[k].x && px <= c[k].x + box.x && py >= c[k].y && py <= c[k].y + box.y) ++count[k];
+        if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
+            std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
+          ++count[k];
     }
   int best = 0;
   for (int k = 1; k < 4; ++k)
@@ -324,34 +328,56 @@ ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotT
   return c[best];
 }
 
+// One legend entry (line sample + label) with its top-left at `at`; returns its width.
+float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
+  const float fh = ImGui::GetFontSize();
+  const float sample = 2.2f * fh;
+  const char* end = ImGui::FindRenderedTextEnd(s.label);
+  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(s.label, end).x;
+  if (!draw) return width;
+  const float cy = at.y + 0.5f * fh + 1.0f;
+  std::vector<ImVec2> p = {ImVec2(at.x, cy), ImVec2(at.x + sample, cy)};
+  float phase = 0.0f;
+  SeriesStyle st = s.style;
+  st.thickness = std::max(st.thickness, 2.0f);
+  if (s.style.classes && s.style.n_classes >= 2) {  // show both class colours, half each
+    const ImVec2 mid(0.5f * (p[0].x + p[1].x), cy);
+    dl->AddLine(p[0], mid, s.style.class_colors[0], st.thickness);
+    dl->AddLine(mid, p[1], s.style.class_colors[1], st.thickness);
+  } else {
+    stroke(dl, p, 0, 2, series_color(s), st, phase);
+  }
+  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, s.label, end);
+  return width;
+}
+
+// Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
+// never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
 void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t) {
   if (!b.opt.legend || b.series.empty()) return;
   const float fh = ImGui::GetFontSize();
-  const float sample = 2.2f * fh;
+  const float gap = 1.2f * fh;
+  if (!b.opt.paper) {
+    float total = 0.0f;
+    for (const auto& s : b.series) total += legend_entry(dl, s, {}, false) + gap;
+    const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
+    if (total - gap <= room) {
+      float x = L.area.Max.x - (total - gap);
+      for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
+      return;
+    }
+  }
   float w = 0.0f;
-  for (const auto& s : b.series) w = std::max(w, ImGui::CalcTextSize(s.label, nullptr, true).x);
+  for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
   const float line_h = fh * 1.25f;
-  const ImVec2 box(w + sample + 1.2f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
+  const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
   const ImVec2 min = legend_corner(b, L, box, t);
   const ImVec2 end(min.x + box.x, min.y + box.y);
-  dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 225));
+  dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
-  float y = min.y + 0.25f * fh;
+  float y = min.y + 0.25f * fh + 0.125f * fh;
   for (const auto& s : b.series) {
-    const float cy = y + 0.5f * line_h;
-    std::vector<ImVec2> p = {ImVec2(min.x + 0.4f * fh, cy), ImVec2(min.x + 0.4f * fh + sample, cy)};
-    float phase = 0.0f;
-    SeriesStyle st = s.style;
-    st.thickness = std::max(st.thickness, 2.0f);
-    if (s.style.classes && s.style.n_classes >= 2) {  // show both class colours, half each
-      const ImVec2 mid(0.5f * (p[0].x + p[1].x), cy);
-      dl->AddLine(p[0], mid, s.style.class_colors[0], st.thickness);
-      dl->AddLine(mid, p[1], s.style.class_colors[1], st.thickness);
-    } else {
-      stroke(dl, p, 0, 2, series_color(s), st, phase);
-    }
-    dl->AddText(ImVec2(p[1].x + 0.4f * fh, y + 0.5f * (line_h - fh)), colors(false).text, s.label,
-                ImGui::FindRenderedTextEnd(s.label));
+    legend_entry(dl, s, ImVec2(min.x + 0.4f * fh, y), true);
     y += line_h;
   }
 }
@@ -490,9 +516,9 @@ void EndPlot() {
     decimate(s, t);
     draw_series(dl, s, t);
   }
-  if (hovered) hover_readout(dl, b, t);
-  draw_legend(dl, b, L2, t);
   dl->PopClipRect();
+  draw_legend(dl, b, L2, t);
+  if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
   g_last = t;
   g_open = false;
