@@ -15,7 +15,13 @@
 
 namespace gmslab::ui {
 
-// x must be non-decreasing. Column c covers [x0 + c w, x0 + (c + 1) w), w = (x1 - x0) / columns.
+// The pixel column of x: floor((x - x0) * columns / (x1 - x0)) clamped to [0, columns - 1].
+long decimate_column(double x, double x0, double x1, int columns);
+
+// Smallest and largest non-NaN value of v[0..n) (lo = +inf, hi = -inf when there is none).
+void value_range(const double* v, std::size_t n, double& lo, double& hi);
+
+// x must be non-decreasing. Column c (decimate_column) covers [x0 + c w, x0 + (c + 1) w), w = (x1 - x0) / columns.
 // Samples outside [x0, x1] are dropped, except the last one before x0 and the first one after
 // x1 (so the line reaches the plot edges). Writes sample indices, increasing, into `out`.
 void decimate_minmax(const double* x, const double* y, std::size_t n, double x0, double x1,

@@ -82,15 +82,21 @@ struct Bounds {
   bool valid() const { return x1 >= x0 && y1 >= y0; }
 };
 
+// Infinite values (a diverging run) are left out too, so the view stays usable.
 void add_bounds(const SeriesRef& s, Bounds& b) {
-  for (std::size_t i = 0; i < s.n; ++i) {
-    const double x = s.x[i], y = s.y[i];
-    if (!std::isfinite(x) || !std::isfinite(y)) continue;
-    b.x0 = std::min(b.x0, x);
-    b.x1 = std::max(b.x1, x);
-    b.y0 = std::min(b.y0, y);
-    b.y1 = std::max(b.y1, y);
+  if (s.n == 0) return;
+  double x0, x1, y0, y1;
+  if (s.style.x_sorted) {
+    x0 = s.x[0];
+    x1 = s.x[s.n - 1];
+  } else {
+    value_range(s.x, s.n, x0, x1);
   }
+  value_range(s.y, s.n, y0, y1);
+  if (std::isfinite(x0)) b.x0 = std::min(b.x0, x0);
+  if (std::isfinite(x1)) b.x1 = std::max(b.x1, x1);
+  if (std::isfinite(y0)) b.y0 = std::min(b.y0, y0);
+  if (std::isfinite(y1)) b.y1 = std::max(b.y1, y1);
 }
 
 // Pads a range by `frac` on each side; widens a degenerate one.

@@ -28,9 +28,7 @@ Walk random_walk(std::size_t n, unsigned seed) {
   return w;
 }
 
-long column_of(double x, double x0, double x1, int cols) {
-  return std::min<long>(cols - 1, static_cast<long>((x - x0) * cols / (x1 - x0)));
-}
+long column_of(double x, double x0, double x1, int cols) { return decimate_column(x, x0, x1, cols); }
 }  // namespace
 
 TEST(DecimateMinMax, EveryColumnKeepsItsMinimumAndMaximum) {
@@ -112,4 +110,19 @@ TEST(DecimatePath, HysteresisLoopIsBoundedByItsLengthInPixels) {
     EXPECT_LT(std::fabs(t.to_px_x(x[i]) - t.to_px_x(x[out[k]])), 1.0 + 1e-9);
     EXPECT_LT(std::fabs(t.to_px_y(y[i]) - t.to_px_y(y[out[k]])), 1.0 + 1e-9);
   }
+}
+
+TEST(ValueRange, MatchesAFullScanAndSkipsNaN) {
+  const Walk w = random_walk(10007, 11);
+  double lo = 0, hi = 0;
+  value_range(w.y.data(), w.y.size(), lo, hi);
+  const auto [mn, mx] = std::minmax_element(w.y.begin(), w.y.end());
+  EXPECT_EQ(lo, *mn);
+  EXPECT_EQ(hi, *mx);
+  const std::vector<double> v = {NAN, 2.0, NAN, -1.0, 5.0};
+  value_range(v.data(), v.size(), lo, hi);
+  EXPECT_EQ(lo, -1.0);
+  EXPECT_EQ(hi, 5.0);
+  value_range(v.data(), 1, lo, hi);
+  EXPECT_TRUE(lo > hi);  // nothing but NaN: empty range
 }
