@@ -141,13 +141,14 @@ bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelPara
               info.max_elements);
   const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
                                 ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_ScrollY;
-  const float rows_h = ImGui::GetFrameHeightWithSpacing() * static_cast<float>(std::min<std::size_t>(p.elements.size() + 1, 9));
+  const float row_h = ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().CellPadding.y;
+  const float rows_h = row_h * static_cast<float>(std::min<std::size_t>(p.elements.size() + 1, 9));
   if (!ImGui::BeginTable("##elements", ncol, flags, ImVec2(0, rows_h + 4))) return false;
   ImGui::TableSetupScrollFreeze(0, 1);
   ImGui::TableSetupColumn("i", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 1.6f);
   std::vector<std::string> heads;
   for (const auto& c : info.columns) heads.push_back(field_label(c));
-  for (const auto& h : heads) ImGui::TableSetupColumn(h.c_str());
+  for (const auto& h : heads) ImGui::TableSetupColumn(h.c_str(), ImGuiTableColumnFlags_WidthStretch, 1.0f);
   if (show_live) {
     ImGui::TableSetupColumn("F_i [N]", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 4.5f);
     ImGui::TableSetupColumn("state", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 2.8f);

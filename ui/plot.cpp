@@ -31,7 +31,7 @@ struct View {
 };
 
 struct SeriesRef {
-  const char* label;
+  std::string label;               // copied: callers may pass temporaries
   const double* x;
   const double* y;
   std::size_t n;
@@ -338,8 +338,9 @@ ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotT
 float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   const float fh = ImGui::GetFontSize();
   const float sample = 2.2f * fh;
-  const char* end = ImGui::FindRenderedTextEnd(s.label);
-  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(s.label, end).x;
+  const char* label = s.label.c_str();
+  const char* end = ImGui::FindRenderedTextEnd(label);
+  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(label, end).x;
   if (!draw) return width;
   const float cy = at.y + 0.5f * fh + 1.0f;
   std::vector<ImVec2> p = {ImVec2(at.x, cy), ImVec2(at.x + sample, cy)};
@@ -353,7 +354,7 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   } else {
     stroke(dl, p, 0, 2, series_color(s), st, phase);
   }
-  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, s.label, end);
+  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, label, end);
   return width;
 }
 
@@ -422,7 +423,7 @@ void hover_readout(ImDrawList* dl, const Building& b, const PlotTransform& t) {
   const ImVec2 p(static_cast<float>(t.to_px_x(hit->x[hit_i])), static_cast<float>(t.to_px_y(hit->y[hit_i])));
   dl->AddCircle(p, 5.0f, series_color(*hit), 12, 2.0f);
   ImGui::BeginTooltip();
-  ImGui::TextUnformatted(hit->label, ImGui::FindRenderedTextEnd(hit->label));
+  ImGui::TextUnformatted(hit->label.c_str(), ImGui::FindRenderedTextEnd(hit->label.c_str()));
   ImGui::Text("%s = %.6g", b.ax.shown.c_str(), hit->x[hit_i] / b.ax.scale);
   ImGui::Text("%s = %.6g", b.ay.shown.c_str(), hit->y[hit_i] / b.ay.scale);
   ImGui::TextDisabled("sample %zu", hit_i);
@@ -483,7 +484,7 @@ void SetupFitRangeX(double x0, double x1) {
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style) {
   const int index = static_cast<int>(g_plot.series.size());
-  g_plot.series.push_back({label, x, y, n, style, index, {}});
+  g_plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
 }
 
 void EndPlot() {

@@ -9,7 +9,7 @@
 // View state (limits, autoscale) is kept per plot ID between frames. Interaction: mouse wheel
 // zooms about the cursor (Shift: x only, Ctrl: y only), left drag pans, double-click returns to
 // autoscale (the view then follows the data as it grows). Hovering shows the nearest drawn sample.
-// Series pointers must stay valid until EndPlot (nothing is copied). Long traces are decimated per
+// Data pointers must stay valid until EndPlot (the data is not copied; labels are). Long traces are decimated per
 // pixel column (ui/decimate.hpp), so 10^6 samples draw in well under a frame.
 #pragma once
 
