@@ -155,37 +155,41 @@ bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelPara
   }
   ImGui::TableHeadersRow();
   std::ptrdiff_t remove = -1;
-  for (std::size_t r = 0; r < p.elements.size(); ++r) {
-    ImGui::PushID(static_cast<int>(r));
-    ImGui::TableNextRow();
-    ImGui::TableNextColumn();
-    ImGui::AlignTextToFramePadding();
-    ImGui::Text("%zu", r + 1);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("element %zu: right-click to remove", r + 1);
-    if (ImGui::BeginPopupContextItem("##row") ) {
-      if (ImGui::MenuItem("Remove this element", nullptr, false, p.elements.size() > info.min_elements))
-        remove = static_cast<std::ptrdiff_t>(r);
-      ImGui::EndPopup();
-    }
-    for (std::size_t c = 0; c < info.columns.size(); ++c) {
-      ImGui::TableNextColumn();
-      ImGui::SetNextItemWidth(-1);
-      ImGui::PushID(static_cast<int>(c));
-      const double ref = defaults.elements.empty() ? 0.0 : defaults.elements[0][c];
-      changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref);
-      ImGui::PopID();
-    }
-    if (show_live) {
-      const ElementState e = live->element(state, r);
+  // Only the visible rows are drawn (models may have thousands of elements).
+  ImGuiListClipper clipper;
+  clipper.Begin(static_cast<int>(p.elements.size()));
+  while (clipper.Step())
+    for (std::size_t r = static_cast<std::size_t>(clipper.DisplayStart); r < static_cast<std::size_t>(clipper.DisplayEnd); ++r) {
+      ImGui::PushID(static_cast<int>(r));
+      ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::AlignTextToFramePadding();
-      ImGui::Text("%+.4f", e.force);
-      ImGui::TableNextColumn();
-      ImGui::TextColored(e.slipping ? ImVec4(0.84f, 0.37f, 0.0f, 1) : ImVec4(0.0f, 0.45f, 0.70f, 1),
-                         e.slipping ? "slip" : "stick");
+      ImGui::Text("%zu", r + 1);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("element %zu: right-click to remove", r + 1);
+      if (ImGui::BeginPopupContextItem("##row") ) {
+        if (ImGui::MenuItem("Remove this element", nullptr, false, p.elements.size() > info.min_elements))
+          remove = static_cast<std::ptrdiff_t>(r);
+        ImGui::EndPopup();
+      }
+      for (std::size_t c = 0; c < info.columns.size(); ++c) {
+        ImGui::TableNextColumn();
+        ImGui::SetNextItemWidth(-1);
+        ImGui::PushID(static_cast<int>(c));
+        const double ref = defaults.elements.empty() ? 0.0 : defaults.elements[0][c];
+        changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref);
+        ImGui::PopID();
+      }
+      if (show_live) {
+        const ElementState e = live->element(state, r);
+        ImGui::TableNextColumn();
+        ImGui::AlignTextToFramePadding();
+        ImGui::Text("%+.4f", e.force);
+        ImGui::TableNextColumn();
+        ImGui::TextColored(e.slipping ? ImVec4(0.84f, 0.37f, 0.0f, 1) : ImVec4(0.0f, 0.45f, 0.70f, 1),
+                           e.slipping ? "slip" : "stick");
+      }
+      ImGui::PopID();
     }
-    ImGui::PopID();
-  }
   ImGui::EndTable();
   if (remove >= 0) {
     p.elements.erase(p.elements.begin() + remove);

@@ -421,7 +421,10 @@ void hover_readout(ImDrawList* dl, const Building& b, const PlotTransform& t) {
     }
   if (!hit) return;
   const ImVec2 p(static_cast<float>(t.to_px_x(hit->x[hit_i])), static_cast<float>(t.to_px_y(hit->y[hit_i])));
-  dl->AddCircle(p, 5.0f, series_color(*hit), 12, 2.0f);
+  ImU32 col = series_color(*hit);
+  if (hit->style.classes && hit->style.classes[hit_i] < hit->style.n_classes)
+    col = hit->style.class_colors[hit->style.classes[hit_i]];
+  dl->AddCircle(p, 5.0f, col, 12, 2.0f);
   ImGui::BeginTooltip();
   ImGui::TextUnformatted(hit->label.c_str(), ImGui::FindRenderedTextEnd(hit->label.c_str()));
   ImGui::Text("%s = %.6g", b.ax.shown.c_str(), hit->x[hit_i] / b.ax.scale);
@@ -525,6 +528,12 @@ void EndPlot() {
   }
   dl->PopClipRect();
   draw_legend(dl, b, L2, t);
+  if (b.opt.interactive && !v.auto_fit) {  // tell how to get back to the whole trace
+    const char* hint = "zoomed: double-click to fit";
+    const ImVec2 hs = ImGui::CalcTextSize(hint);
+    dl->AddText(ImVec2(L2.area.Max.x - hs.x, L2.area.Max.y + 1.45f * ImGui::GetFontSize()),
+                IM_COL32(120, 120, 130, 255), hint);
+  }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
   g_last = t;
