@@ -222,6 +222,7 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
   double t_prev = 0.0;
   bool prev_ok = false;
   double lost_at = kNaN;
+  bool lost_by_excess = true;  // phi >= pi - beta (else phi <= 0: no lead needed)
   double peak_t = 0.0;
   r.peak_K = -1.0;
   for (int i = 0; i <= n; ++i) {
@@ -230,7 +231,15 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
     const double k = kmax_or_nan(g, d);
     const bool ok = std::isfinite(k);
     if (ok && k > r.peak_K) r.peak_K = k, r.peak_root = d, peak_t = t;
-    if (!ok && prev_ok && std::isnan(lost_at)) lost_at = path.value(d);
+    if (!ok && prev_ok && std::isnan(lost_at)) {  // bisect where the lead stops applying
+      double a = t_prev, b = t;
+      for (int it = 0; it < 100; ++it) {
+        const double m = 0.5 * (a + b);
+        (std::isfinite(kmax_or_nan(g, path.at(m))) ? a : b) = m;
+      }
+      lost_at = path.value(path.at(b));
+      lost_by_excess = lead_limits(g, path.at(b)).phi > 0.0;
+    }
     if (i > 0 && ok && k >= target) {
       double a = t_prev, b = t;  // predicate false at a, true at b
       for (int it = 0; it < 200; ++it) {
@@ -270,8 +279,11 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
   else
     o << "no point of this path admits a single lead";
   if (std::isfinite(lost_at))
-    o << "; beyond " << path.param << " = " << lost_at
-      << " phi reaches pi - beta and no single lead places the roots";
+    o << (path.param == "zeta" ? "; below zeta = " : "; above " + path.param + " = ") << lost_at
+      << (path.param == "zeta" ? " " : " rad/s ")
+      << (lost_by_excess ? "phi reaches pi - beta and no single lead places the roots"
+                         : "phi drops to 0: no lead is needed there (a gain or a lag places the "
+                           "roots), so this path leaves the lead family");
   r.reason = o.str();
   return r;
 }
@@ -285,9 +297,9 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
   const double sigma = d.zeta * d.wn, wd = d.wn * std::sqrt(1 - d.zeta * d.zeta);
   const double span = 100.0;  // each path explores up to 100x the start (wn, wd) or zeta -> 0
   std::vector<Path> paths = {
-      {"keep_zeta", "wn [rad/s]", [=](double t) { return DominantRoot{d.zeta, d.wn * std::pow(span, t)}; },
+      {"keep_zeta", "wn", [=](double t) { return DominantRoot{d.zeta, d.wn * std::pow(span, t)}; },
        [](const DominantRoot& r) { return r.wn; }},
-      {"keep_zeta_wn", "wd [rad/s]",
+      {"keep_zeta_wn", "wd",
        [=](double t) {
          const double w = wd * std::pow(span, t);
          const double wn = std::hypot(sigma, w);
