@@ -31,7 +31,7 @@ ImU32 palette(int i);
 struct SeriesStyle {
   int color = -1;                // palette index; -1: by the series' position in the plot
   LineStyle line = LineStyle::Solid;
-  float thickness = 1.6f;        // [px]
+  float thickness = 2.0f;        // [px]; integers draw cheapest (textured anti-aliased lines)
   bool x_sorted = false;         // x non-decreasing (time axes): min/max decimation per column
   // Optional per-sample class (e.g. 0 = stick, 1 = slip): the segment ending at sample k is drawn
   // in class_colors[classes[k]] (classes >= n_classes fall back to the series colour).

@@ -70,7 +70,7 @@ void force_plot(const Runs& r, const AppState& s, ImVec2 size) {
   if (massive) {
     SeriesStyle d;
     d.color = kDrive;
-    d.thickness = 1.2f;
+    d.thickness = 1.0f;
     d.x_sorted = true;
     d.line = LineStyle::Dotted;
     PlotLine(s.scenario.drive.kind == Drive::Kind::Pull ? "pull spring force" : "applied force F(t)",

@@ -5,12 +5,15 @@
 #include <stb_image.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include "core/figures/figure_set.hpp"
 
 namespace fs = std::filesystem;
 
@@ -116,4 +119,30 @@ TEST(FiguresCommand, WritesPngAndCsvForEachRequestedFigure) {
   for (std::string line; std::getline(csv, line);) rows += !line.empty() && line[0] != '#';
   EXPECT_GT(rows, 1000u);
   EXPECT_NE(run(std::string(GMSLAB_EXE) + " figures --out " + dir + " --only no_such_figure"), 0);
+}
+
+// The whole set, as `gmslab` with no display would produce it: every figure id gets a PNG of the
+// requested size with coloured curves in it (figures with many long series exceed 65536 vertices
+// per draw list, which the headless renderer must still draw) and a CSV beside it.
+TEST(FiguresCommand, EveryFigureOfTheSetIsWrittenWithItsCurvesVisible) {
+  const std::string dir = tmp("all");
+  ASSERT_EQ(run(std::string(GMSLAB_EXE) + " figures --out " + dir + " --size 560x360"), 0);
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() != ".png") continue;
+    ++n;
+    const Image im = load(e.path().string());
+    ASSERT_EQ(im.w, 560) << e.path();
+    ASSERT_EQ(im.h, 360) << e.path();
+    int coloured = 0;  // saturated pixels: curves (text, axes and grid are grey)
+    for (std::size_t i = 0; i < im.rgba.size(); i += 4) {
+      const int r = im.rgba[i], g = im.rgba[i + 1], b = im.rgba[i + 2];
+      coloured += std::max({r, g, b}) - std::min({r, g, b}) > 60;
+    }
+    EXPECT_GT(coloured, 300) << e.path() << ": no curves drawn";
+    fs::path csv = e.path();
+    csv.replace_extension(".csv");
+    EXPECT_TRUE(fs::exists(csv)) << csv;
+  }
+  EXPECT_EQ(n, gmslab::figure_ids().size());
 }
