@@ -98,19 +98,23 @@ void time_plot(const char* id, const char* title, const char* name, const char* 
   EndPlot();
 }
 
-void hysteresis_plot(const Runs& r, ImVec2 size) {
+void hysteresis_plot(const Runs& r, const AppState& s, ImVec2 size) {
+  const bool vel = s.view.friction_against == "velocity" ||
+                   (s.view.friction_against == "auto" && s.scenario.drive.kind == Drive::Kind::Velocity);
+  const std::vector<double> Trace::*xf = vel ? &Trace::v : &Trace::x;
   PlotOptions o;
-  o.title = "Friction force against displacement";
+  o.title = vel ? "Friction force against velocity" : "Friction force against displacement";
   if (!BeginPlot("##hyst", size, o)) return;
-  SetupAxesSI("x", "m", "F_f", "N");
+  SetupAxesSI(vel ? "v" : "x", vel ? "m/s" : "m", "F_f", "N");
   SeriesStyle st;
   st.color = kStick;
-  PlotLine(r.main_name.c_str(), r.main->x.data(), r.main->friction.data(), r.main->size(), st);
+  PlotLine(r.main_name.c_str(), (r.main->*xf).data(), r.main->friction.data(), r.main->size(), st);
   if (r.overlay)
-    PlotLine(r.overlay_name.c_str(), r.overlay->x.data(), r.overlay->friction.data(), r.overlay->size(),
+    PlotLine(r.overlay_name.c_str(), (r.overlay->*xf).data(), r.overlay->friction.data(), r.overlay->size(),
              overlay_style(false));
   EndPlot();
 }
+
 // A strip of bars, one per friction element: its force F_i (up or down from the centre line,
 // scaled to the largest |F_i|) in blue while it sticks and orange while it slips.
 void element_strip(const Simulation& sim, ImVec2 size) {
@@ -184,7 +188,7 @@ void draw_simulation_plots(AppState& s) {
   force_plot(r, s, c);
   ImGui::SameLine();
   time_plot("##pos", "Position against time", "x", "m", &Trace::x, r, s, c);
-  hysteresis_plot(r, c);
+  hysteresis_plot(r, s, c);
   ImGui::SameLine();
   time_plot("##vel", "Velocity against time", "v", "m/s", &Trace::v, r, s, c);
   if (strip) element_strip(*s.main.sim, ImVec2(ImGui::GetContentRegionAvail().x, strip_h));
