@@ -261,8 +261,15 @@ Layout layout(const Building& b, const View& v, ImRect frame) {
   L.area = ImRect(ImVec2(frame.Min.x + left, frame.Min.y + top),
                   ImVec2(std::max(frame.Min.x + left + 10, frame.Max.x - right),
                          frame.Min.y + top + plot_h));
-  L.xt = nice_ticks(v.x0 / sx, v.x1 / sx, std::clamp(static_cast<int>(L.area.GetWidth() / (6.5f * fh)), 2, 12));
-  L.xl = labels(L.xt);
+  // As many x ticks as fit with a gap of one character between their labels.
+  for (int target = std::clamp(static_cast<int>(L.area.GetWidth() / (4.5f * fh)), 3, 12); target >= 2; --target) {
+    L.xt = nice_ticks(v.x0 / sx, v.x1 / sx, target);
+    L.xl = labels(L.xt);
+    float widest = 0.0f;
+    for (const auto& s : L.xl) widest = std::max(widest, ImGui::CalcTextSize(s.c_str()).x);
+    const double spacing = L.xt.step * sx / (v.x1 - v.x0) * L.area.GetWidth();
+    if (widest + fh <= spacing) break;
+  }
   return L;
 }
 
