@@ -46,7 +46,8 @@ DesignOutputs compute_design(const DesignInputs& in) {
       extra.emplace_back(-c.z, 0.0);
       for (const cplx& p : out.closed_loop_poles) extra.push_back(p);
     }
-    lo.view = auto_view(L, extra);
+    lo.view = in.locus_view ? *in.locus_view : auto_view(L, extra);
+    out.loop = L;
     out.locus = root_locus(L, lo);
     if (!out.compensator) return out;
     stage = "step response";

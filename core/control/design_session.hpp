@@ -37,6 +37,7 @@ struct DesignInputs {
   double sample_time = 0.0;  // controller sample time [s] (0: continuous)
   double horizon = 0.0;      // [s]; 0: automatic
   bool simulate = true;      // run the nonlinear loops
+  std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
 };
 
 struct DesignOutputs {
@@ -46,6 +47,7 @@ struct DesignOutputs {
   std::optional<LeadCompensator> compensator;  // what the loops use
   std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"
   std::vector<cplx> closed_loop_poles;  // with the compensator
+  TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
   RootLocus locus;
   StepResponse step;
   LoopTrace loop_plain, loop_compensated;
