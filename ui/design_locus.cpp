@@ -20,6 +20,7 @@ const ImU32 kGrid = IM_COL32(200, 200, 205, 255);
 const ImU32 kAxis = IM_COL32(90, 90, 95, 255);
 const ImU32 kShade = IM_COL32(213, 94, 0, 40);
 const ImU32 kText = IM_COL32(60, 60, 65, 255);
+const ImU32 kGridText = IM_COL32(140, 140, 150, 255);
 const ImU32 kTarget = IM_COL32(204, 121, 167, 255);
 const ImU32 kComp = IM_COL32(0, 158, 115, 255);
 const ImU32 kPlant = IM_COL32(20, 20, 20, 255);
@@ -63,8 +64,8 @@ void draw_grid(ImDrawList* dl, const PlotTransform& t) {
     dl->PathArcTo(o, static_cast<float>(r) * scale, static_cast<float>(kPi / 2), static_cast<float>(3 * kPi / 2), 64);
     dl->PathStroke(kGrid, 0, 1.0f);
     std::snprintf(buf, sizeof buf, "%g", r);
-    const ImVec2 lp = px(t, cplx(-r, 0.0));
-    dl->AddText(ImVec2(lp.x + 2, lp.y + 2), kText, buf);
+    const ImVec2 lp = px(t, std::polar(r, 0.53 * kPi));
+    dl->AddText(ImVec2(lp.x - ImGui::CalcTextSize(buf).x - 2, lp.y), kGridText, buf);
   }
   // zeta rays
   for (double z : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
@@ -75,7 +76,7 @@ void draw_grid(ImDrawList* dl, const PlotTransform& t) {
     }
     const cplx lab = std::polar(0.9 * std::min(t.y1, -t.x0 > 0 ? -t.x0 : t.y1), kPi - b);
     std::snprintf(buf, sizeof buf, "%.1f", z);
-    dl->AddText(px(t, lab), kText, buf);
+    dl->AddText(px(t, lab), kGridText, buf);
   }
   // axes
   dl->AddLine(ImVec2(static_cast<float>(t.px0), o.y), ImVec2(static_cast<float>(t.px1), o.y), kAxis, 1.2f);
@@ -259,6 +260,20 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
     return false;
   };
   for (const cplx& p : rl.poles) cross(dl, px(t, p), r, is_comp(p) ? kComp : kPlant, 2.2f);
+  // Poles and zeros beyond the left edge: a marker on the edge with their value.
+  float y_off = 0.0f;
+  auto offscreen = [&](cplx s, const char* kind, ImU32 col) {
+    if (s.real() >= t.x0 || std::abs(s.imag()) > t.y1) return;
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "<- %s %.4g", kind, s.real());
+    const ImVec2 q(static_cast<float>(t.px0) + 4, px(t, s).y + 4 + y_off);
+    dl->AddText(q, col, buf);
+    y_off += ImGui::GetFontSize();
+  };
+  for (const cplx& p : rl.poles) offscreen(p, "pole", is_comp(p) ? kComp : kPlant);
+  for (const cplx& z : rl.zeros) offscreen(z, "zero", is_comp(z) ? kComp : kPlant);
+  for (const cplx& p : d.out.closed_loop_poles)
+    if (p.imag() >= 0) offscreen(p, "closed-loop pole", kClosed);
   for (const cplx& z : rl.zeros) dl->AddCircle(px(t, z), r, is_comp(z) ? kComp : kPlant, 20, 2.2f);
   for (const cplx& p : d.out.closed_loop_poles) {
     const ImVec2 q = px(t, p);

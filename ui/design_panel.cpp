@@ -187,30 +187,6 @@ void simulation_section(DesignViewState& d) {
   d.dirty |= input_double("model force x [-]", &d.in.mismatch.force, 0.2, 2.0, "%.2f", "Compensator's Fs, Fc / plant's");
   d.dirty |= input_double("model stiffness x [-]", &d.in.mismatch.stiffness, 0.1, 10.0, "%.2f", "Compensator's k_i / plant's", true);
   d.dirty |= input_double("sample time [s]", &d.in.sample_time, 0.0, 0.01, "%.2g", "0: continuous; else Tustin at T with hold");
-  const auto& a = d.out.metrics_plain;
-  const auto& b = d.out.metrics_compensated;
-  if (ImGui::BeginTable("##metrics", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
-    ImGui::TableSetupColumn("metric");
-    ImGui::TableSetupColumn("none");
-    ImGui::TableSetupColumn("compensated");
-    ImGui::TableHeadersRow();
-    auto row = [](const char* name, double x, double y, double scale, const char* unit) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      ImGui::Text("%s [%s]", name, unit);
-      ImGui::TableNextColumn();
-      ImGui::Text("%.4g", x * scale);
-      ImGui::TableNextColumn();
-      ImGui::Text("%.4g", y * scale);
-    };
-    row("steady-state error", a.steady_state_error, b.steady_state_error, 1e3, "mm");
-    row("RMS error", a.rms_error, b.rms_error, 1e3, "mm");
-    row("overshoot", a.overshoot, b.overshoot, 1.0, "%");
-    row("settling time", a.settling_time, b.settling_time, 1.0, "s");
-    row("limit cycle ampl.", a.cycle_amplitude, b.cycle_amplitude, 1e3, "mm");
-    row("limit cycle period", a.cycle_period, b.cycle_period, 1.0, "s");
-    ImGui::EndTable();
-  }
   ImGui::TextColored(kDim, "recomputed in %.1f ms (locus, design, step, 2 loops)", d.compute_ms);
 }
 }  // namespace

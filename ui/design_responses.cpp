@@ -3,6 +3,7 @@
 // compensation, against the reference.
 #include <imgui.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "ui/design_view.hpp"
@@ -10,9 +11,41 @@
 
 namespace gmslab::ui {
 
+namespace {
+void metrics_table(const DesignViewState& d) {
+  const auto& a = d.out.metrics_plain;
+  const auto& b = d.out.metrics_compensated;
+  ImGui::TextUnformatted("Loop metrics");
+  if (!ImGui::BeginTable("##metrics", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) return;
+  ImGui::TableSetupColumn("metric");
+  ImGui::TableSetupColumn("none");
+  ImGui::TableSetupColumn(control::to_string(d.in.compensation));
+  ImGui::TableHeadersRow();
+  auto row = [](const char* name, double x, double y, double scale, const char* unit, const char* help) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::Text("%s [%s]", name, unit);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+    for (double v : {x, y}) {
+      ImGui::TableNextColumn();
+      if (std::isfinite(v)) ImGui::Text("%.3g", v * scale);
+      else ImGui::TextUnformatted("-");
+    }
+  };
+  row("e_ss", a.steady_state_error, b.steady_state_error, 1e3, "mm", "mean error over the last 20 % of the run");
+  row("RMS e", a.rms_error, b.rms_error, 1e3, "mm", "root-mean-square tracking error over the run");
+  row("overshoot", a.overshoot, b.overshoot, 1.0, "%", "step references only");
+  row("settling", a.settling_time, b.settling_time, 1e3, "ms", "2 % band around the final value (step only)");
+  row("cycle ampl.", a.cycle_amplitude, b.cycle_amplitude, 1e3, "mm", "limit cycle (hunting) half peak-to-peak");
+  row("cycle period", a.cycle_period, b.cycle_period, 1e3, "ms", "limit cycle period");
+  ImGui::EndTable();
+}
+}  // namespace
+
 void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   const control::DesignOutputs& o = d.out;
-  const float w = 0.5f * (size.x - ImGui::GetStyle().ItemSpacing.x);
+  const float table_w = ImGui::GetFontSize() * 17.0f;
+  const float w = 0.5f * (size.x - table_w - 2 * ImGui::GetStyle().ItemSpacing.x);
   PlotOptions lin;
   lin.title = "Linear closed loop: unit step response";
   if (BeginPlot("##design_step", ImVec2(w, size.y), lin)) {
@@ -37,6 +70,10 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
     PlotLine(comp.c_str(), b.t.data(), b.x.data(), b.t.size(), {.color = 2, .x_sorted = true});
     EndPlot();
   }
+  ImGui::SameLine();
+  ImGui::BeginChild("##design_metrics", ImVec2(0, size.y), false);
+  metrics_table(d);
+  ImGui::EndChild();
 }
 
 }  // namespace gmslab::ui

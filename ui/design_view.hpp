@@ -27,7 +27,7 @@ struct DesignViewState {
   double compute_ms = 0.0;           // wall time of the last computation [ms]
   bool use_K = false;                // target a desired error constant (else the usable maximum)
   double K = 1000.0;                 // desired error constant
-  int reference = 0;                 // 0 step, 1 ramp, 2 sine
+  int reference = 2;                 // 0 step, 1 ramp, 2 sine
   double amplitude = 0.01;           // step height / sine amplitude [m]
   double slope = 0.01;               // ramp velocity [m/s]
   double frequency = 2.0;            // sine frequency [Hz]

@@ -37,16 +37,22 @@ DesignOutputs compute_design(const DesignInputs& in) {
     stage = "root locus";
     LocusOptions lo;
     TransferFunction L = out.plant.g;
-    std::vector<cplx> extra = {in.root.s()};
+    const cplx sd = in.root.s();
+    std::vector<cplx> pts = {sd, 2.0 * sd.real()};
+    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
+    for (const cplx& s : out.plant.g.poles()) pts.push_back(s);
+    for (const cplx& s : out.plant.g.zeros()) pts.push_back(s);
     if (out.compensator) {
       const LeadCompensator& c = *out.compensator;
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
-      extra.emplace_back(-c.z, 0.0);
-      for (const cplx& p : out.closed_loop_poles) extra.push_back(p);
+      pts.emplace_back(-c.z, 0.0);
+      if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
+      for (const cplx& p : out.closed_loop_poles)
+        if (near(p)) pts.push_back(p);
     }
-    lo.view = in.locus_view ? *in.locus_view : auto_view(L, extra);
+    lo.view = in.locus_view ? *in.locus_view : view_around(pts);
     out.loop = L;
     out.locus = root_locus(L, lo);
     if (!out.compensator) return out;
@@ -61,7 +67,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.mismatch = in.mismatch;
     cfg.dt = in.scenario.run.dt;
     cfg.duration = out.horizon;
-    cfg.record_every = std::max(1, static_cast<int>(out.horizon / cfg.dt / 1000));
+    if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
+      cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
+    cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
     cfg.comp = Compensation::None;
     out.loop_plain = simulate_loop(in.scenario, cfg);
     out.metrics_plain = loop_metrics(out.loop_plain);
