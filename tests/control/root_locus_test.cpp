@@ -80,7 +80,9 @@ TEST(Polynomial, RootsOfKnownFactorsAndConjugatePairs) {
   ASSERT_EQ(got.size(), want.size());
   for (const cplx& w : want) EXPECT_LT(nearest(got, w), 1e-10);
   for (const cplx& g : got) {
-    if (g.imag() != 0.0) EXPECT_LT(nearest(got, std::conj(g)), 1e-15);
+    if (g.imag() != 0.0) {
+      EXPECT_LT(nearest(got, std::conj(g)), 1e-15);
+    }
   }
   EXPECT_EQ(p.zeros_at_origin(), 2);
   EXPECT_NEAR(p(cplx(1.0, 1.0)).real(), (2.0 * (cplx(2, 1) * cplx(3, -2) * cplx(3, 4) *
