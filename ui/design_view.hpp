@@ -10,6 +10,8 @@
 // design_session.hpp: locus, design, step, both loops) once per frame when dirty.
 #pragma once
 
+#include <imgui.h>
+
 #include <optional>
 #include <string>
 #include <vector>
