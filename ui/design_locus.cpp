@@ -156,6 +156,11 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
     if (near_px(m, px(t, sd), grab) || near_px(m, px(t, std::conj(sd)), grab)) d.drag = DesignViewState::Drag::Root;
     else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->z, 0)), grab)) d.drag = DesignViewState::Drag::Zero;
     else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->p, 0)), grab)) d.drag = DesignViewState::Drag::Pole;
+    if (d.drag != DesignViewState::Drag::None && !d.view) {
+      // Freeze the view while a handle is dragged, so the point under the mouse stays put.
+      d.view = control::ViewBox{t.x0, t.x1, t.y0, t.y1};
+      d.in.locus_view = d.view;
+    }
     if (d.drag == DesignViewState::Drag::None) {
       // Pick the nearest branch sample within 12 px.
       double best = 12.0;

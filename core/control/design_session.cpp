@@ -1,6 +1,7 @@
 #include "core/control/design_session.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 
 namespace gmslab::control {
@@ -52,9 +53,15 @@ DesignOutputs compute_design(const DesignInputs& in) {
       for (const cplx& p : out.closed_loop_poles)
         if (near(p)) pts.push_back(p);
     }
-    lo.view = in.locus_view ? *in.locus_view : view_around(pts);
+    // Refine over a box 2.5x the shown one (the canvas widens it to its aspect), 0.5 % steps.
+    const ViewBox shown = in.locus_view ? *in.locus_view : view_around(pts);
+    const double cx = 0.5 * (shown.re_min + shown.re_max), hw = 1.25 * shown.width();
+    const double cy = 0.5 * (shown.im_min + shown.im_max), hh = 1.25 * shown.height();
+    lo.view = ViewBox{cx - hw, cx + hw, cy - hh, cy + hh};
+    lo.max_jump = 0.005;
     out.loop = L;
     out.locus = root_locus(L, lo);
+    out.locus.view = shown;
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
@@ -65,10 +72,15 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.C = *out.compensator;
     cfg.sample_time = in.sample_time;
     cfg.mismatch = in.mismatch;
-    cfg.dt = in.scenario.run.dt;
+    // A view-rate step: 20000 steps over the run, never coarser than 5 % of the stability limit
+    // of the stiffest mode (stuck elements + springs + Kc), never finer than the scenario's dt.
+    const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
+    const double limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
+    const double dt0 = in.scenario.run.dt;
     cfg.duration = out.horizon;
     if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
       cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
+    cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
     cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
     cfg.comp = Compensation::None;
     out.loop_plain = simulate_loop(in.scenario, cfg);

@@ -9,7 +9,9 @@
 // step   = linear closed-loop unit-step response, t in [0, horizon]
 // loops  = the same loop with the scenario's friction: without and with compensation
 // horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
-// horizon, or two periods of a sine reference when that is longer.
+// horizon, or two periods of a sine reference when that is longer, at a view-rate step
+// dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
+// Kc) / m)).
 // locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
 // zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
 // pole would otherwise shrink the interesting region to a dot).
