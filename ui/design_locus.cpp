@@ -114,6 +114,23 @@ void cross(ImDrawList* dl, ImVec2 p, float r, ImU32 c, float th) {
   dl->AddLine(ImVec2(p.x - r, p.y + r), ImVec2(p.x + r, p.y - r), c, th);
 }
 
+// The other regime's locus: thin grey branches and grey pole crosses, no asymptotes.
+void draw_other_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl) {
+  const ImU32 col = IM_COL32(150, 150, 160, 200);
+  const double far = 20 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
+  for (const auto& br : rl.branches)
+    for (std::size_t i = 1; i < br.size(); ++i) {
+      const cplx a = br[i - 1], c = br[i];
+      if (std::isnan(a.real()) || std::isnan(c.real()) || std::abs(a) > far || std::abs(c) > far) continue;
+      dl->AddLine(px(t, a), px(t, c), col, 1.2f);
+    }
+  for (const cplx& p : rl.poles) {
+    const ImVec2 q = px(t, p);
+    dl->AddLine(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), col, 1.5f);
+    dl->AddLine(ImVec2(q.x - 4, q.y + 4), ImVec2(q.x + 4, q.y - 4), col, 1.5f);
+  }
+}
+
 void draw_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl) {
   // asymptotes
   for (double a : rl.asymptote_angles) {
@@ -242,6 +259,10 @@ double zeta_for_overshoot(double os) {
 }
 
 void draw_design_locus(DesignViewState& d, ImVec2 size) {
+  ImGui::TextDisabled("Locus in Kc.  x pole  o zero  green: compensator  square: closed loop at Kc  "
+                      "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s",
+                      d.out.other_locus ? "  grey: other regime" : "");
+  size.y -= ImGui::GetTextLineHeightWithSpacing();
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("##locus", size);
   const bool hovered = ImGui::IsItemHovered();
@@ -253,6 +274,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   dl->PushClipRect(p0, p1, true);
   draw_requirements(dl, t, zeta_for_overshoot(d.max_overshoot), 4.0 / d.settling_time);
   draw_grid(dl, t);
+  if (d.out.other_locus) draw_other_locus(dl, t, *d.out.other_locus);
   draw_locus(dl, t, d.out.locus);
   const float r = 6.0f;
   // plant poles (black x) and zeros (o); compensator zero/pole in green
@@ -297,10 +319,6 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
     const ImVec2 q = px(t, d.picked_s);
     dl->AddText(ImVec2(q.x + 9, q.y - 18), kText, buf);
   }
-  // legend
-  const char* legend = "x open-loop pole   o zero   (green: compensator)   filled square: closed-loop pole at Kc\n"
-                       "diamond: desired s_d   shaded: fails overshoot / settling requirement   dashed: asymptotes";
-  dl->AddText(ImVec2(p0.x + 8, p0.y + 6), kText, legend);
   dl->PopClipRect();
   dl->AddRect(p0, p1, kAxis);
   const char* label = "Re s [rad/s] (horizontal), Im s [rad/s] (vertical)";

@@ -80,6 +80,8 @@ void plant_section(DesignViewState& d) {
     if (input_double("v0 [m/s]", &v0, 1e-5, 1.0, "%.3g", "Sliding operating velocity (default 10 Vs)", true))
       d.in.velocity = v0, d.dirty = true;
   }
+  d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &d.in.other_regime);
+  tip("Overlay the locus of the other regime's plant with the same compensator");
   const auto& p = d.out.plant;
   ImGui::TextColored(kDim, "G(s) = 1 / (%.4g s^2 + %.4g s + %.4g)  [m/N]", p.mass, p.damping, p.stiffness);
   tip("m [kg], c_eff [N s/m], k_eff [N/m]");
@@ -127,7 +129,11 @@ void result_section(DesignViewState& d) {
   }
   const control::LeadDesign* des = r.design ? &*r.design : nullptr;
   if (des)
-    for (const auto& n : des->dominance.notes) ImGui::TextColored(kErr, "! %s", n.c_str());
+    for (const auto& n : des->dominance.notes) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+      ImGui::TextWrapped("! %s", n.c_str());
+      ImGui::PopStyleColor();
+    }
   for (const auto& rel : r.relocations) {
     ImGui::PushID(rel.path.c_str());
     if (rel.found) {

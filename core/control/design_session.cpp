@@ -62,6 +62,14 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop = L;
     out.locus = root_locus(L, lo);
     out.locus.view = shown;
+    if (in.other_regime) {
+      const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
+      const TransferFunction g2 = linear_plant(in.scenario, other, in.velocity).g;
+      TransferFunction L2 = g2;
+      if (out.compensator)
+        L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
+      out.other_locus = root_locus(L2, lo);
+    }
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);

@@ -44,6 +44,7 @@ struct DesignInputs {
   double horizon = 0.0;      // [s]; 0: automatic
   bool simulate = true;      // run the nonlinear loops
   std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
+  bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
 };
 
 struct DesignOutputs {
@@ -55,6 +56,7 @@ struct DesignOutputs {
   std::vector<cplx> closed_loop_poles;  // with the compensator
   TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
   RootLocus locus;
+  std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
   StepResponse step;
   LoopTrace loop_plain, loop_compensated;
   LoopMetrics metrics_plain, metrics_compensated;
