@@ -108,10 +108,11 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
   if (j.contains("relocations"))
     for (const auto& r : j["relocations"]) {
       os << "relocation " << r["path"].get<std::string>() << ": ";
-      if (r["found"].get<bool>())
+      if (r["found"].get<bool>()) {
         os << "wn = " << f(r["wn"]) << " rad/s, zeta = " << f(r["zeta"]) << ", Gc = " << f(r["Kc"])
            << " (s + " << f(r["z"]) << ") / (s + " << f(r["p"]) << ")\n";
-      else
+        for (const auto& n : r["notes"]) os << "  note: " << n.get<std::string>() << '\n';
+      } else
         os << "none: " << r["reason"].get<std::string>() << '\n';
     }
   if (j.contains("simulation"))

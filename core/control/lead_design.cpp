@@ -273,7 +273,11 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
   }
   std::ostringstream o;
   o.precision(5);
-  if (r.peak_K > 0.0)
+  if (r.peak_K > 0.0 && peak_t >= 1.0 - 1.0 / n)
+    o << "along the explored range (up to 100x the start in wn or wd, or zeta down to 0.1 % of "
+         "it) K_max only reaches " << r.peak_K << " (wn = " << r.peak_root.wn
+      << " rad/s, zeta = " << r.peak_root.zeta << "), below the target " << target;
+  else if (r.peak_K > 0.0)
     o << "along this path K_max peaks at " << r.peak_K << " (wn = " << r.peak_root.wn
       << " rad/s, zeta = " << r.peak_root.zeta << "), below the target " << target;
   else

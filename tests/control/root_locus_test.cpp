@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/control/assignment.hpp"
@@ -71,6 +72,16 @@ TEST(Assignment, HungarianFindsTheOptimumThatGreedyMisses) {
     best = std::min(best, s);
   } while (std::next_permutation(perm.begin(), perm.end()));
   EXPECT_DOUBLE_EQ(got, best);
+}
+
+TEST(Assignment, NonFiniteCostsStillGiveAPermutation) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> cost = {nan, inf, 1.0, inf, nan, inf, 2.0, inf, nan};
+  auto col = solve_assignment(cost, 3);
+  EXPECT_EQ(col[0], 2);
+  EXPECT_EQ(col[2], 0);
+  EXPECT_EQ(col[1], 1);
 }
 
 TEST(Polynomial, RootsOfKnownFactorsAndConjugatePairs) {
