@@ -269,6 +269,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
   const control::ViewBox v = d.view ? *d.view : d.out.locus.view;
   const PlotTransform t = fit(v, p0, p1);
+  d.canvas = t;
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
   dl->PushClipRect(p0, p1, true);

@@ -18,6 +18,7 @@
 
 #include "core/control/design_session.hpp"
 #include "ui/app.hpp"
+#include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
 
@@ -42,6 +43,7 @@ struct DesignViewState {
   double picked_k = 0.0;
   control::cplx picked_s;
   std::vector<control::cplx> picked_poles;
+  PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
 };
 
 // zeta_min of an overshoot requirement [%]: OS = exp(-pi zeta / sqrt(1 - zeta^2)).
