@@ -62,6 +62,7 @@ static void BM_DesignViewFrame(benchmark::State& st) {
   in.regime = Regime::Sliding;
   in.root = {0.7, 60.0};
   in.K = 1000.0;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);  // the view's default: two periods, 1 s
   for (auto _ : st) {
     const DesignOutputs out = compute_design(in);
     if (!out.error.empty()) st.SkipWithError(out.error.c_str());
