@@ -247,18 +247,22 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      v.push_back(col("dwell", "N", true, [](D d, C c, G g, O o) {
-        std::fill(o.begin(), o.end(), 0.0);
-        for (const auto& s : motion_starts(d, c)) {
-          const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
-          for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
-            if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
-            const double e = std::exp(-std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0);
-            if (e < 1e-6) break;
-            o[k] = phi * g[k] * e;
+      // Basis over the travel s since the start: e^(-s/s0), (s/s0) e^(-s/s0), e^(-s/(4 s0)).
+      for (int m = 0; m < 3; ++m)
+        v.push_back(col(m == 0 ? "dwell_short" : m == 1 ? "dwell_rise" : "dwell_long", "N", true,
+                        [m](D d, C c, G g, O o) {
+          std::fill(o.begin(), o.end(), 0.0);
+          const double s0 = (m == 2 ? 4.0 : 1.0) * c.dwell_s0;
+          for (const auto& s : motion_starts(d, c)) {
+            const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
+              if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
+              const double q = std::abs(d.x[k] - d.x[s.k]) / s0;
+              if (q > 14.0) break;
+              o[k] = phi * g[k] * std::exp(-q) * (m == 1 ? q : 1.0);
+            }
           }
-        }
-      }));
+        }));
       break;
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {
