@@ -12,8 +12,9 @@ namespace gmslab::ident {
 
 LoopOptions::LoopOptions() {
   base.stage = "base fit";
+  base.max_evaluations = 500;
   refit.starts = 2;
-  refit.max_evaluations = 500;
+  refit.max_evaluations = 400;
   refit.stage = "refit";
   candidates = effect_catalog();
 }
@@ -57,7 +58,7 @@ Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dat
 // The dwell decay length that explains most, from a few multiples of x_ba.
 void choose_dwell_length(const FitResult& cur, const Dataset& train, EffectContext& c) {
   double best = -1, best_s0 = c.dwell_s0;
-  for (double m : {0.3, 1.0, 2.0, 4.0, 8.0, 16.0}) {
+  for (double m : {0.1, 0.2, 0.4, 0.7, 1.0, 2.0, 4.0, 8.0}) {
     c.dwell_s0 = m * c.x_ba;
     const auto lin = refit_linear(with(cur.spec, Effect::DwellStiction), train, c, cur.u);
     if (cur.rms_train - lin.rms_train > best) best = cur.rms_train - lin.rms_train, best_s0 = c.dwell_s0;
@@ -102,18 +103,6 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
   rep.rms_before_train = cur.rms_train;
   rep.rms_before_validation = cur_val;
   for (int round = 1; round <= o.max_rounds; ++round) {
-    {  // Polish the current model with the refit budget, so an effect is never credited with
-       // what more optimisation alone achieves.
-      FitOptions fo = o.refit;
-      fo.stage = "round " + std::to_string(round) + ": polish the current model";
-      FitResult p = fit_model(cur.spec, train, c, fo, &cur.u);
-      if (p.rms_train < cur.rms_train) {
-        cur = std::move(p);
-        cur_val = rms_on(cur, val, c);
-        rep.stages.back() = cur;
-        if (round == 1) rep.rms_before_train = cur.rms_train, rep.rms_before_validation = cur_val;
-      }
-    }
     Round rd;
     rd.rms_train_before = cur.rms_train;
     rd.rms_validation_before = cur_val;
@@ -139,6 +128,7 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     int tries = 0;
     for (const auto& k : rd.candidates) {
       if (tries >= o.tries_per_round || k.explained < o.min_explained) break;
+      if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
       ++tries;
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));

@@ -6,7 +6,8 @@
 //      shape) -> fraction of the residual variance it explains. The position_periodic wavelength
 //      is the peak of the residual's position spectrum (needs peak / median >= 4), the dwell
 //      decay length the best of a few multiples of the break-away displacement.
-//   3. Candidates in order of explained variance (at least min_explained): add the effect, refit
+//   3. Candidates in order of explained variance (at least min_explained) whose screening fit
+//      lowers the validation RMS at all: add the effect, refit
 //      everything (shape warm-started + linear terms), and keep it only when the validation RMS
 //      drops by at least min_gain (relative). The first kept candidate ends the round; at most
 //      tries_per_round candidates are tried. No candidate kept: stop. The training error alone

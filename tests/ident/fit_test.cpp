@@ -28,27 +28,3 @@ TEST(IdentFit, GmsFitOfCleanGmsRecordReachesNoiseLevel) {
   EXPECT_LT(r.rms_train, 1.3 * so.noise);
 }
 
-TEST(IdentFitDebug, NormalLoadDirect) {
-  synth::SynthOptions so;
-  so.effect = Effect::NormalLoad;
-  so.seed = 11;
-  const auto rec = synth::synthesize(so);
-  const auto d = prepare_dataset(rec);
-  const auto c = make_context(d);
-  FitSpec spec;
-  spec.effects = {Effect::NormalLoad};
-  for (auto [st, me] : {std::pair{1, 600}, {1, 1500}, {2, 600}, {3, 400}}) {
-    for (auto m : {"bobyqa", "sbplx", "neldermead"}) {
-    FitOptions o;
-    o.starts = st;
-    o.max_evaluations = me;
-    o.method = m;
-    const auto r = fit_model(spec, d, c, o);
-    std::printf("%s starts %d max %d: rms=%.4f evals %d\n", m, st, me, r.rms_train, r.evaluations);
-    }
-  }
-  FitOptions o;
-  const auto r = fit_model(spec, d, c, o);
-  for (const auto& t : r.terms) std::printf("  %s %s = %g %s\n", t.effect.c_str(), t.name.c_str(), t.value, t.unit.c_str());
-  for (std::size_t i = 0; i < r.friction.scalars.size(); ++i) std::printf("  scalar %zu = %g\n", i, r.friction.scalars[i]);
-}
