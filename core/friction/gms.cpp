@@ -75,6 +75,7 @@ ModelInfo gms_model_info() {
 
 GmsModel::GmsModel(const ModelParams& p)
     : params_(p), p_(GmsParams::from(p)), n_(p_.alpha.size()) {
+  inv_vs_ = 1.0 / p_.S.Vs;
   sigma_over_k_.resize(n_);
   for (std::size_t i = 0; i < n_; ++i) sigma_over_k_[i] = p_.sigma[i] / p_.k[i];
 }
@@ -85,39 +86,57 @@ void GmsModel::reset(std::span<double> state) const {
   std::fill(state.begin(), state.end(), 0.0);
 }
 
-double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
-  const double v = in.v;
-  const double h = in.h;
-  const double s = sgn(v);
-  const double S = p_.S(v);
-  const double E = std::exp(-p_.C * h / S);  // slip relaxation over the step, common to all
-  const double vh = v * h;
-  double* __restrict F = state.data();
-  double* __restrict d = state.data() + n_;
-  const double* __restrict alpha = p_.alpha.data();
-  const double* __restrict k = p_.k.data();
-  const double* __restrict sk = sigma_over_k_.data();
+namespace {
+struct Sums {
+  double force;    // sum of F_i after the step [N]
+  double damping;  // sum of (sigma_i / k_i) (F_i(t + h) - F_i(t)) [N s]
+};
+
+// The per-element update of GmsModel::step; compiled for AVX2 and for the baseline, chosen at load
+// time (no fused multiply-add: -std=c++20 implies -ffp-contract=off; the reduction order depends on the
+// vector width, so traces are reproducible per machine kind).
+__attribute__((target_clones("avx2", "default"))) Sums gms_elements_step(
+    std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
+    const double* __restrict k, const double* __restrict sk, double s, double S, double E,
+    double vh) {
   double sum_f = 0.0;
   double sum_damp = 0.0;
-  // Branch-free per element, so the loop vectorises.
-#pragma GCC ivdep
-  for (std::size_t i = 0; i < n_; ++i) {
+  // Branch-free per element, so the loop vectorises (selects, no control flow):
+  //  - keeps slipping: slipping in the direction of v (d s > 0)
+  //  - over the limit already at the start (S dropped while stuck and loaded along v): slips
+  //  - otherwise stick, and a crossing inside the step ends it exactly at the target
+#pragma omp simd reduction(+ : sum_f, sum_damp)
+  for (std::size_t i = 0; i < n; ++i) {
     const double f0 = F[i];
     const double lim = alpha[i] * S;
     const double target = s * lim;
     const double f_slip = target + (f0 - target) * E;
     const double f_stick = f0 + k[i] * vh;
-    const bool keeps_slipping = (d[i] != 0.0) & (d[i] == s);
-    const bool breaks = (s * f_stick >= lim) & (s != 0.0);
-    const bool was_over = s * f0 >= lim;  // loaded beyond the limit already (S dropped)
-    const double f_break = was_over ? f_slip : target;
-    const double f1 = keeps_slipping ? f_slip : (breaks ? f_break : f_stick);
-    d[i] = (keeps_slipping | breaks) ? s : 0.0;
+    const bool breaks = s * f_stick >= lim;  // false when v = 0 (lim > 0)
+    const bool slips = (d[i] * s > 0.0) | (s * f0 >= lim);
+    const double f_clamped = breaks ? target : f_stick;
+    const double f1 = slips ? f_slip : f_clamped;
+    d[i] = (slips | breaks) ? s : 0.0;
     sum_damp += sk[i] * (f1 - f0);
     F[i] = f1;
     sum_f += f1;
   }
-  return sum_f + sum_damp / h + p_.sigma2 * v;
+  return {sum_f, sum_damp};
+}
+}  // namespace
+
+double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
+  const double v = in.v;
+  const double h = in.h;
+  const double inv_h = 1.0 / h;  // independent of v: off the step's critical path
+  const double s = sgn(v);
+  const double S = p_.S.at_scaled(std::abs(v) * inv_vs_);
+  const double E = exp_neg(p_.C * h / S);  // slip relaxation over the step, common to all
+  const double vh = v * h;
+  const auto [sum_f, sum_damp] =
+      gms_elements_step(n_, state.data(), state.data() + n_, p_.alpha.data(), p_.k.data(),
+                        sigma_over_k_.data(), s, S, E, vh);
+  return sum_f + sum_damp * inv_h + p_.sigma2 * v;
 }
 
 double GmsModel::steady_state(double v) const { return sgn(v) * p_.S(v) + p_.sigma2 * v; }

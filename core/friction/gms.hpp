@@ -57,6 +57,7 @@ class GmsModel final : public FrictionModel {
   GmsParams p_;
   std::size_t n_;
   std::vector<double> sigma_over_k_;  // sigma_i / k_i [s]
+  double inv_vs_ = 0.0;              // 1 / Vs [s/m]
 };
 
 ModelInfo gms_model_info();

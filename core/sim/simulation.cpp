@@ -87,6 +87,12 @@ void Simulation::reset() {
   trace_.n_elements = std::min(model_->element_count(), kMaxRecordedElements);
   step_ = 0;
   total_steps_ = static_cast<std::uint64_t>(std::llround(sc_.run.duration / sc_.run.dt));
+  until_record_ = static_cast<std::uint64_t>(sc_.run.record_every);
+  const std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  for (auto* vec : {&trace_.t, &trace_.x, &trace_.v, &trace_.friction, &trace_.applied})
+    vec->reserve(expected);
+  trace_.element_force.reserve(expected * trace_.n_elements);
+  trace_.element_slip.reserve(expected * trace_.n_elements);
   x_ = 0.0;
   v_ = 0.0;
   if (sc_.drive.kind == Drive::Kind::Displacement) x_ = sc_.drive.signal(0.0);
@@ -102,9 +108,10 @@ void Simulation::set_friction(const ModelParams& p) {
   if (!same_shape) {
     state_.assign(model_->state_size(), 0.0);
     model_->reset(state_);
+    // Keep the trace's element columns aligned with its samples: earlier samples get zeros.
     trace_.n_elements = std::min(model_->element_count(), kMaxRecordedElements);
-    trace_.element_force.clear();
-    trace_.element_slip.clear();
+    trace_.element_force.assign(trace_.size() * trace_.n_elements, 0.0);
+    trace_.element_slip.assign(trace_.size() * trace_.n_elements, 0);
   }
 }
 
@@ -132,57 +139,67 @@ void Simulation::record(double ff, double fapp) {
 }
 
 std::size_t Simulation::advance(std::size_t n) {
+  switch (sc_.drive.kind) {
+    case Drive::Kind::Displacement: return advance_as<Drive::Kind::Displacement>(n);
+    case Drive::Kind::Velocity: return advance_as<Drive::Kind::Velocity>(n);
+    case Drive::Kind::Force: return advance_as<Drive::Kind::Force>(n);
+    case Drive::Kind::Pull: return advance_as<Drive::Kind::Pull>(n);
+  }
+  return 0;
+}
+
+template <Drive::Kind K>
+std::size_t Simulation::advance_as(std::size_t n) {
   const double h = sc_.run.dt;
   const Drive& d = sc_.drive;
   const Plant& pl = sc_.plant;
+  const double inv_m = 1.0 / pl.mass;
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
   std::size_t done = 0;
   for (; done < n && step_ < total_steps_; ++done) {
     const double t = time();
     double ff = 0.0, fapp = 0.0;
-    switch (d.kind) {
-      case Drive::Kind::Displacement: {
-        const double x1 = d.signal(t + h);
-        const double v = (x1 - x_) / h;
-        ff = model_->step(state_, {v, h, 0.0, 0.0});
-        fapp = ff;
-        x_ = x1;
-        v_ = v;
-        break;
-      }
-      case Drive::Kind::Velocity: {
-        const double v1 = d.signal(t + h);
-        const double vm = 0.5 * (d.signal(t) + v1);
-        ff = model_->step(state_, {vm, h, 0.0, 0.0});
-        fapp = ff;
-        x_ += vm * h;
-        v_ = v1;
-        break;
-      }
-      case Drive::Kind::Force:
-      case Drive::Kind::Pull: {
-        fapp = d.kind == Drive::Kind::Force
-                   ? d.signal(t)
-                   : d.pull_spring * (d.signal(t) - x_) + d.pull_damper * (d.signal.rate_at(t) - v_);
-        const double f_other = fapp - pl.spring * x_ - pl.damper * v_;
-        ff = model_->step(state_, {v_, h, f_other, pl.mass});
-        v_ += h * (f_other - ff) / pl.mass;
-        x_ += h * v_;
-        break;
-      }
+    if constexpr (K == Drive::Kind::Displacement) {
+      const double x1 = d.signal(t + h);
+      const double v = (x1 - x_) / h;
+      ff = model_->step(state_, {v, h, 0.0, 0.0});
+      fapp = ff;
+      x_ = x1;
+      v_ = v;
+    } else if constexpr (K == Drive::Kind::Velocity) {
+      const double v1 = d.signal(t + h);
+      const double vm = 0.5 * (d.signal(t) + v1);
+      ff = model_->step(state_, {vm, h, 0.0, 0.0});
+      fapp = ff;
+      x_ += vm * h;
+      v_ = v1;
+    } else {
+      if constexpr (K == Drive::Kind::Force)
+        fapp = d.signal(t);
+      else
+        fapp = d.pull_spring * (d.signal(t) - x_) + d.pull_damper * (d.signal.rate_at(t) - v_);
+      const double f_other = fapp - pl.spring * x_ - pl.damper * v_;
+      ff = model_->step(state_, {v_, h, f_other, pl.mass});
+      v_ += h * (f_other - ff) * inv_m;
+      x_ += h * v_;
     }
     ++step_;
-    if (!std::isfinite(ff) || !std::isfinite(x_) || !std::isfinite(v_)) {
-      std::ostringstream o;
-      o << "simulation diverged at t = " << time() << " s (non-finite "
-        << (!std::isfinite(ff) ? "friction force" : "state")
-        << "). Likely cause: run.dt = " << h << " s is too large for the stiffest element "
-        << "(limit " << stability_limit_dt(sc_) << " s), or a parameter is extreme.";
-      throw SimulationError(o.str());
-    }
-    if (step_ % static_cast<std::uint64_t>(sc_.run.record_every) == 0 || step_ == total_steps_)
+    if (!std::isfinite(ff + x_ + v_)) diverged(ff);
+    if (--until_record_ == 0 || step_ == total_steps_) {
       record(ff, fapp);
+      until_record_ = every;
+    }
   }
   return done;
+}
+
+void Simulation::diverged(double ff) const {
+  std::ostringstream o;
+  o << "simulation diverged at t = " << time() << " s (non-finite "
+    << (!std::isfinite(ff) ? "friction force" : "state")
+    << "). Likely cause: run.dt = " << sc_.run.dt << " s is too large for the stiffest element "
+    << "(limit " << stability_limit_dt(sc_) << " s), or a parameter is extreme.";
+  throw SimulationError(o.str());
 }
 
 void Simulation::run_to_end() {

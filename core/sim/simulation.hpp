@@ -58,6 +58,9 @@ class Simulation {
 
  private:
   void record(double ff, double fapp);
+  template <Drive::Kind K>
+  std::size_t advance_as(std::size_t n);
+  [[noreturn]] void diverged(double ff) const;
 
   Scenario sc_;
   std::unique_ptr<FrictionModel> model_;
@@ -65,6 +68,7 @@ class Simulation {
   Trace trace_;
   std::uint64_t step_ = 0;
   std::uint64_t total_steps_ = 0;
+  std::uint64_t until_record_ = 1;  // steps until the next trace sample
   double x_ = 0.0, v_ = 0.0;
 };
 

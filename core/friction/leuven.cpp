@@ -1,0 +1,117 @@
+#include "core/friction/leuven.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "core/friction/param_specs.hpp"
+
+namespace gmslab {
+
+ModelInfo leuven_model_info() {
+  ModelInfo m;
+  m.tag = "leuven";
+  m.name = "Leuven (2002, Maxwell-slip hysteresis)";
+  m.citation = "Swevers et al., IEEE TAC 45(4), 2000; Lampaert, Swevers, Al-Bender, IEEE TAC "
+               "47(4), 2002";
+  m.equation =
+      "dz/dt = v (1 - sgn(F_h(z)/S(v)) |F_h(z)/S(v)|^n); F = F_h(z) + sigma1 dz/dt + sigma2 v; "
+      "F_h(z) = sum of Maxwell-slip elements (k_i, W_i) driven by z";
+  m.scalars = {specs::Fs(), specs::Fc(), specs::Vs(), specs::delta(),
+               {"n", "n", "-", "shape exponent of the transition to sliding", 0.2, 20},
+               specs::sigma1(), specs::sigma2()};
+  m.columns = {
+      {"k", "k_i", "N/m", "hysteresis element stiffness", 0, 1e12, true, true},
+      {"W", "W_i", "N", "hysteresis element slip force; sum W_i >= Fs", 0, 1e7, true, true},
+  };
+  m.min_elements = 1;
+  m.max_elements = 100000;
+  m.defaults = [] {
+    return ModelParams{"leuven",
+                       {1.5, 1.0, 1e-3, 2.0, 8.0, 0.0, 0.4},
+                       {{75000, 0.15}, {60000, 0.3}, {45000, 0.45}, {30000, 0.6}}};
+  };
+  m.check = [](const ModelParams& p, std::vector<std::string>& out) {
+    specs::check_fc_le_fs(p, out);
+    const auto W = p.column("W");
+    const double sum = std::accumulate(W.begin(), W.end(), 0.0);
+    if (sum < p.scalar("Fs") * (1.0 - 1e-9))
+      out.push_back("the element slip forces W must sum to at least Fs (sum W = " +
+                    specs::num(sum) + " N, Fs = " + specs::num(p.scalar("Fs")) +
+                    " N): F_h must be able to reach S(v)");
+  };
+  m.build = [](const ModelParams& p) { return std::make_unique<LeuvenModel>(p); };
+  return m;
+}
+
+LeuvenModel::LeuvenModel(const ModelParams& p)
+    : params_(p),
+      S_(specs::stribeck_from(p)),
+      n_exp_(p.scalar("n")),
+      sigma1_(p.scalar("sigma1")),
+      sigma2_(p.scalar("sigma2")),
+      k_(p.column("k")),
+      W_(p.column("W")) {
+  k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
+}
+
+const ModelInfo& LeuvenModel::info() const { return model_info("leuven"); }
+
+void LeuvenModel::reset(std::span<double> state) const {
+  std::fill(state.begin(), state.end(), 0.0);
+}
+
+double LeuvenModel::steady_state(double v) const { return sgn(v) * S_(v) + sigma2_ * v; }
+
+double LeuvenModel::hysteresis(const double* F, double dz) const {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < k_.size(); ++i) sum += std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]);
+  return sum;
+}
+
+double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
+  const double r = hysteresis(F, dz) / S;  // S carries the sign of v
+  const double phi = (n_exp_ == 2.0)   ? r * std::abs(r)
+                     : (n_exp_ == 1.0) ? r
+                                       : std::copysign(std::pow(std::abs(r), n_exp_), r);
+  return v * (1.0 - phi);
+}
+
+double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const {
+  const std::size_t nel = k_.size();
+  double* F = state.data();
+  double* d = state.data() + nel;
+  const double v = in.v;
+  if (v == 0.0) {
+    std::fill(d, d + nel, 0.0);
+    return hysteresis(F, 0.0);
+  }
+  const double S = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
+  const double lambda_h = k_total_ * std::abs(v) * std::max(n_exp_, 1.0) / std::abs(S) * in.h;
+  const int n = static_cast<int>(std::clamp(std::ceil(4.0 * lambda_h), 1.0, 4096.0));
+  const double hs = in.h / n;
+  double dz = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double k1 = rate(F, dz, v, S);
+    const double k2 = rate(F, dz + 0.5 * hs * k1, v, S);
+    const double k3 = rate(F, dz + 0.5 * hs * k2, v, S);
+    const double k4 = rate(F, dz + hs * k3, v, S);
+    dz += hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+  }
+  double fh = 0.0;
+  const double sz = sgn(dz);
+  for (std::size_t i = 0; i < nel; ++i) {
+    const double f = F[i] + k_[i] * dz;
+    const bool slips = sz != 0.0 && sz * f >= W_[i];
+    F[i] = std::clamp(f, -W_[i], W_[i]);
+    d[i] = slips ? sz : 0.0;
+    fh += F[i];
+  }
+  return fh + sigma1_ * dz / in.h + sigma2_ * v;
+}
+
+ElementState LeuvenModel::element(std::span<const double> state, std::size_t i) const {
+  return {state[i], state[k_.size() + i] != 0.0};
+}
+
+}  // namespace gmslab
