@@ -9,7 +9,9 @@
 //   3. Candidates in order of explained variance (at least min_explained) whose screening fit
 //      lowers the validation RMS at all: add the effect, refit
 //      everything (shape warm-started + linear terms), and keep it only when the validation RMS
-//      drops by at least min_gain (relative). The first kept candidate ends the round; at most
+//      drops by at least min_gain (relative) - also against a control refit of the current model
+//      with the same budget, so that better optimisation is never credited to an effect. The
+//      first kept candidate ends the round; at most
 //      tries_per_round candidates are tried. No candidate kept: stop. The training error alone
 //      never decides.
 // Validation: a second record, or the hold-out of the training record (dataset.hpp).
