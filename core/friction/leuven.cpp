@@ -28,7 +28,7 @@ ModelInfo leuven_model_info() {
   m.max_elements = 100000;
   m.defaults = [] {
     return ModelParams{"leuven",
-                       {1.5, 1.0, 1e-3, 2.0, 2.0, 182.7, 0.4},
+                       {1.5, 1.0, 1e-3, 2.0, 8.0, 0.0, 0.4},
                        {{75000, 0.15}, {60000, 0.3}, {45000, 0.45}, {30000, 0.6}}};
   };
   m.check = [](const ModelParams& p, std::vector<std::string>& out) {
@@ -70,7 +70,7 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
 }
 
 double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
-  const double r = hysteresis(F, dz) / S;
+  const double r = hysteresis(F, dz) / S;  // S carries the sign of v
   const double phi = (n_exp_ == 2.0)   ? r * std::abs(r)
                      : (n_exp_ == 1.0) ? r
                                        : std::copysign(std::pow(std::abs(r), n_exp_), r);
@@ -86,8 +86,8 @@ double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const
     std::fill(d, d + nel, 0.0);
     return hysteresis(F, 0.0);
   }
-  const double S = S_(v);
-  const double lambda_h = k_total_ * std::abs(v) * std::max(n_exp_, 1.0) / S * in.h;
+  const double S = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
+  const double lambda_h = k_total_ * std::abs(v) * std::max(n_exp_, 1.0) / std::abs(S) * in.h;
   const int n = static_cast<int>(std::clamp(std::ceil(4.0 * lambda_h), 1.0, 4096.0));
   const double hs = in.h / n;
   double dz = 0.0;
