@@ -1,15 +1,213 @@
-// gmslab design: placeholder registration; the design issue replaces this file with the real command.
+// gmslab design: phase-lead design with the largest reachable error constant
+// (shared/reference/phase_lead_design.md), for typed plant coefficients or a scenario's plant.
+//
+//   gmslab design --num "4" --den "1 2 0" --zeta 0.5 --wn 4 [--K 5] [--max-ratio 20] --json OUT
+//   gmslab design --preset SCENARIO.json --zeta 0.7 --wn 60 [--regime sliding] [--K 1000]
+//                 [--simulate --reference ramp --compensation all] --json OUT
+// OUT may be '-' (stdout). Without --K the design is the usable maximum (p/z = --max-ratio).
+#include <cmath>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
 #include "app/cli/cli.hpp"
+#include "core/control/design_json.hpp"
+#include "core/control/scenario_plant.hpp"
 #include "core/error.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/scenario_io.hpp"
 
 namespace gmslab::cli {
 
+namespace {
+using namespace gmslab::control;
+
+struct Opts {
+  std::string num, den, preset, json;
+  std::string regime = "presliding";
+  double velocity = 0.0;
+  double zeta = 0.0, wn = 0.0;
+  std::optional<double> K;
+  double max_ratio = 20.0, margin = 0.1;
+  bool simulate = false;
+  std::string reference = "step", compensation = "all";
+  double amplitude = 0.01, slope = 0.01, frequency = 1.0, duration = 2.0, dt = 0.0, T = 0.0;
+  double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
+};
+
+// The design to simulate: the requested one, the usable maximum, or the first relocation found.
+std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
+  if (r.design) return std::pair{std::string("requested"), *r.design};
+  for (const auto& rel : r.relocations)
+    if (rel.found) return std::pair{"relocated:" + rel.path, rel.design};
+  if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
+  return std::nullopt;
+}
+
+Signal reference_signal(const Opts& o) {
+  if (o.reference == "step") return Signal::constant(o.amplitude);
+  if (o.reference == "ramp") return Signal::ramp(0.0, o.slope);
+  if (o.reference == "sine") {
+    if (!(o.frequency > 0.0)) throw InputError("--frequency must be > 0 Hz");
+    return Signal::sine(0.0, o.amplitude, o.frequency);
+  }
+  throw InputError("--reference '" + o.reference + "': expected step, ramp or sine");
+}
+
+nlohmann::json simulate(const Scenario& sc, const Opts& o, const LeadDesign& d) {
+  std::vector<Compensation> comps;
+  if (o.compensation == "all") comps = {Compensation::None, Compensation::Coulomb, Compensation::Gms};
+  else comps = {compensation_from_string(o.compensation)};
+  nlohmann::json out = nlohmann::json::array();
+  for (Compensation c : comps) {
+    LoopConfig cfg;
+    cfg.reference = reference_signal(o);
+    cfg.C = {d.Kc, d.z, d.p};
+    cfg.sample_time = o.T;
+    cfg.comp = c;
+    cfg.mismatch = {o.mm_force, o.mm_stiffness, o.mm_velocity};
+    cfg.dt = o.dt > 0.0 ? o.dt : sc.run.dt;
+    cfg.duration = o.duration;
+    nlohmann::json j = to_json(loop_metrics(simulate_loop(sc, cfg)));
+    j["compensation"] = to_string(c);
+    out.push_back(j);
+  }
+  return out;
+}
+
+// Short numbers for the summary (6 significant digits; "n/a" for null).
+std::string f(const nlohmann::json& v) {
+  if (!v.is_number()) return "n/a";
+  std::ostringstream o;
+  o.precision(6);
+  o << v.get<double>();
+  return o.str();
+}
+
+std::string poles_text(const nlohmann::json& poles) {
+  std::string s;
+  for (const auto& p : poles) {
+    if (!p[1].is_number() || p[1].get<double>() < 0.0) continue;
+    s += (s.empty() ? "" : ", ") + f(p[0]) + (p[1].get<double>() > 0.0 ? " +- j" + f(p[1]) : "");
+  }
+  return s;
+}
+
+void print_summary(std::ostream& os, const nlohmann::json& j) {
+  const std::string k = j["constant"].get<std::string>();
+  os << "single lead applicable: " << (j["applicable"].get<bool>() ? "yes" : "no");
+  if (j.contains("reason")) os << " (" << j["reason"].get<std::string>() << ")";
+  os << "\nphi = " << f(j["phi_deg"]) << " deg, K0 = " << f(j["K0"]) << ", " << k << "_max = "
+     << f(j["K_max"]) << ", usable (p/z <= " << f(j["max_ratio"]) << ") = " << f(j["K_max_usable"]) << '\n';
+  if (j.contains("z"))
+    os << "design (" << j["design_kind"].get<std::string>() << "): Gc = " << f(j["Kc"]) << " (s + "
+       << f(j["z"]) << ") / (s + " << f(j["p"]) << "), " << k << " = " << f(j["K"])
+       << "\nclosed-loop poles: " << poles_text(j["closed_loop_poles"]) << '\n';
+  if (j.contains("notes"))
+    for (const auto& n : j["notes"]) os << "note: " << n.get<std::string>() << '\n';
+  if (j.contains("relocations"))
+    for (const auto& r : j["relocations"]) {
+      os << "relocation " << r["path"].get<std::string>() << ": ";
+      if (r["found"].get<bool>()) {
+        os << "wn = " << f(r["wn"]) << " rad/s, zeta = " << f(r["zeta"]) << ", Gc = " << f(r["Kc"])
+           << " (s + " << f(r["z"]) << ") / (s + " << f(r["p"]) << ")\n";
+        for (const auto& n : r["notes"]) os << "  note: " << n.get<std::string>() << '\n';
+      } else
+        os << "none: " << r["reason"].get<std::string>() << '\n';
+    }
+  if (j.contains("simulation"))
+    for (const auto& s : j["simulation"])
+      os << "loop with friction, " << s["compensation"].get<std::string>()
+         << ": e_ss = " << f(s["steady_state_error_m"]) << " m, RMS = " << f(s["rms_error_m"])
+         << " m, overshoot = " << f(s["overshoot_percent"]) << " %, settling = "
+         << f(s["settling_time_s"]) << " s" << (s["hunting"].get<bool>() ? ", hunting: amplitude " +
+            f(s["cycle_amplitude_m"]) + " m, period " + f(s["cycle_period_s"]) + " s" : "") << '\n';
+}
+
+int run_design(const Opts& o) {
+  TransferFunction g;
+  nlohmann::json plant;
+  std::optional<Scenario> sc;
+  if (!o.preset.empty()) {
+    if (!o.num.empty() || !o.den.empty())
+      throw InputError("give either --preset or --num/--den, not both");
+    sc = load_scenario(o.preset);
+    const LinearPlant lp = linear_plant(*sc, regime_from_string(o.regime), o.velocity);
+    g = lp.g;
+    plant = {{"source", o.preset}, {"regime", to_string(lp.regime)}, {"mass_kg", lp.mass},
+             {"stiffness_N_per_m", lp.stiffness}, {"damping_N_s_per_m", lp.damping},
+             {"velocity_m_per_s", lp.velocity}};
+  } else {
+    if (o.num.empty() || o.den.empty())
+      throw InputError("give the plant as --num and --den (coefficients, highest power first), "
+                       "or --preset SCENARIO.json");
+    g = {parse_polynomial(o.num, "--num"), parse_polynomial(o.den, "--den")};
+    g.check_proper("--num/--den");
+    plant = {{"source", "coefficients"}};
+  }
+  plant["num"] = g.num.descending_coeffs();
+  plant["den"] = g.den.descending_coeffs();
+  if (o.simulate && !sc) throw InputError("--simulate needs --preset (the friction to simulate with)");
+
+  const LeadReport r = lead_design(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin});
+  nlohmann::json j = to_json(r);
+  j["plant"] = plant;
+  j["max_ratio"] = o.max_ratio;
+  const auto chosen = chosen_design(r);
+  if (chosen) {
+    j["design_kind"] = chosen->first;
+    if (!r.design) {  // report the chosen design at the top level too
+      j["z"] = chosen->second.z, j["p"] = chosen->second.p, j["Kc"] = chosen->second.Kc;
+      j["K"] = chosen->second.K;
+      j["closed_loop_poles"] = poles_json(chosen->second.closed_loop_poles);
+    }
+  }
+  if (o.simulate) {
+    if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
+    j["simulation"] = simulate(*sc, o, chosen->second);
+  }
+  const std::string text = j.dump(2) + "\n";
+  if (o.json == "-") {
+    std::cout << text;
+    print_summary(std::cerr, j);
+  } else {
+    if (!o.json.empty()) write_file_atomic(o.json, text);
+    print_summary(std::cout, j);
+    if (!o.json.empty()) std::cout << "wrote " << o.json << '\n';
+  }
+  return 0;
+}
+}  // namespace
+
 void register_design(CLI::App& app, Action& action) {
-  auto* sub = app.add_subcommand("design", "(not available yet in this build)");
-  sub->allow_extras();
-  sub->callback([&action] {
-    action = [] () -> int { throw InputError("'gmslab design' is not available in this build yet"); };
-  });
+  static Opts o;
+  o = Opts{};
+  auto* sub = app.add_subcommand(
+      "design", "Phase-lead design on the root locus with the largest reachable error constant");
+  sub->add_option("--num", o.num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
+  sub->add_option("--den", o.den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
+  sub->add_option("--preset", o.preset, "Design for this scenario's plant (force -> position)");
+  sub->add_option("--regime", o.regime, "Scenario plant regime: presliding or sliding")->capture_default_str();
+  sub->add_option("--velocity", o.velocity, "Sliding operating velocity v0 [m/s] (default 10 Vs)");
+  sub->add_option("--zeta", o.zeta, "Damping ratio of the desired dominant roots, in (0, 1)")->required();
+  sub->add_option("--wn", o.wn, "Natural frequency of the desired dominant roots [rad/s], > 0")->required();
+  sub->add_option("--K", o.K, "Desired error constant (Kp, Kv or Ka by plant type), > 0");
+  sub->add_option("--max-ratio", o.max_ratio, "Bound on p/z for the usable maximum, > 1")->capture_default_str();
+  sub->add_option("--margin", o.margin, "Relocation target K (1 + margin), > 0")->capture_default_str();
+  sub->add_option("--json", o.json, "Write the design as JSON to this file ('-' = stdout)");
+  sub->add_flag("--simulate", o.simulate, "Simulate the loop with the scenario's friction");
+  sub->add_option("--reference", o.reference, "Reference: step, ramp or sine")->capture_default_str();
+  sub->add_option("--amplitude", o.amplitude, "Step height / sine amplitude [m]")->capture_default_str();
+  sub->add_option("--slope", o.slope, "Ramp velocity [m/s]")->capture_default_str();
+  sub->add_option("--frequency", o.frequency, "Sine frequency [Hz]")->capture_default_str();
+  sub->add_option("--duration", o.duration, "Simulated time [s]")->capture_default_str();
+  sub->add_option("--dt", o.dt, "Integration step [s] (default: the scenario's run.dt)");
+  sub->add_option("--sample-time", o.T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
+  sub->add_option("--compensation", o.compensation, "none, coulomb, gms or all")->capture_default_str();
+  sub->add_option("--mismatch-force", o.mm_force, "Compensator's Fs, Fc / plant's [-]")->capture_default_str();
+  sub->add_option("--mismatch-stiffness", o.mm_stiffness, "Compensator's k_i, sigma_i / plant's [-]")->capture_default_str();
+  sub->add_option("--mismatch-velocity", o.mm_velocity, "Compensator's Vs / plant's [-]")->capture_default_str();
+  sub->callback([&action] { action = [] { return run_design(o); }; });
 }
 
 }  // namespace gmslab::cli

@@ -1,5 +1,7 @@
 #include "core/io/json_reader.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -38,6 +40,11 @@ void JsonReader::fail(const std::string& key, const std::string& what) const {
   throw InputError(where(key) + ": " + what);
 }
 
+void JsonReader::fail_object(const std::string& what) const {
+  throw InputError(file_ + ": " + (path_.empty() ? "the document" : "key '" + path_ + "'") + ": " +
+                   what);
+}
+
 const nlohmann::json& JsonReader::get(const std::string& key, const char* expected) {
   used_.insert(key);
   const auto it = j_.find(key);
@@ -52,6 +59,9 @@ double JsonReader::number(const std::string& key, double lo, double hi, const st
   const std::string range =
       (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + "]" + (unit.empty() ? "" : " " + unit);
   const auto& v = get(key, ("a number in " + range).c_str());
+  if (v.is_string())
+    fail(key, "expected a number in " + range + ", got the text \"" + v.get<std::string>().substr(0, 40) +
+                  "\" (write the number without quotes or units)");
   if (!v.is_number()) fail(key, "expected a number in " + range + ", got " + type_name(v));
   const double x = v.get<double>();
   if (!std::isfinite(x)) fail(key, "must be finite, expected a number in " + range);
@@ -153,26 +163,61 @@ void JsonReader::finish() const {
   }
 }
 
+namespace {
+// "file:line:col" of byte offset pos in text (1-based line and column).
+std::string location(const std::string& text, std::size_t pos, const std::string& file) {
+  pos = std::min(pos, text.size());
+  std::size_t line = 1, col = 1;
+  for (std::size_t i = 0; i < pos; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return file + ":" + std::to_string(line) + ":" + std::to_string(col);
+}
+
+// A hint on what would be accepted, for the syntax errors people actually make. `pos` is the byte
+// offset where the parser stopped.
+std::string syntax_hint(const std::string& text, std::size_t pos, const std::string& what) {
+  std::size_t a = std::min(pos, text.size());
+  while (a > 0 && (std::isalpha(static_cast<unsigned char>(text[a - 1])) || text[a - 1] == '-' ||
+                   text[a - 1] == '+'))
+    --a;
+  std::string word;
+  for (std::size_t i = a; i < text.size() && word.size() < 4; ++i)
+    if (text[i] != '-' && text[i] != '+') word += static_cast<char>(std::tolower(text[i]));
+  if (word.rfind("nan", 0) == 0 || word.rfind("inf", 0) == 0)
+    return " (JSON has no NaN or Infinity; every value must be a finite number)";
+  if (pos + 1 >= text.size())
+    return " (the file ends in the middle of a value: is it truncated?)";
+  if (what.find("UTF-8") != std::string::npos) return " (the file must be UTF-8 text, as JSON requires)";
+  return "";
+}
+}  // namespace
+
 nlohmann::json parse_json(const std::string& text, const std::string& file) {
   if (text.empty()) throw InputError(file + ": the file is empty (expected a JSON object)");
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    // Translate the byte offset into line and column.
-    const std::size_t pos = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    std::size_t line = 1, col = 1;
-    for (std::size_t i = 0; i < pos; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        col = 1;
-      } else {
-        ++col;
-      }
-    }
     std::string what = e.what();
     if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-    throw InputError(file + ":" + std::to_string(line) + ":" + std::to_string(col) +
-                     ": malformed JSON: " + what);
+    const std::size_t pos = e.byte == 0 ? 0 : e.byte - 1;
+    throw InputError(location(text, pos, file) + ": malformed JSON: " + what +
+                     syntax_hint(text, pos, what));
+  } catch (const nlohmann::json::exception& e) {
+    // out_of_range 406: a number such as 1e999 that no double can hold. The message quotes the
+    // token; locate its first occurrence for the line and column.
+    std::string what = e.what();
+    std::size_t pos = 0;
+    if (const auto a = what.find('\''), b = what.rfind('\''); a != std::string::npos && b > a)
+      pos = std::min(text.find(what.substr(a + 1, b - a - 1)), text.size());
+    if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    throw InputError(location(text, pos, file) + ": " + what +
+                     " (numbers must be finite doubles, |x| < 1.8e308)");
   }
 }
 

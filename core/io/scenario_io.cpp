@@ -1,6 +1,7 @@
 #include "core/io/scenario_io.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
@@ -12,6 +13,7 @@ using nlohmann::json;
 namespace {
 constexpr double kBig = 1e12;
 constexpr std::size_t kMaxPoints = 1'000'000;
+constexpr std::uintmax_t kMaxPresetBytes = 64u << 20;  // 1e6 signal points fit in ~30 MB
 }  // namespace
 
 json to_json(const ModelParams& p) {
@@ -57,7 +59,11 @@ ModelParams model_params_from_json(JsonReader& r) {
   r.finish();
   std::vector<std::string> problems;
   if (info->check) info->check(p, problems);
-  if (!problems.empty()) r.fail("model", "parameters of '" + p.model + "': " + problems.front());
+  if (!problems.empty()) {
+    std::string all;
+    for (const auto& m : problems) all += (all.empty() ? "" : "; ") + m;
+    r.fail_object("parameters of model '" + p.model + "': " + all);
+  }
   return p;
 }
 
@@ -105,7 +111,15 @@ json to_json(const Signal& s) {
   return j;
 }
 
-Signal signal_from_json(JsonReader& r) {
+namespace {
+constexpr int kMaxSignalNesting = 8;  // sequences inside sequences (bounds the recursion)
+Signal signal_from_json_at(JsonReader& r, int depth);
+}  // namespace
+
+Signal signal_from_json(JsonReader& r) { return signal_from_json_at(r, 0); }
+
+namespace {
+Signal signal_from_json_at(JsonReader& r, int depth) {
   const std::string type = r.choice("type", {"constant", "ramp", "sine", "piecewise_linear",
                                              "turning_points", "triangle", "sequence"});
   Signal s;
@@ -150,6 +164,9 @@ Signal signal_from_json(JsonReader& r) {
     const double rate = r.number("rate", 0, kBig, "per s", true);
     s = Signal::triangle(lo, hi, rate, static_cast<int>(r.integer("cycles", 1, 100000)));
   } else {
+    if (depth >= kMaxSignalNesting)
+      r.fail("type", "sequences nest more than " + std::to_string(kMaxSignalNesting) +
+                         " levels deep; flatten the signal");
     auto segs = r.array_of_objects("segments", 1, 10000);
     std::vector<Signal::Segment> out;
     for (auto& seg : segs) {
@@ -157,7 +174,7 @@ Signal signal_from_json(JsonReader& r) {
       if (!out.empty() && !(from > out.back().from))
         seg.fail("from", "segment start times must increase");
       auto sub = seg.object("signal");
-      out.push_back({from, signal_from_json(sub)});
+      out.push_back({from, signal_from_json_at(sub, depth + 1)});
       seg.finish();
     }
     s = Signal::sequence(std::move(out));
@@ -165,6 +182,7 @@ Signal signal_from_json(JsonReader& r) {
   r.finish();
   return s;
 }
+}  // namespace
 
 json to_json(const Scenario& s) {
   json j;
@@ -237,6 +255,11 @@ Scenario scenario_from_json(const json& j, const std::string& file) {
 }
 
 Scenario load_scenario(const std::string& path) {
+  std::error_code ec;
+  if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes > kMaxPresetBytes)
+    throw InputError(path + ": the file is " + std::to_string(bytes) +
+                     " bytes; a scenario preset may be at most " +
+                     std::to_string(kMaxPresetBytes) + " bytes (64 MiB)");
   return scenario_from_json(parse_json(read_file(path), path), path);
 }
 

@@ -1,0 +1,229 @@
+#include "app/headless.hpp"
+
+#include <GL/osmesa.h>
+#include <backends/imgui_impl_opengl2.h>
+#include <imgui.h>
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/figures/figure_set.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/scenario_io.hpp"
+#include "ui/app.hpp"
+#include "ui/figure_view.hpp"
+#include "ui/panels.hpp"
+#include "ui/style.hpp"
+
+namespace gmslab::app {
+
+namespace {
+// ImGui_ImplOpenGL2_RenderDrawData of Dear ImGui 1.86 ignores ImDrawCmd::VtxOffset, so a draw list
+// with more than 65536 vertices (plots of long traces, 16-bit indices) would be drawn wrongly.
+// This is the same fixed-function drawing with the vertex offset honoured, which lets us declare
+// ImGuiBackendFlags_RendererHasVtxOffset. (The font texture still comes from the backend.)
+void render_draw_data(const ImDrawData* dd) {
+  const int fb_w = static_cast<int>(dd->DisplaySize.x * dd->FramebufferScale.x);
+  const int fb_h = static_cast<int>(dd->DisplaySize.y * dd->FramebufferScale.y);
+  if (fb_w <= 0 || fb_h <= 0) return;
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_LIGHTING);
+  glDisable(GL_COLOR_MATERIAL);
+  glEnable(GL_SCISSOR_TEST);
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+  glEnableClientState(GL_COLOR_ARRAY);
+  glDisableClientState(GL_NORMAL_ARRAY);
+  glEnable(GL_TEXTURE_2D);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glShadeModel(GL_SMOOTH);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+  glViewport(0, 0, fb_w, fb_h);
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glOrtho(dd->DisplayPos.x, dd->DisplayPos.x + dd->DisplaySize.x, dd->DisplayPos.y + dd->DisplaySize.y,
+          dd->DisplayPos.y, -1.0, 1.0);
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  const ImVec2 off = dd->DisplayPos, scale = dd->FramebufferScale;
+  for (int n = 0; n < dd->CmdListsCount; ++n) {
+    const ImDrawList* cl = dd->CmdLists[n];
+    for (const ImDrawCmd& cmd : cl->CmdBuffer) {
+      if (cmd.UserCallback) {
+        if (cmd.UserCallback != ImDrawCallback_ResetRenderState) cmd.UserCallback(cl, &cmd);
+        continue;
+      }
+      const ImVec2 c0((cmd.ClipRect.x - off.x) * scale.x, (cmd.ClipRect.y - off.y) * scale.y);
+      const ImVec2 c1((cmd.ClipRect.z - off.x) * scale.x, (cmd.ClipRect.w - off.y) * scale.y);
+      if (c1.x <= c0.x || c1.y <= c0.y) continue;
+      glScissor(static_cast<int>(c0.x), static_cast<int>(fb_h - c1.y), static_cast<int>(c1.x - c0.x),
+                static_cast<int>(c1.y - c0.y));
+      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(reinterpret_cast<std::intptr_t>(cmd.GetTexID())));
+      const ImDrawVert* v = cl->VtxBuffer.Data + cmd.VtxOffset;
+      glVertexPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->pos);
+      glTexCoordPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->uv);
+      glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(ImDrawVert), &v->col);
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(cmd.ElemCount),
+                     sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT, cl->IdxBuffer.Data + cmd.IdxOffset);
+    }
+  }
+  glDisable(GL_SCISSOR_TEST);
+}
+}  // namespace
+
+Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(height) {
+  gl_buf_.assign(static_cast<std::size_t>(w_) * h_ * 4, 0);
+  OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+  if (!ctx) throw std::runtime_error("OSMesa: cannot create an offscreen GL context");
+  if (!OSMesaMakeCurrent(ctx, gl_buf_.data(), GL_UNSIGNED_BYTE, w_, h_)) {
+    OSMesaDestroyContext(ctx);
+    throw std::runtime_error("OSMesa: cannot make the offscreen context current");
+  }
+  ctx_ = ctx;
+  IMGUI_CHECKVERSION();
+  imgui_ = ImGui::CreateContext();
+  if (font_px <= 0.0f) font_px = std::clamp(17.0f * static_cast<float>(h_) / 1000.0f, 12.0f, 26.0f);
+  ui::setup_style(font_px);
+  ImGuiIO& io = ImGui::GetIO();
+  io.DisplaySize = ImVec2(static_cast<float>(w_), static_cast<float>(h_));
+  io.DeltaTime = 1.0f / 60.0f;
+  ImGui_ImplOpenGL2_Init();
+  io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;  // render_draw_data honours it
+}
+
+Offscreen::~Offscreen() {
+  ImGui::SetCurrentContext(static_cast<ImGuiContext*>(imgui_));
+  ImGui_ImplOpenGL2_Shutdown();
+  ImGui::DestroyContext(static_cast<ImGuiContext*>(imgui_));
+  OSMesaDestroyContext(static_cast<OSMesaContext>(ctx_));
+}
+
+const std::vector<unsigned char>& Offscreen::render(const std::function<void()>& draw, int frames) {
+  ImGui::SetCurrentContext(static_cast<ImGuiContext*>(imgui_));
+  ImGuiIO& io = ImGui::GetIO();
+  for (int f = 0; f < std::max(1, frames); ++f) {
+    io.DisplaySize = ImVec2(static_cast<float>(w_), static_cast<float>(h_));
+    io.DeltaTime = 1.0f / 60.0f;
+    io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);  // no hover: deterministic
+    ImGui_ImplOpenGL2_NewFrame();
+    ImGui::NewFrame();
+    draw();
+    ImGui::Render();
+    glViewport(0, 0, w_, h_);
+    glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    render_draw_data(ImGui::GetDrawData());
+    glFinish();
+  }
+  // OSMesa's rows run bottom to top; PNG rows run top to bottom.
+  out_.resize(gl_buf_.size());
+  const std::size_t row = static_cast<std::size_t>(w_) * 4;
+  for (int y = 0; y < h_; ++y)
+    std::copy_n(&gl_buf_[static_cast<std::size_t>(h_ - 1 - y) * row], row, &out_[static_cast<std::size_t>(y) * row]);
+  for (std::size_t i = 3; i < out_.size(); i += 4) out_[i] = 255;  // opaque
+  return out_;
+}
+
+std::string encode_png(int width, int height, const std::vector<unsigned char>& rgba) {
+  std::string bytes;
+  auto sink = [](void* ctx, void* data, int size) {
+    static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(sink, &bytes, width, height, 4, rgba.data(), width * 4))
+    throw std::runtime_error("PNG encoding failed");
+  return bytes;
+}
+
+void write_png(const std::string& path, int width, int height, const std::vector<unsigned char>& rgba) {
+  write_file_atomic(path, encode_png(width, height, rgba));
+}
+
+namespace {
+// The main window of the app for a full-size frame.
+void draw_app(ui::AppState& s) { ui::draw_frame(s); }
+
+void draw_figure_window(const Figure& f) {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(vp->Pos);
+  ImGui::SetNextWindowSize(vp->Size);
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(255, 255, 255, 255));
+  ImGui::Begin("figure", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
+  ui::draw_figure(f, false);
+  ImGui::End();
+  ImGui::PopStyleColor();
+}
+
+std::vector<std::string> split_ids(const std::string& only) {
+  std::vector<std::string> ids;
+  std::stringstream in(only);
+  std::string id;
+  while (std::getline(in, id, ','))
+    if (!id.empty()) ids.push_back(id);
+  return ids;
+}
+}  // namespace
+
+int render_command(const cli::RenderOptions& o) {
+  int w = 0, h = 0;
+  cli::parse_size(o.size, w, h);
+  const ui::PanelEntry* panel = ui::find_panel(o.view.c_str());
+  if (!panel) {
+    std::string names;
+    for (const auto& e : ui::panels()) names += std::string(names.empty() ? "" : ", ") + e.name;
+    throw InputError("--view '" + o.view + "': unknown view (available: auto, " + names + ")");
+  }
+  ui::AppState s;
+  ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
+  s.view.tab = panel->name;
+  ui::run_until(s, o.time);
+  Offscreen off(w, h);
+  const auto& rgba = off.render([&] { draw_app(s); }, 4);
+  write_png(o.out, w, h, rgba);
+  std::cerr << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "
+            << s.main.sim->time() << " s)\n";
+  return 0;
+}
+
+int figures_command(const cli::FiguresOptions& o) {
+  int w = 0, h = 0;
+  cli::parse_size(o.size, w, h);
+  const std::vector<std::string> all = figure_ids();
+  std::vector<std::string> ids = o.only.empty() ? all : split_ids(o.only);
+  for (const auto& id : ids)
+    if (std::find(all.begin(), all.end(), id) == all.end()) {
+      std::string known;
+      for (const auto& k : all) known += (known.empty() ? "" : ", ") + k;
+      throw InputError("--only: unknown figure '" + id + "' (known: " + known + ")");
+    }
+  std::filesystem::create_directories(o.out);
+  const std::string presets = ui::presets_dir();
+  Offscreen off(w, h);
+  std::size_t k = 0;
+  for (const auto& id : ids) {
+    std::cerr << "[" << ++k << "/" << ids.size() << "] " << id << " ... " << std::flush;
+    const Figure f = make_figure(id, presets);
+    const auto& rgba = off.render([&] { draw_figure_window(f); }, 3);
+    const std::string base = (std::filesystem::path(o.out) / id).string();
+    write_png(base + ".png", w, h, rgba);
+    std::ostringstream csv;
+    write_figure_csv(f, csv);
+    write_file_atomic(base + ".csv", csv.str());
+    std::cerr << base << ".png, " << base << ".csv\n";
+  }
+  return 0;
+}
+
+}  // namespace gmslab::app

@@ -1,0 +1,78 @@
+// gmslab: the window, and every command line command.
+//   gmslab                   opens the window (no display: renders the figure set to ./figures)
+//   gmslab render|figures    run in the sibling executable gmslab-headless (OSMesa)
+//   gmslab <other command>   app/cli (simulate, design, identify, ...)
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "app/cli/cli.hpp"
+#include "app/window.hpp"
+
+namespace {
+
+// gmslab-headless next to this executable (/proc/self/exe), else on PATH.
+std::string headless_path() {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n > 0) {
+    std::string self(buf, static_cast<std::size_t>(n));
+    const auto slash = self.rfind('/');
+    const std::string sibling = self.substr(0, slash + 1) + "gmslab-headless";
+    if (access(sibling.c_str(), X_OK) == 0) return sibling;
+  }
+  return "gmslab-headless";
+}
+
+// Replaces this process with gmslab-headless ARGS; returns only on failure.
+int exec_headless(std::vector<std::string> args) {
+  const std::string exe = headless_path();
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(exe.c_str()));
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  if (exe.find('/') != std::string::npos)
+    execv(exe.c_str(), argv.data());
+  else
+    execvp(exe.c_str(), argv.data());
+  std::fprintf(stderr, "gmslab: cannot run %s: %s (build the gmslab-headless target)\n", exe.c_str(),
+               std::strerror(errno));
+  return 127;
+}
+
+bool has_display() {
+  const char* x = std::getenv("DISPLAY");
+  const char* w = std::getenv("WAYLAND_DISPLAY");
+  return (x && *x) || (w && *w);
+}
+
+int figures_fallback() {
+  std::fprintf(stderr,
+               "gmslab: no display; rendering the figure set headlessly into ./figures instead "
+               "(gmslab figures --out figures)\n");
+  return exec_headless({"figures", "--out", "figures"});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && (std::strcmp(argv[1], "render") == 0 || std::strcmp(argv[1], "figures") == 0))
+    return exec_headless(std::vector<std::string>(argv + 1, argv + argc));
+
+  std::vector<std::string> forward(argv + 1, argv + argc);
+  gmslab::cli::Host host;
+  host.render = [&](const gmslab::cli::RenderOptions&) { return exec_headless(forward); };
+  host.figures = [&](const gmslab::cli::FiguresOptions&) { return exec_headless(forward); };
+  host.window = [] {
+    if (!has_display()) return figures_fallback();
+    const int rc = gmslab::app::run_window(gmslab::app::default_session_path());
+    return rc == gmslab::app::kNoWindow ? figures_fallback() : rc;
+  };
+  return gmslab::cli::run(argc, argv, host);
+}

@@ -1,0 +1,170 @@
+#include "app/window.hpp"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <csignal>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "core/io/scenario_io.hpp"
+#include "core/io/session_io.hpp"
+#include "ui/app.hpp"
+#include "ui/style.hpp"
+
+namespace gmslab::app {
+
+namespace {
+// The three GL calls the window makes itself, loaded through GLFW (the target links no libGL; the
+// ImGui OpenGL3 backend loads its own functions).
+struct Gl {
+  void (*viewport)(int, int, int, int) = nullptr;
+  void (*clear_color)(float, float, float, float) = nullptr;
+  void (*clear)(unsigned) = nullptr;
+  bool load() {
+    viewport = reinterpret_cast<decltype(viewport)>(glfwGetProcAddress("glViewport"));
+    clear_color = reinterpret_cast<decltype(clear_color)>(glfwGetProcAddress("glClearColor"));
+    clear = reinterpret_cast<decltype(clear)>(glfwGetProcAddress("glClear"));
+    return viewport && clear_color && clear;
+  }
+};
+constexpr unsigned kColorBufferBit = 0x00004000;  // GL_COLOR_BUFFER_BIT
+
+// SIGINT / SIGTERM close the window normally, so the session is still saved.
+volatile std::sig_atomic_t g_quit = 0;
+void on_signal(int) { g_quit = 1; }
+
+void glfw_error(int code, const char* text) { std::fprintf(stderr, "gmslab: GLFW error %d: %s\n", code, text); }
+
+// Restores the last session, else opens the stick-slip preset.
+void initial_state(ui::AppState& s, const std::string& session_path) {
+  if (std::filesystem::exists(session_path)) {
+    try {
+      ui::restore_session(s, load_session(session_path));
+      s.status = "restored the session from " + session_path;
+      return;
+    } catch (const std::exception& e) {
+      s.status = std::string("session not restored: ") + e.what();
+    }
+  }
+  const std::string preset = ui::presets_dir() + "/fig4_stick_slip.json";
+  try {
+    ui::load_scenario_into(s, load_scenario(preset), preset);
+  } catch (const std::exception& e) {
+    s.status += std::string(s.status.empty() ? "" : "\n") + "default preset not loaded: " + e.what();
+  }
+}
+
+void save(const ui::AppState& s, const std::string& path) {
+  if (!s.main.sim) return;
+  try {
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+    save_session(ui::make_session(s), path);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gmslab: session not saved: %s\n", e.what());
+  }
+}
+
+void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl) {
+  using clock = std::chrono::steady_clock;
+  auto next = clock::now();
+  while (!glfwWindowShouldClose(win) && !g_quit) {
+    // Idle: wait for input instead of spinning; running: one frame per 1/60 s.
+    if (s.running)
+      glfwPollEvents();
+    else
+      glfwWaitEventsTimeout(0.25);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    s.frame_dt = std::clamp(static_cast<double>(ImGui::GetIO().DeltaTime), 1e-4, 0.1);
+    ui::draw_frame(s);
+    ImGui::Render();
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(win, &w, &h);
+    gl.viewport(0, 0, w, h);
+    gl.clear_color(0.95f, 0.95f, 0.96f, 1.0f);
+    gl.clear(kColorBufferBit);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    glfwSwapBuffers(win);
+    next += std::chrono::microseconds(16667);  // cap at 60 fps where vsync is absent (Xvfb)
+    const auto now = clock::now();
+    if (next > now)
+      std::this_thread::sleep_until(next);
+    else
+      next = now;
+  }
+}
+}  // namespace
+
+std::string default_session_path() {
+  if (const char* p = std::getenv("GMSLAB_SESSION"); p && *p) return p;
+  if (const char* x = std::getenv("XDG_CONFIG_HOME"); x && *x) return std::string(x) + "/gmslab/session.json";
+  const char* home = std::getenv("HOME");
+  return std::string(home && *home ? home : ".") + "/.config/gmslab/session.json";
+}
+
+int run_window(const std::string& session_path) {
+  glfwSetErrorCallback(glfw_error);
+  if (!glfwInit()) return kNoWindow;
+  // GL 3.2 core: the ImGui OpenGL3 backend then draws draw lists beyond 65536 vertices
+  // (ImGuiBackendFlags_RendererHasVtxOffset), which long plotted traces need. GL 3.0 as fallback.
+  const char* glsl = "#version 150";
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 2);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  const char* title = "gmslab - friction simulation (GMS)";
+  GLFWwindow* win = glfwCreateWindow(1600, 1000, title, nullptr, nullptr);
+  if (!win) {
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 0);
+    glsl = "#version 130";
+    win = glfwCreateWindow(1600, 1000, title, nullptr, nullptr);
+  }
+  if (!win) {
+    glfwTerminate();
+    return kNoWindow;
+  }
+  glfwMakeContextCurrent(win);
+  glfwSwapInterval(1);
+  Gl gl;
+  if (!gl.load()) {
+    glfwDestroyWindow(win);
+    glfwTerminate();
+    return kNoWindow;
+  }
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  float sx = 1.0f, sy = 1.0f;
+  glfwGetWindowContentScale(win, &sx, &sy);
+  ui::setup_style(17.0f * std::max(1.0f, sy));
+  ImGui_ImplGlfw_InitForOpenGL(win, true);
+  ImGui_ImplOpenGL3_Init(glsl);
+  if (!(ImGui::GetIO().BackendFlags & ImGuiBackendFlags_RendererHasVtxOffset))
+    std::fprintf(stderr, "gmslab: OpenGL < 3.2: very long traces may not draw completely\n");
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  ui::AppState s;
+  initial_state(s, session_path);
+  loop(win, s, gl);
+  save(s, session_path);
+
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(win);
+  glfwTerminate();
+  return 0;
+}
+
+}  // namespace gmslab::app

@@ -1,0 +1,98 @@
+// Control benchmarks: root locus of a 10th-order plant, full lead designs (reachable, and with
+// relocation along three paths), the friction loop, and one full recomputation of the design
+// view (locus + design + linear step + both nonlinear loops). Target for the view: < 16 ms.
+#include <benchmark/benchmark.h>
+
+#include "core/control/design_session.hpp"
+#include "core/io/scenario_io.hpp"
+
+using namespace gmslab;
+using namespace gmslab::control;
+
+namespace {
+TransferFunction tenth_order() {
+  return {Poly::from_roots({{-1.5, 0}, {-4, 2}, {-4, -2}}),
+          Poly::from_roots({{0, 0}, {-1, 0}, {-2, 1}, {-2, -1}, {-3, 4}, {-3, -4}, {-5, 0},
+                            {-6, 0}, {-0.5, 2}, {-0.5, -2}})};
+}
+Scenario fig4() {
+  return load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
+}
+}  // namespace
+
+static void BM_RootLocus10thOrder(benchmark::State& st) {
+  const TransferFunction L = tenth_order();
+  std::size_t n = 0;
+  for (auto _ : st) {
+    const RootLocus rl = root_locus(L);
+    n = rl.gains.size();
+    benchmark::DoNotOptimize(rl.branches.data());
+  }
+  st.counters["gains"] = static_cast<double>(n);
+}
+BENCHMARK(BM_RootLocus10thOrder)->Unit(benchmark::kMillisecond);
+
+static void BM_LeadDesignReachable(benchmark::State& st) {
+  const TransferFunction g{Poly::descending({1}), Poly::descending({1, 6, 5, 0})};
+  for (auto _ : st) benchmark::DoNotOptimize(lead_design(g, {0.5, 2.0}, 2.0));
+}
+BENCHMARK(BM_LeadDesignReachable)->Unit(benchmark::kMicrosecond);
+
+static void BM_LeadDesignWithRelocation(benchmark::State& st) {
+  const TransferFunction g{Poly::descending({1}), Poly::descending({1, 6, 5, 0})};
+  for (auto _ : st) benchmark::DoNotOptimize(lead_design(g, {0.5, 2.0}, 8.0));
+}
+BENCHMARK(BM_LeadDesignWithRelocation)->Unit(benchmark::kMicrosecond);
+
+static void BM_FrictionLoop1s(benchmark::State& st) {
+  const Scenario s = fig4();
+  LoopConfig c;
+  c.C = {4440.18, 8.47263, 94.05};
+  c.reference = Signal::sine(0.0, 0.01, 1.0);
+  c.comp = Compensation::Gms;
+  c.duration = 1.0;
+  for (auto _ : st) benchmark::DoNotOptimize(simulate_loop(s, c).x.back());
+  st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_FrictionLoop1s)->Unit(benchmark::kMillisecond);
+
+static void BM_DesignViewFrame(benchmark::State& st) {
+  DesignInputs in;
+  in.scenario = fig4();
+  in.regime = Regime::Sliding;
+  in.root = {0.7, 60.0};
+  in.K = 1000.0;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);  // the view's default: two periods, 1 s
+  for (auto _ : st) {
+    const DesignOutputs out = compute_design(in);
+    if (!out.error.empty()) st.SkipWithError(out.error.c_str());
+    benchmark::DoNotOptimize(out.locus.gains.data());
+  }
+}
+BENCHMARK(BM_DesignViewFrame)->Unit(benchmark::kMillisecond);
+
+#if __has_include(<imgui.h>)  // built with the app: time a whole drag frame of the Design panel
+#include "app/headless.hpp"
+#include "ui/app.hpp"
+#include "ui/design_view.hpp"
+
+// One drag frame: s_d moved (so locus, design, step and both friction loops are recomputed),
+// then the full window drawn and rasterised by OSMesa (llvmpipe, CPU: an upper bound for the
+// GPU window).
+static void BM_DesignViewDragFrameRendered(benchmark::State& st) {
+  gmslab::ui::AppState s;
+  gmslab::ui::load_scenario_into(s, fig4(), "");
+  s.view.tab = "Design";
+  gmslab::app::Offscreen off(1600, 1000);
+  off.render([&] { gmslab::ui::draw_frame(s); }, 3);
+  auto& d = s.slot<gmslab::ui::DesignViewState>("design");
+  int i = 0;
+  for (auto _ : st) {
+    d.in.root.wn = 60.0 + (i++ % 2);
+    d.dirty = true;
+    benchmark::DoNotOptimize(off.render([&] { gmslab::ui::draw_frame(s); }, 1).data());
+  }
+  st.counters["compute_ms"] = d.compute_ms;
+}
+BENCHMARK(BM_DesignViewDragFrameRendered)->Unit(benchmark::kMillisecond);
+#endif

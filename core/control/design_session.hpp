@@ -1,0 +1,68 @@
+// gmslab core/control: everything the root-locus design view shows, computed from its inputs in
+// one call (the view calls it on every drag; the benchmark times it).
+//
+// plant  = linear_plant(scenario, regime, v0)                 G(s) [m/N]
+// design = the lead of lead_design() for (zeta, wn, K), or the relocated / usable one, or the
+//          compensator the user dragged (manual)
+// locus  = root locus of the compensated loop in its gain: L(s) = (s + z) G(s) / (s + p), k = Kc
+//          (the plant's own locus when there is no compensator)
+// step   = linear closed-loop unit-step response, t in [0, horizon]
+// loops  = the same loop with the scenario's friction: without and with compensation
+// horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
+// horizon, or two periods of a sine reference when that is longer, at a view-rate step
+// dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
+// Kc) / m)).
+// locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
+// zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
+// pole would otherwise shrink the interesting region to a dot).
+// Never throws: a failure of any stage is reported in `error` and later stages are skipped.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/control/lead_design.hpp"
+#include "core/control/linear_response.hpp"
+#include "core/control/loop_simulation.hpp"
+#include "core/control/root_locus.hpp"
+#include "core/control/scenario_plant.hpp"
+
+namespace gmslab::control {
+
+struct DesignInputs {
+  Scenario scenario;
+  Regime regime = Regime::Sliding;
+  double velocity = 0.0;            // sliding operating velocity v0 [m/s] (0: default)
+  DominantRoot root{0.7, 60.0};     // desired dominant roots
+  std::optional<double> K;          // desired error constant (none: the usable maximum)
+  LeadOptions options;
+  std::optional<LeadCompensator> manual;  // dragged compensator overrides the design
+  Signal reference = Signal::constant(0.01);  // nonlinear loop reference [m]
+  Compensation compensation = Compensation::Gms;  // for the "with compensation" run
+  Mismatch mismatch;
+  double sample_time = 0.0;  // controller sample time [s] (0: continuous)
+  double horizon = 0.0;      // [s]; 0: automatic
+  bool simulate = true;      // run the nonlinear loops
+  std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
+  bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
+};
+
+struct DesignOutputs {
+  std::string error;  // empty when every stage ran
+  LinearPlant plant;
+  std::optional<LeadReport> report;
+  std::optional<LeadCompensator> compensator;  // what the loops use
+  std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"
+  std::vector<cplx> closed_loop_poles;  // with the compensator
+  TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
+  RootLocus locus;
+  std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
+  StepResponse step;
+  LoopTrace loop_plain, loop_compensated;
+  LoopMetrics metrics_plain, metrics_compensated;
+  double horizon = 0.0;  // [s]
+};
+
+DesignOutputs compute_design(const DesignInputs& in);
+
+}  // namespace gmslab::control

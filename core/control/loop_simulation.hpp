@@ -1,0 +1,74 @@
+// gmslab core/control: the designed position loop simulated with friction.
+//
+//   e = x_ref - x;  u = Gc(s) e  (continuous, or Tustin-discretised at T with zero-order hold)
+//   m x'' = u + u_ff - k x - c v - F_f        (F_f from ANY registry model, scenario's plant)
+// Integrator: the one of core/sim/simulation.cpp (friction step with v frozen over h, then
+// v += h (f_other - F_f) / m, x += h v). The continuous lead state w' = -p w + e is advanced
+// exactly over each step (e held), u = Kc e + Kc (z - p) w.
+// Tustin at T: u[j] = a u[j-1] + b0 e[j] + b1 e[j-1], s = (2/T)(q - 1)/(q + 1).
+// Friction compensation (feedforward u_ff [N]):
+//   none
+//   coulomb  u_ff = Fc_hat sgn(v_ref), v_ref = (x_ref(t+h) - x_ref(t))/h (chosen over
+//            sgn(v) or sgn(e) because it cannot chatter; it does nothing at standstill)
+//   gms      u_ff = F of a GMS model driven by v_ref inside the controller (prescribed motion)
+// Mismatch: the compensator's model = the plant's friction with its force levels (Fs, Fc) times
+// `force`, element stiffnesses and micro-damping times `stiffness`, Vs times `velocity`. When the
+// plant's model is not GMS, the GMS compensator takes the reference set's elements with the
+// plant's Fs, Fc, Vs, delta, sigma2 where the plant's model has them.
+// Throws InputError for a bad config (dt, T, duration, compensator) and SimulationError on
+// divergence.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/control/linear_response.hpp"
+#include "core/sim/scenario.hpp"
+
+namespace gmslab::control {
+
+enum class Compensation { None, Coulomb, Gms };
+const char* to_string(Compensation c);
+Compensation compensation_from_string(const std::string& s);  // none | coulomb | gms
+
+struct Mismatch {
+  double force = 1.0;      // compensator's Fs, Fc / plant's [-]
+  double stiffness = 1.0;  // compensator's k_i, sigma_i / plant's [-]
+  double velocity = 1.0;   // compensator's Vs / plant's [-]
+};
+
+struct LoopConfig {
+  Signal reference;          // x_ref(t) [m]
+  LeadCompensator C;         // Gc = Kc (s + z) / (s + p)
+  double sample_time = 0.0;  // controller sample time T [s]; 0 = continuous
+  Compensation comp = Compensation::None;
+  Mismatch mismatch;
+  double dt = 1e-5;          // integration step [s]
+  double duration = 1.0;     // [s]
+  int record_every = 10;     // keep every n-th step
+};
+
+struct LoopTrace {
+  std::vector<double> t, r, x, v;  // time [s], reference [m], position [m], velocity [m/s]
+  std::vector<double> u, ff;       // controller force, feedforward force [N]
+  std::vector<double> friction;    // plant friction force [N]
+};
+
+struct LoopMetrics {
+  double steady_state_error = 0.0;  // mean of e over the last 20 % of the run [m]
+  double tail_max_error = 0.0;      // max |e| over the last 20 % [m]
+  double rms_error = 0.0;           // sqrt(mean e^2) over the whole run [m]
+  double overshoot = 0.0;           // step references: % of the step (NaN otherwise)
+  double settling_time = 0.0;       // step: last exit from a 2 % band around the final value [s]
+                                    // (NaN: never settles, or not a step)
+  bool hunting = false;             // constant reference, x oscillates in the tail (limit cycle)
+  double cycle_amplitude = 0.0;     // half peak-to-peak of x in the tail [m]
+  double cycle_period = 0.0;        // mean spacing of upward mean crossings [s]
+};
+
+// The compensator's GMS model (see the mismatch rules above).
+ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch& m);
+LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
+LoopMetrics loop_metrics(const LoopTrace& tr);
+
+}  // namespace gmslab::control

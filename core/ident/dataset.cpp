@@ -1,0 +1,126 @@
+#include "core/ident/dataset.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace gmslab::ident {
+
+std::size_t Dataset::used() const {
+  std::size_t n = 0;
+  for (auto u : use) n += u;
+  return n;
+}
+
+namespace {
+bool to_double(std::string_view s, double& out) {
+  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+  while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
+  return !s.empty() && r.ec == std::errc() && r.ptr == s.data() + s.size() && std::isfinite(out);
+}
+}  // namespace
+
+std::vector<TimeWindow> parse_masks(std::string_view spec) {
+  std::vector<TimeWindow> out;
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    auto c = spec.find(',', start);
+    if (c == std::string_view::npos) c = spec.size();
+    const auto item = spec.substr(start, c - start);
+    start = c + 1;
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    TimeWindow w;
+    if (colon == std::string_view::npos || !to_double(item.substr(0, colon), w.t0) ||
+        !to_double(item.substr(colon + 1), w.t1) || !(w.t1 > w.t0))
+      throw InputError("--mask: '" + std::string(item) +
+                       "': expected T0:T1 in seconds with T1 > T0, e.g. 1.5:2.0,7:7.25");
+    out.push_back(w);
+  }
+  return out;
+}
+
+std::vector<TimeWindow> edge_windows(const std::vector<double>& t, const std::vector<double>& code,
+                                     double before, double after) {
+  std::vector<TimeWindow> out;
+  for (std::size_t k = 1; k < t.size() && k < code.size(); ++k)
+    if (code[k] != code[k - 1]) out.push_back({t[k] - before, t[k] + after});
+  return out;
+}
+
+std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w) {
+  const auto n = static_cast<std::ptrdiff_t>(t.size());
+  std::vector<double> s(t.size(), 0.0);
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto lo = std::max<std::ptrdiff_t>(0, k - w);
+    const auto hi = std::min<std::ptrdiff_t>(n - 1, k + w);
+    double mt = 0.0, my = 0.0;
+    for (auto j = lo; j <= hi; ++j) {
+      mt += t[j] - t[k];
+      my += y[j];
+    }
+    const double m = static_cast<double>(hi - lo + 1);
+    mt /= m;
+    my /= m;
+    double stt = 0.0, sty = 0.0;
+    for (auto j = lo; j <= hi; ++j) {
+      const double dt = t[j] - t[k] - mt;
+      stt += dt * dt;
+      sty += dt * (y[j] - my);
+    }
+    s[k] = stt > 0.0 ? sty / stt : 0.0;
+  }
+  return s;
+}
+
+Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks,
+                        std::size_t edge) {
+  Dataset d;
+  d.source = r.source;
+  d.t = r.t;
+  d.x = r.x;
+  d.F = r.F;
+  d.Fn = r.Fn;
+  d.has_Fn = !r.Fn.empty();
+  d.has_v = !r.v.empty();
+  const std::size_t n = r.size();
+  d.v = d.has_v ? r.v : local_slope(d.t, d.x, 3);
+  d.a = local_slope(d.t, d.v, 3);
+  d.h.assign(n, 0.0);
+  d.vstep.assign(n, 0.0);
+  for (std::size_t k = 1; k < n; ++k) {
+    d.h[k] = d.t[k] - d.t[k - 1];
+    d.vstep[k] = d.has_v ? 0.5 * (d.v[k - 1] + d.v[k]) : (d.x[k] - d.x[k - 1]) / d.h[k];
+  }
+  d.use.assign(n, 1);
+  const std::size_t e = std::min(edge, n / 10);
+  for (std::size_t k = 0; k < e; ++k) d.use[k] = d.use[n - 1 - k] = 0;
+  for (const auto& w : masks)
+    for (std::size_t k = 0; k < n; ++k)
+      if (d.t[k] >= w.t0 && d.t[k] <= w.t1) d.use[k] = 0;
+  if (d.used() < kMinSamples)
+    throw InputError(d.source + ": only " + std::to_string(d.used()) +
+                     " samples are left after masking; at least " + std::to_string(kMinSamples) +
+                     " are needed (check --mask)");
+  return d;
+}
+
+std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction, int blocks) {
+  Dataset train = d, val = d;
+  const int every = std::max(2, static_cast<int>(std::lround(1.0 / fraction)));
+  const double t0 = d.t.front(), span = d.t.back() - d.t.front();
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const int b = std::min(blocks - 1, static_cast<int>((d.t[k] - t0) / span * blocks));
+    const bool held = b % every == every - 1;
+    train.use[k] = d.use[k] && !held;
+    val.use[k] = d.use[k] && held;
+  }
+  val.source = d.source + " (hold-out)";
+  return {std::move(train), std::move(val)};
+}
+
+}  // namespace gmslab::ident

@@ -1,0 +1,56 @@
+// gmslab identification: a measured record prepared for fitting.
+//
+// From a MeasuredRecord (t [s], x [m], F [N], optional v [m/s], Fn [N]) it derives what the fit
+// needs, all on the record's own (possibly non-uniform) time grid:
+//   v[k]      velocity [m/s]: the file's v, or the local least-squares slope of x over +-3 samples
+//   a[k]      acceleration [m/s^2]: local least-squares slope of v over +-3 samples
+//   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
+//   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: mean of v[k-1], v[k] when the file has
+//             v, else (x[k] - x[k-1]) / h[k] (the prescribed motion of FrictionModel::step)
+//   use[k]    1 = the sample counts in cost and RMS; 0 = masked (time windows, the first and last
+//             edge samples where derived signals carry filter edge effects, or a hold-out part)
+// Masked samples are still simulated (the friction state runs through them).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/io/csv.hpp"
+
+namespace gmslab::ident {
+
+struct TimeWindow {
+  double t0 = 0.0;  // start [s]
+  double t1 = 0.0;  // end [s], > t0
+};
+
+struct Dataset {
+  std::string source;
+  std::vector<double> t, x, v, a, F, Fn, h, vstep;
+  std::vector<std::uint8_t> use;
+  bool has_v = false;   // v came from the file
+  bool has_Fn = false;  // a normal-force column exists
+
+  std::size_t size() const { return t.size(); }
+  std::size_t used() const;
+};
+
+// Parses "t0:t1,t0:t1,..." [s]; throws InputError naming the bad item (t1 must exceed t0).
+std::vector<TimeWindow> parse_masks(std::string_view spec);
+// Windows [-before, +after] around every change of value of `code` (e.g. EMPS pulse_code edges).
+std::vector<TimeWindow> edge_windows(const std::vector<double>& t, const std::vector<double>& code,
+                                     double before, double after);
+
+// Prepares a record. `edge` samples at each end are masked (derived-signal edge effects).
+Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks = {},
+                        std::size_t edge = 10);
+// A hold-out split of one record: every `period`-th block of `block` seconds goes to validation.
+// Returns {train, validation}: the same samples with complementary use[] masks.
+std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction = 0.25, int blocks = 8);
+
+// Local least-squares slope of y(t) over +-w samples (non-uniform t); ends use one-sided windows.
+std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w);
+
+}  // namespace gmslab::ident

@@ -1,0 +1,283 @@
+#include "core/ident/effects.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace gmslab::ident {
+
+namespace {
+
+struct Entry {
+  Effect e;
+  std::string_view name;
+  std::string_view meaning;
+};
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> v = {
+      {Effect::Inertia, "inertia", "m a in the measured force (actuator force, not a force sensor)"},
+      {Effect::Offset, "offset", "constant force: gravity on an inclined axis, cables, level asymmetry"},
+      {Effect::DirectionAsymmetry, "direction_asymmetry", "viscous slope different per direction"},
+      {Effect::PositionPeriodic, "position_periodic",
+       "ripple locked to position: cogging, screw or ball recirculation"},
+      {Effect::PositionDependent, "position_dependent", "slow variation of force along the stroke"},
+      {Effect::TimeDrift, "time_drift", "slow change with time: warm-up, wear"},
+      {Effect::VelocityExtra, "velocity_extra",
+       "velocity dependence beyond the model: quadratic drag, other low-speed (Stribeck) shape"},
+      {Effect::DwellStiction, "dwell_stiction", "break-away force growing with the time at rest"},
+      {Effect::NormalLoad, "normal_load", "friction proportional to the measured normal force"},
+  };
+  return v;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(p * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+double sgn(double v) { return static_cast<double>((v > 0.0) - (v < 0.0)); }
+
+// Legendre polynomials P1..P3 of xi clipped to [-1.2, 1.2].
+double legendre(int n, double xi) {
+  xi = std::clamp(xi, -1.2, 1.2);
+  switch (n) {
+    case 1: return xi;
+    case 2: return 0.5 * (3 * xi * xi - 1);
+    default: return 0.5 * (5 * xi * xi * xi - 3 * xi);
+  }
+}
+
+using Fill = std::function<void(const Dataset&, const EffectContext&, std::span<const double>,
+                                std::span<double>)>;
+
+Column col(std::string name, std::string unit, bool uses_g, Fill f) {
+  return {std::move(name), std::move(unit), uses_g, std::move(f)};
+}
+
+// Coulomb level and break-away displacement from the data.
+void estimate_levels(const Dataset& d, EffectContext& c) {
+  // Sliding samples: F ~ c0 + Fc sgn v + Fv v + M a (the static inverse model).
+  std::vector<std::size_t> idx;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k] && std::abs(d.v[k]) > 0.2 * c.v_ref) idx.push_back(k);
+  if (idx.size() >= 8) {
+    Eigen::MatrixXd A(idx.size(), 4);
+    Eigen::VectorXd y(idx.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) {
+      const auto k = idx[i];
+      A.row(static_cast<Eigen::Index>(i)) << 1.0, sgn(d.v[k]), d.v[k] / c.v_ref, d.a[k];
+      y(static_cast<Eigen::Index>(i)) = d.F[k];
+    }
+    const Eigen::VectorXd th = A.colPivHouseholderQr().solve(y);
+    if (std::isfinite(th(1)) && th(1) > 0) c.f_level = th(1);
+  }
+  if (!(c.f_level > 0)) c.f_level = std::max(1e-6, percentile([&] {
+    std::vector<double> a;
+    for (double f : d.F) a.push_back(std::abs(f));
+    return a;
+  }(), 0.5));
+  // Break-away displacement: travel after a reversal until F has swung by 80 % of 2 Fc.
+  std::vector<double> xs;
+  double last_dir = 0.0;
+  std::size_t rev = 0;
+  bool searching = false;
+  for (std::size_t k = 1; k < d.size(); ++k) {
+    if (sgn(d.v[k]) != sgn(d.v[k - 1])) rev = k;
+    if (std::abs(d.v[k]) > 0.1 * c.v_ref) {
+      const double dir = sgn(d.v[k]);
+      if (last_dir != 0.0 && dir != last_dir) searching = true;
+      last_dir = dir;
+    }
+    if (searching && rev > 0 && k > rev) {
+      if (last_dir * (d.F[k] - d.F[rev - 1]) >= 1.6 * c.f_level) {
+        xs.push_back(std::abs(d.x[k] - d.x[rev]));
+        searching = false;
+      }
+    }
+  }
+  const double stroke = *std::max_element(d.x.begin(), d.x.end()) -
+                        *std::min_element(d.x.begin(), d.x.end());
+  c.x_ba = xs.empty() ? 1e-3 * stroke : percentile(xs, 0.5);
+  c.x_ba = std::clamp(c.x_ba, 1e-8, std::max(1e-8, 0.05 * stroke));
+}
+
+}  // namespace
+
+const std::vector<Effect>& effect_catalog() {
+  static const std::vector<Effect> v = [] {
+    std::vector<Effect> r;
+    for (const auto& e : entries()) r.push_back(e.e);
+    return r;
+  }();
+  return v;
+}
+
+std::string_view effect_name(Effect e) {
+  for (const auto& x : entries())
+    if (x.e == e) return x.name;
+  return "?";
+}
+
+std::string_view effect_meaning(Effect e) {
+  for (const auto& x : entries())
+    if (x.e == e) return x.meaning;
+  return "?";
+}
+
+Effect effect_from_name(std::string_view name) {
+  std::string all;
+  for (const auto& x : entries()) {
+    if (x.name == name) return x.e;
+    all += (all.empty() ? "" : ", ") + std::string(x.name);
+  }
+  throw InputError("unknown effect '" + std::string(name) + "'; the catalog has: " + all);
+}
+
+EffectContext make_context(const Dataset& d) {
+  EffectContext c;
+  std::vector<double> xs, ts, vs;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) {
+      xs.push_back(d.x[k]);
+      ts.push_back(d.t[k]);
+      vs.push_back(std::abs(d.v[k]));
+    }
+  const auto [xl, xh] = std::minmax_element(xs.begin(), xs.end());
+  c.x_mid = 0.5 * (*xl + *xh);
+  c.x_half = std::max(1e-9, 0.5 * (*xh - *xl));
+  c.t_mid = 0.5 * (ts.front() + ts.back());
+  c.t_half = std::max(1e-9, 0.5 * (ts.back() - ts.front()));
+  c.v_ref = std::max(1e-9, percentile(vs, 0.95));
+  c.v_rest = 0.02 * c.v_ref;
+  estimate_levels(d, c);
+  c.dwell_s0 = 3.0 * c.x_ba;
+  if (d.has_Fn) {
+    double s = 0.0;
+    for (double f : d.Fn) s += f;
+    c.Fn0 = s / static_cast<double>(d.Fn.size());
+  }
+  return c;
+}
+
+std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c) {
+  std::vector<MotionStart> out;
+  double rest_since = d.t.front();
+  bool resting = std::abs(d.v.front()) < c.v_rest;
+  for (std::size_t k = 1; k < d.size(); ++k) {
+    const bool r = std::abs(d.v[k]) < c.v_rest;
+    if (r && !resting) rest_since = d.t[k];
+    if (!r && resting && d.t[k] - rest_since >= c.dwell_min)
+      out.push_back({k, d.t[k] - rest_since, sgn(d.v[k])});
+    resting = r;
+  }
+  return out;
+}
+
+bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c) {
+  switch (e) {
+    case Effect::NormalLoad: return d.has_Fn && c.Fn0 != 0.0;
+    case Effect::DwellStiction: return motion_starts(d, c).size() >= 3;
+    case Effect::PositionPeriodic: return c.wavelength > 0.0;
+    default: return true;
+  }
+}
+
+std::vector<Column> effect_columns(Effect e) {
+  using D = const Dataset&;
+  using C = const EffectContext&;
+  using G = std::span<const double>;
+  using O = std::span<double>;
+  std::vector<Column> v;
+  switch (e) {
+    case Effect::Inertia:
+      v.push_back(col("M", "kg", false, [](D d, C, G, O o) {
+        std::copy(d.a.begin(), d.a.end(), o.begin());
+      }));
+      break;
+    case Effect::Offset:
+      v.push_back(col("F0", "N", false, [](D, C, G, O o) { std::fill(o.begin(), o.end(), 1.0); }));
+      break;
+    case Effect::DirectionAsymmetry:
+      v.push_back(col("dFv", "N s/m", false, [](D d, C, G, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = std::abs(d.v[k]);
+      }));
+      break;
+    case Effect::PositionPeriodic:
+      for (int harm = 1; harm <= 2; ++harm)
+        for (int cs = 0; cs < 2; ++cs)
+          v.push_back(col(std::string(cs ? "ripple_cos" : "ripple_sin") + std::to_string(harm), "N",
+                          false, [harm, cs](D d, C c, G, O o) {
+                            const double w = 2 * std::numbers::pi * harm / c.wavelength;
+                            for (std::size_t k = 0; k < d.size(); ++k)
+                              o[k] = cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]);
+                          }));
+      for (int cs = 0; cs < 2; ++cs)  // friction level modulated along the screw (sign follows g)
+        v.push_back(col(std::string(cs ? "ripple_gcos1" : "ripple_gsin1"), "N", true,
+                        [cs](D d, C c, G g, O o) {
+                          const double w = 2 * std::numbers::pi / c.wavelength;
+                          for (std::size_t k = 0; k < d.size(); ++k)
+                            o[k] = g[k] * (cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]));
+                        }));
+      break;
+    case Effect::PositionDependent:
+      for (int n = 1; n <= 3; ++n)
+        v.push_back(col("pos_P" + std::to_string(n), "N", false, [n](D d, C c, G, O o) {
+          for (std::size_t k = 0; k < d.size(); ++k) o[k] = legendre(n, (d.x[k] - c.x_mid) / c.x_half);
+        }));
+      for (int n = 1; n <= 2; ++n)
+        v.push_back(col("pos_gP" + std::to_string(n), "N", true, [n](D d, C c, G g, O o) {
+          for (std::size_t k = 0; k < d.size(); ++k)
+            o[k] = g[k] * legendre(n, (d.x[k] - c.x_mid) / c.x_half);
+        }));
+      break;
+    case Effect::TimeDrift:
+      v.push_back(col("drift", "N", false, [](D d, C c, G, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = (d.t[k] - c.t_mid) / c.t_half;
+      }));
+      v.push_back(col("drift_g", "N", true, [](D d, C c, G g, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.t[k] - c.t_mid) / c.t_half;
+      }));
+      break;
+    case Effect::VelocityExtra:
+      v.push_back(col("drag", "N", false, [](D d, C c, G, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = d.v[k] * std::abs(d.v[k]) / c.v_ref;
+      }));
+      v.push_back(col("low_speed", "N", true, [](D d, C c, G g, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k)
+          o[k] = g[k] * std::exp(-std::abs(d.v[k]) / (0.2 * c.v_ref));
+      }));
+      break;
+    case Effect::DwellStiction:
+      // Basis over the travel s since the start, q = s / s0: e^-q, q e^-q, q^2 e^-q / 2.
+      for (int m = 0; m < 3; ++m)
+        v.push_back(col("dwell_q" + std::to_string(m), "N", true,
+                        [m](D d, C c, G g, O o) {
+          std::fill(o.begin(), o.end(), 0.0);
+          const double s0 = c.dwell_s0;
+          for (const auto& s : motion_starts(d, c)) {
+            const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
+              if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
+              const double q = std::abs(d.x[k] - d.x[s.k]) / s0;
+              if (q > 30.0) break;
+              o[k] = phi * g[k] * std::exp(-q) * (m == 0 ? 1.0 : m == 1 ? q : 0.5 * q * q);
+            }
+          }
+        }));
+      break;
+    case Effect::NormalLoad:
+      v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.Fn[k] / c.Fn0 - 1.0);
+      }));
+      break;
+  }
+  return v;
+}
+
+}  // namespace gmslab::ident

@@ -1,0 +1,97 @@
+// gmslab identification: the catalog of effects that real friction data shows and a base friction
+// model lacks. Each effect adds linear terms (columns) to the force model
+//
+//   F_meas(t) = Fc g(t) + sigma2 v(t) + sum_effects sum_j theta_j c_j(t) + noise
+//
+// where g is the base model's friction force simulated along the measured motion with unit force
+// level (Fc = 1 N, sigma2 = 0) and the theta are solved by least squares inside the nonlinear fit
+// (variable projection). The columns, with the unit of their coefficient:
+//   inertia              a                                               M [kg]
+//   offset               1                                               F0 [N]
+//   direction_asymmetry  |v|  (viscous slope differing per direction;    dFv [N s/m]
+//                        a level difference per direction is an offset: identical while sliding)
+//   position_periodic    sin, cos(2 pi x / L), sin, cos(4 pi x / L)      [N] (L from the residual's
+//                        spectrum in the position domain)
+//   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
+//   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
+//   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
+//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d),
+//                        columns phi g q^j e^-q / j!, j = 0, 1, 2, q = s / s0, s = travel since
+//                        the motion started, s0 chosen from the residual                       [N]
+//   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
+// Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
+// unchanged to validation records (EffectContext).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/ident/dataset.hpp"
+
+namespace gmslab::ident {
+
+enum class Effect {
+  Inertia,
+  Offset,
+  DirectionAsymmetry,
+  PositionPeriodic,
+  PositionDependent,
+  TimeDrift,
+  VelocityExtra,
+  DwellStiction,
+  NormalLoad
+};
+
+const std::vector<Effect>& effect_catalog();
+std::string_view effect_name(Effect e);
+std::string_view effect_meaning(Effect e);
+// Throws InputError listing the catalog names.
+Effect effect_from_name(std::string_view name);
+
+// Scales learned on the training record.
+struct EffectContext {
+  double x_mid = 0.0, x_half = 1.0;  // position normalisation [m]
+  double t_mid = 0.0, t_half = 1.0;  // time normalisation [s]
+  double v_ref = 1.0;                // 95th percentile of |v| on used samples [m/s]
+  double x_ba = 1e-5;                // break-away displacement estimated after reversals [m]
+  double f_level = 1.0;              // Coulomb level estimated from sliding [N]
+  double wavelength = 0.0;           // position_periodic wavelength L [m] (0: not found yet)
+  double Fn0 = 0.0;                  // mean normal force [N] (0: no Fn column)
+  double v_rest = 0.0;               // |v| below this is rest [m/s]
+  double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
+  double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
+  double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
+};
+
+// Scales from the training record (robust statistics of the used samples).
+EffectContext make_context(const Dataset& train);
+
+// One linear column: its coefficient's name and unit, whether it depends on g (recomputed at each
+// evaluation of the nonlinear fit) and how to compute it.
+struct Column {
+  std::string name;  // e.g. "M", "ripple_sin1"
+  std::string unit;  // unit of the coefficient, e.g. "kg"
+  bool uses_g = false;
+  std::function<void(const Dataset&, const EffectContext&, std::span<const double> g,
+                     std::span<double> out)>
+      fill;
+};
+
+std::vector<Column> effect_columns(Effect e);
+// Whether the effect can be tested on this record (normal_load needs Fn, dwell_stiction dwells,
+// position_periodic a wavelength found in the residual).
+bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c);
+
+// Motion starts after rests of at least c.dwell_min: index of the first moving sample, rest
+// duration [s], direction (+-1).
+struct MotionStart {
+  std::size_t k;
+  double dwell;
+  double dir;
+};
+std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c);
+
+}  // namespace gmslab::ident

@@ -1,0 +1,450 @@
+#include "core/ident/fit.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlopt.hpp>
+#include <random>
+
+#include "core/error.hpp"
+
+namespace gmslab::ident {
+
+// ------------------------------------------------------------------------------------------------
+// Parameterization
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+bool force_like(std::string_view unit) { return unit.find('N') != std::string_view::npos; }
+
+// Bounds of a shape parameter from its unit (values relative to a unit force level).
+ShapeParam shape_for(const ParamSpec& s, double def, double def_ref, const EffectContext& c) {
+  ShapeParam p;
+  p.name = std::string(s.key);
+  p.log = true;
+  const std::string_view u = s.unit;
+  if (u == "N") {
+    if (s.key == "Fs") {
+      p.name = "Fs/Fc", p.unit = "-", p.lo = 1.0, p.hi = 5.0, p.init = 1.3;
+    } else {
+      p.name += "/Fref", p.unit = "-";
+      p.init = def_ref > 0 && def > 0 ? def / def_ref : 1.0;
+      p.lo = p.init / 10, p.hi = p.init * 10;
+    }
+  } else if (u == "N/m") {
+    p.name += "/Fc", p.unit = "1/m", p.init = 1.0 / c.x_ba, p.lo = p.init / 300, p.hi = p.init * 300;
+  } else if (u == "N/s") {
+    p.name += "/Fc", p.unit = "1/s", p.init = 50.0, p.lo = 0.5, p.hi = 1e5;
+  } else if (u == "N s/m") {
+    p.name += "/Fc", p.unit = "s/m";
+    p.init = def_ref > 0 && def > 0 ? def / def_ref : 1.0 / c.v_ref;
+    p.lo = p.init / 1e3, p.hi = p.init * 1e3;
+  } else if (u == "m/s") {
+    p.unit = "m/s", p.init = 0.1 * c.v_ref, p.lo = 1e-4 * c.v_ref, p.hi = 2.0 * c.v_ref;
+  } else if (u == "m") {
+    p.unit = "m", p.init = 0.3 * c.x_ba, p.lo = p.init / 100, p.hi = p.init * 100;
+  } else {
+    p.unit = std::string(u);
+    p.log = false;
+    p.lo = s.lo + (s.lo_open ? 1e-3 * std::max(1.0, std::abs(s.lo)) : 0.0);
+    p.hi = std::min(s.hi, p.lo + 10.0);
+    p.init = std::clamp(def, p.lo, p.hi);
+  }
+  return p;
+}
+
+}  // namespace
+
+Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
+                                   const EffectContext& c)
+    : info_(info), elements_(info.columns.empty() ? 0 : elements) {
+  base_ = info.defaults();
+  if (!info.columns.empty()) {
+    if (elements_ < info.min_elements || elements_ > info.max_elements)
+      throw InputError("--elements " + std::to_string(elements) + ": model '" +
+                       std::string(info.tag) + "' accepts " + std::to_string(info.min_elements) +
+                       " to " + std::to_string(info.max_elements) + " elements");
+    const auto rows = base_.elements;
+    base_.elements.assign(elements_, rows.empty() ? std::vector<double>(info.columns.size(), 0.0)
+                                                  : rows.front());
+  }
+  ref_ = static_cast<int>(info.scalar_index("Fc"));
+  for (std::size_t i = 0; ref_ < 0 && i < info.scalars.size(); ++i)
+    if (info.scalars[i].unit == "N") ref_ = static_cast<int>(i);
+  viscous_ = static_cast<int>(info.scalar_index("sigma2"));
+  alpha_ = static_cast<int>(info.column_index("alpha"));
+  const double def_ref = ref_ >= 0 ? base_.scalars[static_cast<std::size_t>(ref_)] : 1.0;
+  for (std::size_t i = 0; i < info.scalars.size(); ++i) {
+    const int ii = static_cast<int>(i);
+    if (ii == ref_) { base_.scalars[i] = 1.0; continue; }
+    if (ii == viscous_) { base_.scalars[i] = 0.0; continue; }
+    auto p = shape_for(info.scalars[i], base_.scalars[i], def_ref, c);
+    p.scalar = ii;
+    params_.push_back(p);
+  }
+  // Element table. Without a reference scalar the first force-like cell of row 0 is the reference.
+  int ref_col = -1;
+  if (ref_ < 0)
+    for (std::size_t j = 0; j < info.columns.size(); ++j)
+      if (info.columns[j].unit == "N" && ref_col < 0) ref_col = static_cast<int>(j);
+  const double n = static_cast<double>(elements_);
+  for (std::size_t r = 0; r < elements_; ++r) {
+    // Element break-away displacements spread geometrically from 0.15 x_ba to x_ba.
+    const double frac = elements_ > 1 ? static_cast<double>(elements_ - 1 - r) / (n - 1) : 0.0;
+    const double xr = 0.5 * c.x_ba * std::pow(0.15, frac);  // x_ba spans a full swing
+    for (std::size_t j = 0; j < info.columns.size(); ++j) {
+      const auto& s = info.columns[j];
+      const int jj = static_cast<int>(j);
+      auto& cell = base_.elements[r][j];
+      if (jj == alpha_) {
+        cell = 1.0;
+        if (r == 0) continue;
+        ShapeParam p{"w[" + std::to_string(r) + "]/w[0]", "-", 0.05, 20.0, 1.0, true};
+        p.row = static_cast<int>(r), p.column = jj;
+        params_.push_back(p);
+        continue;
+      }
+      if (s.key == "sigma") { cell = 0.0; continue; }
+      if (jj == ref_col && r == 0) { cell = 1.0; continue; }
+      auto p = shape_for(s, cell, def_ref, c);
+      if (s.unit == "N/m") p.init = 1.0 / (n * xr), p.lo = p.init / 300, p.hi = p.init * 300;
+      if (s.unit == "N") p.init = 1.0 / n, p.lo = p.init / 100, p.hi = p.init * 100;
+      p.name = std::string(s.key) + "[" + std::to_string(r) + "]" +
+               (force_like(s.unit) ? "/Fc" : "");
+      p.row = static_cast<int>(r), p.column = jj;
+      params_.push_back(p);
+    }
+  }
+}
+
+double Parameterization::value(std::size_t i, double u) const {
+  const auto& p = params_[i];
+  u = std::clamp(u, 0.0, 1.0);
+  return p.log ? p.lo * std::pow(p.hi / p.lo, u) : p.lo + (p.hi - p.lo) * u;
+}
+
+std::vector<double> Parameterization::initial() const {
+  std::vector<double> u;
+  for (const auto& p : params_)
+    u.push_back(p.log ? std::log(p.init / p.lo) / std::log(p.hi / p.lo)
+                      : (p.init - p.lo) / (p.hi - p.lo));
+  return u;
+}
+
+ModelParams Parameterization::unit_model(const std::vector<double>& u) const {
+  ModelParams m = base_;
+  for (std::size_t i = 0; i < params_.size(); ++i) {
+    const auto& p = params_[i];
+    const double v = value(i, u[i]);
+    if (p.scalar >= 0) m.scalars[static_cast<std::size_t>(p.scalar)] = v;
+    else m.elements[static_cast<std::size_t>(p.row)][static_cast<std::size_t>(p.column)] = v;
+  }
+  if (alpha_ >= 0) {
+    double s = 0.0;
+    for (const auto& row : m.elements) s += row[static_cast<std::size_t>(alpha_)];
+    for (auto& row : m.elements) row[static_cast<std::size_t>(alpha_)] /= s;
+  }
+  return m;
+}
+
+ModelParams Parameterization::physical(const std::vector<double>& u, double level,
+                                       double viscous) const {
+  ModelParams m = unit_model(u);
+  for (std::size_t i = 0; i < m.scalars.size(); ++i)
+    if (force_like(info_.scalars[i].unit)) m.scalars[i] *= level;
+  for (auto& row : m.elements)
+    for (std::size_t j = 0; j < row.size(); ++j)
+      if (force_like(info_.columns[j].unit)) row[j] *= level;
+  if (viscous_ >= 0) m.scalars[static_cast<std::size_t>(viscous_)] = std::max(0.0, viscous);
+  return m;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Variable-projection cost
+// ------------------------------------------------------------------------------------------------
+
+void simulate_along(const FrictionModel& m, const Dataset& d, std::vector<double>& out) {
+  std::vector<double> state(m.state_size());
+  m.reset(state);
+  out.assign(d.size(), 0.0);
+  for (std::size_t k = 1; k < d.size(); ++k) out[k] = m.step(state, {d.vstep[k], d.h[k], 0.0, 0.0});
+}
+
+namespace {
+
+struct Term {
+  Column column;
+  std::string effect;
+};
+
+std::vector<Term> design(const FitSpec& spec, const Parameterization& par) {
+  std::vector<Term> t;
+  t.push_back({{"Fc", "N", true,
+                [](const Dataset&, const EffectContext&, std::span<const double> g,
+                   std::span<double> o) { std::copy(g.begin(), g.end(), o.begin()); }},
+               "base"});
+  if (par.has_viscous())
+    t.push_back({{"sigma2", "N s/m", false,
+                  [](const Dataset& d, const EffectContext&, std::span<const double>,
+                     std::span<double> o) { std::copy(d.v.begin(), d.v.end(), o.begin()); }},
+                 "base"});
+  for (Effect e : spec.effects)
+    for (auto& c : effect_columns(e)) t.push_back({std::move(c), std::string(effect_name(e))});
+  return t;
+}
+
+// Weighted LS of y on columns (fixed part precomputed), cost = RMS over used samples.
+class Evaluator {
+ public:
+  Evaluator(const FitSpec& spec, const Parameterization& par, const Dataset& d,
+            const EffectContext& c)
+      : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
+    for (std::size_t k = 0; k < d.size(); ++k)
+      if (d.use[k]) rows_.push_back(k);
+    const auto nu = static_cast<Eigen::Index>(rows_.size());
+    y_.resize(nu);
+    for (Eigen::Index i = 0; i < nu; ++i) y_(i) = d.F[rows_[static_cast<std::size_t>(i)]];
+    yy_ = y_.squaredNorm();
+    for (std::size_t j = 0; j < terms_.size(); ++j) (terms_[j].column.uses_g ? dyn_ : fix_).push_back(j);
+    Af_.resize(nu, static_cast<Eigen::Index>(fix_.size()));
+    std::vector<double> full(d.size());
+    for (std::size_t j = 0; j < fix_.size(); ++j) {
+      terms_[fix_[j]].column.fill(d, c, {}, full);
+      gather(full, Af_.col(static_cast<Eigen::Index>(j)));
+    }
+    Gff_ = Af_.transpose() * Af_;
+    bf_ = Af_.transpose() * y_;
+    Ad_.resize(nu, static_cast<Eigen::Index>(dyn_.size()));
+  }
+
+  const std::vector<Term>& terms() const { return terms_; }
+  double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
+
+  // Simulates g for shape u; false when the model cannot be built or diverges.
+  bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
+    try {
+      const auto m = build_model(par_.unit_model(u));
+      simulate_along(*m, d_, g);
+    } catch (const std::exception&) {
+      return false;
+    }
+    for (double x : g)
+      if (!std::isfinite(x)) return false;
+    return true;
+  }
+
+  // Cost for shape u: RMS [N]; theta in term order.
+  double cost(const std::vector<double>& u, Eigen::VectorXd* theta = nullptr) {
+    if (!simulate(u, g_)) return bad();
+    return solve(theta);
+  }
+
+  double solve(Eigen::VectorXd* theta) {
+    std::vector<double> full(d_.size());
+    for (std::size_t j = 0; j < dyn_.size(); ++j) {
+      terms_[dyn_[j]].column.fill(d_, c_, g_, full);
+      gather(full, Ad_.col(static_cast<Eigen::Index>(j)));
+    }
+    const auto pd = static_cast<Eigen::Index>(dyn_.size());
+    const auto pf = static_cast<Eigen::Index>(fix_.size());
+    const Eigen::Index p = pd + pf;
+    Eigen::MatrixXd G(p, p);
+    Eigen::VectorXd b(p);
+    G.topLeftCorner(pd, pd) = Ad_.transpose() * Ad_;
+    G.topRightCorner(pd, pf) = Ad_.transpose() * Af_;
+    G.bottomLeftCorner(pf, pd) = G.topRightCorner(pd, pf).transpose();
+    G.bottomRightCorner(pf, pf) = Gff_;
+    b.head(pd) = Ad_.transpose() * y_;
+    b.tail(pf) = bf_;
+    Eigen::VectorXd s = G.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    Eigen::MatrixXd Gs = s.asDiagonal() * G * s.asDiagonal();
+    Gs.diagonal().array() += 1e-12;
+    Eigen::VectorXd z = Gs.ldlt().solve(s.asDiagonal() * b);
+    Eigen::VectorXd th_internal = s.asDiagonal() * z;
+    const double sse = yy_ - 2 * th_internal.dot(b) + th_internal.dot(G * th_internal);
+    Eigen::VectorXd th(p);
+    for (Eigen::Index j = 0; j < pd; ++j) th(static_cast<Eigen::Index>(dyn_[static_cast<std::size_t>(j)])) = th_internal(j);
+    for (Eigen::Index j = 0; j < pf; ++j) th(static_cast<Eigen::Index>(fix_[static_cast<std::size_t>(j)])) = th_internal(pd + j);
+    if (theta) *theta = th;
+    if (!th.allFinite() || !(th(0) > 0)) return bad();  // the force level must be positive
+    return std::sqrt(std::max(0.0, sse) / static_cast<double>(rows_.size()));
+  }
+
+  // Prediction on every sample for shape u and coefficients theta.
+  std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
+    std::vector<double> out(d_.size(), 0.0), full(d_.size());
+    if (!simulate(u, g_)) g_.assign(d_.size(), 0.0);
+    for (std::size_t j = 0; j < terms_.size(); ++j) {
+      terms_[j].column.fill(d_, c_, g_, full);
+      for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
+    }
+    return out;
+  }
+
+ private:
+  double bad() const { return 2.0 * null_rms() + 1.0; }
+  void gather(const std::vector<double>& full, Eigen::Ref<Eigen::VectorXd> out) const {
+    for (std::size_t i = 0; i < rows_.size(); ++i) out(static_cast<Eigen::Index>(i)) = full[rows_[i]];
+  }
+
+  const FitSpec& spec_;
+  const Parameterization& par_;
+  const Dataset& d_;
+  const EffectContext& c_;
+  std::vector<Term> terms_;
+  std::vector<std::size_t> rows_, fix_, dyn_;
+  Eigen::VectorXd y_, bf_;
+  Eigen::MatrixXd Af_, Ad_, Gff_;
+  double yy_ = 0;
+  std::vector<double> g_;
+};
+
+FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
+                      const std::vector<double>& u, const Eigen::VectorXd& th, double rms,
+                      int evals) {
+  FitResult r;
+  r.spec = spec;
+  r.u = u;
+  r.theta.assign(th.data(), th.data() + th.size());
+  for (std::size_t j = 0; j < ev.terms().size(); ++j) {
+    const auto& t = ev.terms()[j];
+    r.terms.push_back({t.effect, t.column.name, t.column.unit, r.theta[j]});
+  }
+  const double viscous = par.has_viscous() ? r.theta[1] : 0.0;
+  r.friction = par.physical(u, std::max(r.theta[0], 1e-12), viscous);
+  r.rms_train = rms;
+  r.evaluations = evals;
+  return r;
+}
+
+nlopt::algorithm algorithm_of(const std::string& m) {
+  if (m == "bobyqa") return nlopt::LN_BOBYQA;
+  if (m == "sbplx") return nlopt::LN_SBPLX;
+  if (m == "neldermead") return nlopt::LN_NELDERMEAD;
+  throw InputError("--method '" + m + "': expected bobyqa, sbplx or neldermead");
+}
+
+}  // namespace
+
+FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                    const FitOptions& o, const std::vector<double>* warm) {
+  const Parameterization par(model_info(spec.model), spec.elements, c);
+  Evaluator ev(spec, par, train, c);
+  const auto alg = algorithm_of(o.method);
+  const std::size_t n = par.size();
+  std::vector<double> best_u = par.initial();
+  Eigen::VectorXd best_th;
+  double best = ev.cost(best_u, &best_th);
+  int evals = 1;
+  // Start points: the warm start (if any), the data-based guess, then jittered copies of the
+  // first; finally a polishing restart from the best point found.
+  std::vector<std::vector<double>> starts;
+  if (warm && warm->size() == n) starts.push_back(*warm);
+  if (starts.empty() || o.data_start) starts.push_back(par.initial());
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  while (static_cast<int>(starts.size()) < std::max(1, o.starts)) {
+    auto x = starts.front();
+    for (auto& xi : x) xi = std::clamp(xi + jitter(rng), 0.0, 1.0);
+    starts.push_back(x);
+  }
+  const int total = static_cast<int>(starts.size()) + 1;
+  for (int s = 0; s < total && n > 0; ++s) {
+    std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
+    nlopt::opt opt(alg, static_cast<unsigned>(n));
+    opt.set_lower_bounds(std::vector<double>(n, 0.0));
+    opt.set_upper_bounds(std::vector<double>(n, 1.0));
+    opt.set_maxeval(s + 1 < total ? o.max_evaluations : std::max(100, o.max_evaluations / 3));
+    opt.set_ftol_rel(o.rel_tol);
+    opt.set_initial_step(std::vector<double>(n, s + 1 < total ? 0.1 : 0.03));
+    int local = 0;
+    struct Ctx {
+      Evaluator* ev;
+      const FitOptions* o;
+      double* best;
+      std::vector<double>* best_u;
+      int* evals;
+      int* local;
+      std::string stage;
+    } ctx{&ev, &o, &best, &best_u, &evals, &local,
+          o.stage + (s + 1 < total ? ", start " + std::to_string(s + 1) + "/" +
+                                         std::to_string(total - 1)
+                                   : ", polish")};
+    opt.set_min_objective(
+        [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
+          auto& cx = *static_cast<Ctx*>(p);
+          if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
+          const double f = cx.ev->cost(u);
+          ++*cx.evals;
+          ++*cx.local;
+          if (f < *cx.best) *cx.best = f, *cx.best_u = u;
+          if (cx.o->progress && *cx.local % 25 == 0) cx.o->progress({cx.stage, *cx.evals, *cx.best});
+          return f;
+        },
+        &ctx);
+    double f = 0;
+    try {
+      opt.optimize(x, f);
+    } catch (const nlopt::forced_stop&) {
+    } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
+    }
+    if (o.cancel && o.cancel->load()) throw Cancelled();
+  }
+  best = ev.cost(best_u, &best_th);
+  if (o.progress) o.progress({o.stage + ", done", evals, best});
+  return make_result(spec, par, ev, best_u, best_th, best, evals);
+}
+
+FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                       const std::vector<double>& u) {
+  const Parameterization par(model_info(spec.model), spec.elements, c);
+  Evaluator ev(spec, par, train, c);
+  Eigen::VectorXd th;
+  const double rms = ev.cost(u, &th);
+  return make_result(spec, par, ev, u, th, rms, 1);
+}
+
+std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectContext& c) {
+  const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
+  Evaluator ev(r.spec, par, d, c);
+  return ev.predict(r.u, r.theta);
+}
+
+std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c) {
+  const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
+  std::vector<double> g(d.size(), 0.0);
+  simulate_along(*build_model(par.unit_model(r.u)), d, g);
+  return g;
+}
+
+double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c) {
+  const auto p = predict(r, d, c);
+  double s = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) s += (d.F[k] - p[k]) * (d.F[k] - p[k]), ++n;
+  return n ? std::sqrt(s / static_cast<double>(n)) : 0.0;
+}
+
+LinearSolution least_squares(const std::vector<std::vector<double>>& columns,
+                             const std::vector<double>& y, const std::vector<std::uint8_t>& use) {
+  std::vector<std::size_t> rows;
+  for (std::size_t k = 0; k < y.size(); ++k)
+    if (use[k]) rows.push_back(k);
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(columns.size()));
+  Eigen::VectorXd b(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    for (std::size_t j = 0; j < columns.size(); ++j)
+      A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = columns[j][rows[i]];
+    b(static_cast<Eigen::Index>(i)) = y[rows[i]];
+  }
+  const Eigen::VectorXd th = A.colPivHouseholderQr().solve(b);
+  LinearSolution s;
+  s.coef.assign(th.data(), th.data() + th.size());
+  s.rms = rows.empty() ? 0.0 : std::sqrt((A * th - b).squaredNorm() / static_cast<double>(rows.size()));
+  return s;
+}
+
+}  // namespace gmslab::ident

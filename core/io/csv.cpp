@@ -1,0 +1,289 @@
+#include "core/io/csv.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <optional>
+
+#include "core/error.hpp"
+#include "core/io/atomic_file.hpp"
+
+namespace gmslab {
+
+namespace {
+
+struct Unit {
+  std::string_view suffix;
+  double scale;  // SI value = file value * scale
+};
+
+struct Role {
+  std::string_view name;  // t, x, F, v, Fn
+  bool required;
+  std::vector<Unit> units;
+};
+
+const std::array<Role, 5>& roles() {
+  static const std::array<Role, 5> r = {{
+      {"t", true, {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}}},
+      {"x", true, {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}}},
+      {"F", true, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}}},
+      {"v", false, {{"mps", 1.0}, {"mmps", 1e-3}, {"umps", 1e-6}}},
+      {"Fn", false, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}}},
+  }};
+  return r;
+}
+
+std::string units_text(const Role& r) {
+  std::string s;
+  for (const auto& u : r.units) s += (s.empty() ? "" : ", ") + std::string(r.name) + "_" + std::string(u.suffix);
+  return s;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
+  return s;
+}
+
+// Splits "F_N" into base "F" and suffix "N" (suffix empty when there is no '_').
+std::pair<std::string_view, std::string_view> split_name(std::string_view h) {
+  const auto u = h.find('_');
+  if (u == std::string_view::npos) return {h, {}};
+  return {h.substr(0, u), h.substr(u + 1)};
+}
+
+// Line number (1-based) and byte of the first invalid UTF-8 sequence, if any.
+std::optional<std::size_t> first_bad_utf8(std::string_view s) {
+  const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+  const std::size_t n = s.size();
+  std::size_t i = 0;
+  while (i < n) {
+    const unsigned c = p[i];
+    if (c < 0x80) { ++i; continue; }
+    std::size_t len = 0;
+    unsigned min = 0;
+    if ((c & 0xE0) == 0xC0) { len = 2; min = 0x80; }
+    else if ((c & 0xF0) == 0xE0) { len = 3; min = 0x800; }
+    else if ((c & 0xF8) == 0xF0 && c <= 0xF4) { len = 4; min = 0x10000; }
+    else return i;
+    if (i + len > n) return i;
+    unsigned cp = c & (0xFF >> (len + 1));
+    for (std::size_t k = 1; k < len; ++k) {
+      if ((p[i + k] & 0xC0) != 0x80) return i;
+      cp = (cp << 6) | (p[i + k] & 0x3F);
+    }
+    if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return i;
+    i += len;
+  }
+  return std::nullopt;
+}
+
+std::size_t line_of(std::string_view s, std::size_t pos) {
+  std::size_t line = 1;
+  for (std::size_t i = 0; i < pos && i < s.size(); ++i) line += (s[i] == '\n');
+  return line;
+}
+
+std::string where(const std::string& file, std::size_t line) {
+  return file + ":" + std::to_string(line);
+}
+
+// Splits one line into fields (no quoting inside number rows).
+void split_fields(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  std::size_t start = 0;
+  for (;;) {
+    const auto c = line.find(',', start);
+    if (c == std::string_view::npos) {
+      out.push_back(trim(line.substr(start)));
+      return;
+    }
+    out.push_back(trim(line.substr(start, c - start)));
+    start = c + 1;
+  }
+}
+
+bool parse_number(std::string_view f, double& out) {
+  if (!f.empty() && f.front() == '+') f.remove_prefix(1);
+  if (f.empty()) return false;
+  const auto r = std::from_chars(f.data(), f.data() + f.size(), out);
+  return r.ec == std::errc() && r.ptr == f.data() + f.size();
+}
+
+struct Chosen {
+  std::ptrdiff_t index = -1;  // column in the file
+  double scale = 1.0;
+};
+
+// Finds the column of each role, by explicit name or by base name + unit suffix.
+std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header,
+                                     const CsvColumns& cols, const std::string& file) {
+  const std::array<const std::string*, 5> explicit_names = {&cols.t, &cols.x, &cols.F, &cols.v,
+                                                            &cols.Fn};
+  std::string names;
+  for (const auto& h : header) names += (names.empty() ? "" : ", ") + std::string(h);
+  std::array<Chosen, 5> out;
+  for (std::size_t r = 0; r < 5; ++r) {
+    const Role& role = roles()[r];
+    if (!explicit_names[r]->empty()) {
+      for (std::size_t c = 0; c < header.size(); ++c)
+        if (header[c] == *explicit_names[r]) out[r].index = static_cast<std::ptrdiff_t>(c);
+      if (out[r].index < 0)
+        throw InputError(where(file, 1) + ": column '" + *explicit_names[r] + "' (mapped to " +
+                         std::string(role.name) + ") is not in the header; columns: " + names);
+      const auto suffix = split_name(*explicit_names[r]).second;
+      for (const auto& u : role.units)
+        if (u.suffix == suffix) out[r].scale = u.scale;
+      continue;
+    }
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      const auto [base, suffix] = split_name(header[c]);
+      if (base != role.name) continue;
+      double scale = 0.0;
+      if (suffix.empty()) scale = 1.0;
+      for (const auto& u : role.units)
+        if (u.suffix == suffix) scale = u.scale;
+      if (scale == 0.0)
+        throw InputError(where(file, 1) + ": column '" + std::string(header[c]) + "': unknown unit '" +
+                         std::string(suffix) + "'; accepted: " + std::string(role.name) + " (SI), " +
+                         units_text(role) + ", or map it with --columns");
+      if (out[r].index >= 0)
+        throw InputError(where(file, 1) + ": two columns for " + std::string(role.name) + " ('" +
+                         std::string(header[static_cast<std::size_t>(out[r].index)]) + "' and '" +
+                         std::string(header[c]) + "'); choose one with --columns " +
+                         std::string(role.name) + "=NAME");
+      out[r] = {static_cast<std::ptrdiff_t>(c), scale};
+    }
+    if (role.required && out[r].index < 0)
+      throw InputError(where(file, 1) + ": no column for " + std::string(role.name) +
+                       " (expected a header named " + std::string(role.name) + " or " +
+                       units_text(role) + ", or --columns " + std::string(role.name) +
+                       "=NAME); columns: " + names);
+  }
+  return out;
+}
+
+}  // namespace
+
+const std::vector<double>* MeasuredRecord::extra_column(std::string_view name) const {
+  for (const auto& [n, col] : extra)
+    if (n == name) return &col;
+  return nullptr;
+}
+
+CsvColumns parse_column_map(std::string_view spec) {
+  CsvColumns c;
+  std::vector<std::string_view> items;
+  split_fields(spec, items);
+  for (auto item : items) {
+    const auto eq = item.find('=');
+    const auto role = eq == std::string_view::npos ? item : trim(item.substr(0, eq));
+    const auto name = eq == std::string_view::npos ? std::string_view{} : trim(item.substr(eq + 1));
+    std::string* slot = role == "t"    ? &c.t
+                        : role == "x"  ? &c.x
+                        : role == "F"  ? &c.F
+                        : role == "v"  ? &c.v
+                        : role == "Fn" ? &c.Fn
+                                       : nullptr;
+    if (!slot || name.empty())
+      throw InputError("--columns: '" + std::string(item) +
+                       "': expected ROLE=NAME with ROLE one of t, x, F, v, Fn, e.g. t=t_s,x=x_m,F=F_N");
+    *slot = std::string(name);
+  }
+  return c;
+}
+
+MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file,
+                                  const CsvColumns& columns) {
+  if (const auto bad = first_bad_utf8(text))
+    throw InputError(where(file, line_of(text, *bad)) +
+                     ": the file is not UTF-8 text (invalid byte sequence); save it as UTF-8 CSV");
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+
+  MeasuredRecord rec;
+  rec.source = file;
+  std::vector<std::string_view> header, fields;
+  std::array<Chosen, 5> chosen{};
+  std::vector<std::vector<double>> extra_vals;
+  std::vector<std::size_t> extra_idx;
+  std::vector<bool> extra_ok;
+  std::size_t header_line = 0;
+  std::size_t line_no = 0;
+  std::size_t pos = 0;
+  std::vector<double> vals(5, 0.0);
+  while (pos < text.size()) {
+    auto nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string_view line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    const auto tl = trim(line);
+    if (tl.empty() || tl.front() == '#') continue;
+    if (header_line == 0) {
+      header_line = line_no;
+      split_fields(line, header);
+      chosen = choose_columns(header, columns, file);
+      for (std::size_t c = 0; c < header.size(); ++c) {
+        bool used = false;
+        for (const auto& ch : chosen) used |= ch.index == static_cast<std::ptrdiff_t>(c);
+        if (!used && !header[c].empty()) extra_idx.push_back(c);
+      }
+      extra_vals.resize(extra_idx.size());
+      extra_ok.assign(extra_idx.size(), true);
+      continue;
+    }
+    split_fields(line, fields);
+    if (fields.size() != header.size())
+      throw InputError(where(file, line_no) + ": " + std::to_string(fields.size()) +
+                       " fields, but the header has " + std::to_string(header.size()) +
+                       " (truncated or malformed row)");
+    for (std::size_t r = 0; r < 5; ++r) {
+      if (chosen[r].index < 0) continue;
+      const auto f = fields[static_cast<std::size_t>(chosen[r].index)];
+      const std::string col(header[static_cast<std::size_t>(chosen[r].index)]);
+      double d = 0.0;
+      if (!parse_number(f, d))
+        throw InputError(where(file, line_no) + ": column '" + col + "': '" +
+                         std::string(f.substr(0, 40)) + "' is not a number");
+      if (!std::isfinite(d))
+        throw InputError(where(file, line_no) + ": column '" + col + "': '" + std::string(f) +
+                         "' is not a finite number");
+      vals[r] = d * chosen[r].scale;
+    }
+    if (!rec.t.empty() && !(vals[0] > rec.t.back()))
+      throw InputError(where(file, line_no) + ": column '" +
+                       std::string(header[static_cast<std::size_t>(chosen[0].index)]) +
+                       "': time " + std::string(fields[static_cast<std::size_t>(chosen[0].index)]) +
+                       " is not greater than the previous row's; time must strictly increase");
+    rec.t.push_back(vals[0]);
+    rec.x.push_back(vals[1]);
+    rec.F.push_back(vals[2]);
+    if (chosen[3].index >= 0) rec.v.push_back(vals[3]);
+    if (chosen[4].index >= 0) rec.Fn.push_back(vals[4]);
+    for (std::size_t e = 0; e < extra_idx.size(); ++e) {
+      if (!extra_ok[e]) continue;
+      double d = 0.0;
+      if (parse_number(fields[extra_idx[e]], d) && std::isfinite(d)) extra_vals[e].push_back(d);
+      else extra_ok[e] = false;
+    }
+  }
+  if (header_line == 0)
+    throw InputError(file + ": empty; expected a header row (e.g. t_s,x_m,F_N) and at least " +
+                     std::to_string(kMinSamples) + " rows of numbers");
+  if (rec.t.size() < kMinSamples)
+    throw InputError(file + ": only " + std::to_string(rec.t.size()) + " data rows; at least " +
+                     std::to_string(kMinSamples) + " are needed");
+  rec.force_column = std::string(header[static_cast<std::size_t>(chosen[2].index)]);
+  for (std::size_t e = 0; e < extra_idx.size(); ++e)
+    if (extra_ok[e]) rec.extra.emplace_back(std::string(header[extra_idx[e]]), std::move(extra_vals[e]));
+  return rec;
+}
+
+MeasuredRecord load_measured_csv(const std::string& path, const CsvColumns& columns) {
+  return parse_measured_csv(read_file(path), path, columns);
+}
+
+}  // namespace gmslab

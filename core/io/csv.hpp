@@ -1,0 +1,61 @@
+// gmslab core: measured friction data from CSV (the input of identification).
+//
+// Format: UTF-8 text, one header row, comma-separated numbers, one sample per row ('#' lines and
+// blank lines are skipped, CRLF accepted). The columns are found by name:
+//   t   time                [s]     (required, strictly increasing; sampling may be non-uniform)
+//   x   position            [m]     (required)
+//   F   measured force      [N]     (required; friction alone or actuator force, see ident/)
+//   v   velocity            [m/s]   (optional; derived from x when absent)
+//   Fn  normal force        [N]     (optional; enables the normal_load effect)
+// A name may carry a unit suffix after the first '_': t_s, t_ms, x_m, x_mm, x_um, F_N, F_kN, F_mN,
+// v_mps, v_mmps, Fn_N, Fn_kN; values are converted to SI. An unknown suffix on one of these names is
+// an error naming the accepted units. Columns may also be mapped explicitly ("t=time,x=pos_mm,F=F_N";
+// an explicitly mapped name without a known suffix is read as SI). Every other column that holds
+// only numbers is kept in `extra` under its header name (e.g. pulse_code, a_mps2); other columns
+// are ignored.
+//
+// Errors: InputError naming the file, the line and the column: missing or ambiguous column, text
+// in a number field, NaN/inf, a row with too few or too many fields, time not increasing, fewer
+// than kMinSamples rows, empty file, bytes that are not UTF-8. Never a crash, never a default.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace gmslab {
+
+inline constexpr std::size_t kMinSamples = 10;
+
+struct MeasuredRecord {
+  std::string source;      // file name, for messages and reports
+  std::vector<double> t;   // time [s]
+  std::vector<double> x;   // position [m]
+  std::vector<double> F;   // measured force [N]
+  std::vector<double> v;   // velocity [m/s]; empty when the file has none
+  std::vector<double> Fn;  // normal force [N]; empty when the file has none
+  std::vector<std::pair<std::string, std::vector<double>>> extra;  // other numeric columns
+  std::string force_column;  // header name the force came from (for reports), e.g. "F_N"
+
+  std::size_t size() const { return t.size(); }
+  // The extra column with this header name, or nullptr.
+  const std::vector<double>* extra_column(std::string_view name) const;
+};
+
+// Explicit column names per role; empty = find by name.
+struct CsvColumns {
+  std::string t, x, F, v, Fn;
+};
+
+// Parses "t=t_s,x=x_m,F=F_N" (roles t, x, F, v, Fn); throws InputError naming the bad entry.
+CsvColumns parse_column_map(std::string_view spec);
+
+// Parses a whole CSV text (the fuzzable entry point). `file` is used in messages only.
+MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file,
+                                  const CsvColumns& columns = {});
+// Reads and parses a file; throws InputError when it cannot be read or is bad.
+MeasuredRecord load_measured_csv(const std::string& path, const CsvColumns& columns = {});
+
+}  // namespace gmslab

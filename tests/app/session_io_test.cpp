@@ -1,0 +1,82 @@
+// Window sessions: round trip through JSON and strict rejection of malformed files.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "core/error.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/scenario_io.hpp"
+#include "core/io/session_io.hpp"
+
+using namespace gmslab;
+
+namespace {
+Session sample() {
+  Session s;
+  s.scenario_path = "presets/fig4_stick_slip.json";
+  s.scenario = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
+  s.compare = model_registry().front().defaults();
+  s.compare->scalars[0] *= 1.25;
+  s.view.speed = 0.125;
+  s.view.color_phases = false;
+  s.view.slip_velocity = 3e-4;
+  s.view.tab = "Figures";
+  s.view.friction_against = "velocity";
+  return s;
+}
+
+std::string expect_rejected(nlohmann::json j) {
+  try {
+    session_from_json(j, "s.json");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted: " << j.dump();
+  return "";
+}
+}  // namespace
+
+TEST(SessionIo, SaveThenLoadGivesTheSameSession) {
+  const Session s = sample();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("gmslab_session_" + std::to_string(getpid()) + ".json")).string();
+  save_session(s, path);
+  const Session back = load_session(path);
+  EXPECT_EQ(back, s);
+  std::filesystem::remove(path);
+  Session none = s;
+  none.compare.reset();
+  EXPECT_EQ(session_from_json(to_json(none), "x"), none);
+}
+
+TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
+  const nlohmann::json good = to_json(sample());
+  auto j = good;
+  j["view"]["speed"] = 1e9;
+  EXPECT_NE(expect_rejected(j).find("view.speed"), std::string::npos);
+  j = good;
+  j["view"]["zoom"] = 2;
+  EXPECT_NE(expect_rejected(j).find("zoom"), std::string::npos);
+  j = good;
+  j["view"].erase("tab");
+  EXPECT_NE(expect_rejected(j).find("view.tab"), std::string::npos);
+  j = good;
+  j["schema_version"] = 2;
+  EXPECT_NE(expect_rejected(j).find("schema_version"), std::string::npos);
+  j = good;
+  j["compare"]["model"] = "no_such_model";
+  EXPECT_NE(expect_rejected(j).find("compare.model"), std::string::npos);
+  j = good;
+  j["scenario"]["plant"]["mass"] = -1;
+  const std::string m = expect_rejected(j);
+  EXPECT_NE(m.find("(in 'scenario')"), std::string::npos) << m;
+  EXPECT_NE(m.find("plant.mass"), std::string::npos) << m;
+  j = good;
+  j["view"]["friction_against"] = "time";
+  EXPECT_NE(expect_rejected(j).find("view.friction_against"), std::string::npos);
+  j = good;
+  j["view"]["color_phases"] = "yes";
+  EXPECT_NE(expect_rejected(j).find("view.color_phases"), std::string::npos);
+  EXPECT_THROW(session_from_json(nlohmann::json::array(), "s.json"), InputError);
+}

@@ -1,0 +1,112 @@
+// gmslab design: the JSON keys of the issue and their values for the worked examples, the preset
+// path with a simulated loop, and clear errors (exit code 2) for malformed input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "app/cli/cli.hpp"
+#include "core/io/atomic_file.hpp"
+
+namespace {
+int run_cli(std::vector<std::string> args) {
+  args.insert(args.begin(), "gmslab");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  return gmslab::cli::run(static_cast<int>(argv.size()), argv.data(), {});
+}
+
+std::string temp_json(const char* name) {
+  return (std::filesystem::temp_directory_path() / (std::string("gmslab_design_") + name + ".json")).string();
+}
+
+nlohmann::json design(std::vector<std::string> args, const char* name) {
+  const std::string out = temp_json(name);
+  std::filesystem::remove(out);
+  args.insert(args.begin(), "design");
+  args.push_back("--json");
+  args.push_back(out);
+  EXPECT_EQ(run_cli(args), 0);
+  return nlohmann::json::parse(gmslab::read_file(out));
+}
+}  // namespace
+
+TEST(DesignCli, G1Kv5WritesTheIssuesKeysWithTheWorkedExampleValues) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                         "--max-ratio", "20"}, "g1");
+  for (const char* key : {"applicable", "phi_deg", "K0", "K_max", "K_max_usable", "z", "p", "Kc",
+                          "K", "closed_loop_poles"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_TRUE(j["applicable"].get<bool>());
+  EXPECT_NEAR(j["phi_deg"].get<double>(), 30.0, 1e-9);
+  EXPECT_NEAR(j["K0"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(j["K_max"].get<double>(), 8.0, 1e-9);
+  EXPECT_LT(j["K_max_usable"].get<double>(), 8.0);
+  EXPECT_NEAR(j["z"].get<double>(), 2.857143, 1e-6);
+  EXPECT_NEAR(j["p"].get<double>(), 5.333333, 1e-6);
+  EXPECT_NEAR(j["Kc"].get<double>(), 4.666667, 1e-6);
+  EXPECT_NEAR(j["K"].get<double>(), 5.0, 1e-9);
+  ASSERT_EQ(j["closed_loop_poles"].size(), 3u);
+  bool has_real = false;
+  for (const auto& p : j["closed_loop_poles"]) {
+    ASSERT_EQ(p.size(), 2u);
+    if (std::abs(p[1].get<double>()) < 1e-12) {
+      EXPECT_NEAR(p[0].get<double>(), -3.333333, 1e-6);
+      has_real = true;
+    } else {
+      EXPECT_NEAR(p[0].get<double>(), -2.0, 1e-9);
+      EXPECT_NEAR(std::abs(p[1].get<double>()), 3.464102, 1e-6);
+    }
+  }
+  EXPECT_TRUE(has_real);
+  EXPECT_FALSE(j.contains("relocations"));
+}
+
+TEST(DesignCli, UnreachableConstantListsRelocationsPerPathWithReasons) {
+  const auto j = design({"--num", "1", "--den", "1 6 5 0", "--zeta", "0.5", "--wn", "2", "--K", "8"},
+                        "g2");
+  EXPECT_NEAR(j["K_max"].get<double>(), 3.2, 1e-9);
+  ASSERT_TRUE(j.contains("relocations"));
+  ASSERT_EQ(j["relocations"].size(), 3u);
+  const auto& kz = j["relocations"][0];
+  EXPECT_EQ(kz["path"], "keep_zeta");
+  EXPECT_FALSE(kz["found"].get<bool>());
+  EXPECT_NEAR(kz["peak_K"].get<double>(), 6.4, 1e-6);
+  EXPECT_FALSE(kz["reason"].get<std::string>().empty());
+  const auto& ks = j["relocations"][1];
+  EXPECT_EQ(ks["path"], "keep_zeta_wn");
+  ASSERT_TRUE(ks["found"].get<bool>());
+  for (const char* key : {"wn", "zeta", "z", "p", "Kc"}) EXPECT_TRUE(ks.contains(key)) << key;
+  // Kv_max(wd) at zeta wn = 1 reaches 8 (1 + 0.1) a little beyond wd = 3.
+  EXPECT_NEAR(ks["zeta"].get<double>() * ks["wn"].get<double>(), 1.0, 1e-9);
+  EXPECT_GT(ks["wn"].get<double>(), std::hypot(1.0, 3.0));
+  EXPECT_NEAR(ks["K"].get<double>(), 8.0, 1e-9);
+}
+
+TEST(DesignCli, PresetSlidingPlantDesignAndSimulationWithEachCompensation) {
+  const auto j = design({"--preset", std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json",
+                         "--regime", "sliding", "--zeta", "0.7", "--wn", "60", "--K", "1000",
+                         "--simulate", "--reference", "ramp", "--duration", "1"}, "preset");
+  EXPECT_EQ(j["plant"]["regime"], "sliding");
+  EXPECT_NEAR(j["plant"]["damping_N_s_per_m"].get<double>(), 0.4, 1e-9);
+  EXPECT_NEAR(j["K0"].get<double>(), 2.5, 1e-9);  // 1 / sigma2
+  ASSERT_EQ(j["simulation"].size(), 3u);
+  const double e_none = j["simulation"][0]["steady_state_error_m"].get<double>();
+  const double e_gms = j["simulation"][2]["steady_state_error_m"].get<double>();
+  EXPECT_EQ(j["simulation"][2]["compensation"], "gms");
+  EXPECT_NEAR(e_none, 2.51e-3, 2e-5);  // F_ss(v) / (Kc z / p) with Kc z / p = 400 N/m
+  EXPECT_LT(std::abs(e_gms), 1e-6);
+}
+
+TEST(DesignCli, MalformedInputIsAClearErrorWithExitCode2) {
+  const std::string out = temp_json("bad");
+  EXPECT_EQ(run_cli({"design", "--num", "4 x", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "1.2", "--wn", "4", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "-1", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--num", "1 2 3", "--den", "1 2", "--zeta", "0.5", "--wn", "4", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--den", "1 2", "--zeta", "0.5", "--wn", "4", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "0", "--json", out}), 2);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--simulate", "--json", out}), 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+}

@@ -1,0 +1,93 @@
+// gmslab ui: the application frame, shared by the GLFW window and the OSMesa headless renderer.
+//
+// The UI is a function of AppState, re-run every frame by draw_frame(). Widgets never change the
+// simulation directly: they record PendingRequests, and apply_pending() applies them all at one
+// point of the frame (MuJoCo's simulate/ pattern), after which the running simulation advances by
+// view.speed simulated seconds per wall-clock second. The frame function knows nothing of GLFW or
+// OSMesa: the host calls ImGui::NewFrame(), draw_frame(), ImGui::Render().
+//
+// Panels (tabs) are listed in ui/panels.cpp; see ui/panels.hpp for how to add one.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "core/io/session_io.hpp"
+#include "core/sim/scenario.hpp"
+#include "core/sim/simulation.hpp"
+
+namespace gmslab::ui {
+
+// What the user chose to see; saved in sessions (core/io/session_io.hpp).
+using gmslab::ViewSettings;
+
+// UI edits waiting to be applied (apply_pending). Each field is one request.
+struct PendingRequests {
+  std::optional<Scenario> scenario;     // replace the scenario (drive, run: restarts the run)
+  std::optional<ModelParams> friction;  // live friction edit (keeps the run going)
+  std::optional<Plant> plant;           // live plant edit
+  std::optional<ModelParams> compare;   // set or edit the overlay model
+  bool clear_compare = false;           // remove the overlay
+  bool reset = false;                   // back to t = 0
+  bool run = false, pause = false;
+  std::string load_path;                // non-empty: load this scenario file
+  std::string save_path;                // non-empty: save the scenario (atomic)
+};
+
+// A simulation plus the per-sample phase class (0 = stick, 1 = slip) of its trace.
+struct LiveRun {
+  std::unique_ptr<Simulation> sim;
+  std::vector<std::uint8_t> phase;  // same length as sim->trace() after update_phase()
+  void update_phase(double slip_velocity);
+};
+
+struct AppState {
+  std::string scenario_path;        // the path field (load / save)
+  Scenario scenario;                // the scenario as edited: what "save" writes
+  LiveRun main;                     // the live run of `scenario`
+  std::optional<ModelParams> compare;  // overlay model driven by the same input
+  LiveRun overlay;                  // its run (sim null when compare is empty)
+  bool running = false;
+  bool sim_limited = false;         // the step budget per frame capped the speed
+  ViewSettings view;
+  std::string status;               // last load / save message
+  std::string error;                // why the run stopped (SimulationError) or load failed
+  double frame_dt = 1.0 / 60.0;     // wall-clock seconds of this frame (host sets it)
+  std::size_t max_steps_per_frame = 400000;  // keeps the window responsive
+  PendingRequests pending;
+  int generation = 0;               // bumped when the scenario is replaced (editors resync)
+  int select_tab = 2;               // frames left to force view.tab as the selected tab
+
+  // Per-panel state slot for panels added by others: state.slot<MyPanelState>("design").
+  template <class T>
+  T& slot(const std::string& key) {
+    auto& p = slots_[key];
+    if (!p) p = std::shared_ptr<void>(new T(), [](void* q) { delete static_cast<T*>(q); });
+    return *static_cast<T*>(p.get());
+  }
+
+ private:
+  std::unordered_map<std::string, std::shared_ptr<void>> slots_;
+};
+
+// Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets".
+std::string presets_dir();
+// Builds the state for a scenario (validated: throws InputError). path may be empty.
+void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path);
+// Applies every pending request (errors go to s.status / s.error, never thrown).
+void apply_pending(AppState& s);
+// Advances the running simulation(s) by s.view.speed * s.frame_dt simulated seconds.
+void advance(AppState& s);
+// Runs both simulations up to simulated time t (t < 0: to the end). Throws SimulationError.
+void run_until(AppState& s, double t);
+// The session of the current state, and the state restored from a session (throws InputError
+// when its scenario or overlay model is invalid; nothing changes then).
+Session make_session(const AppState& s);
+void restore_session(AppState& s, const Session& session);
+// One frame: draws the main window with its panels (full display), then apply_pending + advance.
+void draw_frame(AppState& s);
+
+}  // namespace gmslab::ui

@@ -1,0 +1,69 @@
+#include "ui/figure_view.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+
+#include "ui/plot.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+LineStyle line_style(Series::Style s) {
+  switch (s) {
+    case Series::Style::Dashed: return LineStyle::Dashed;
+    case Series::Style::Dotted: return LineStyle::Dotted;
+    case Series::Style::Solid: break;
+  }
+  return LineStyle::Solid;
+}
+
+void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive) {
+  PlotOptions opt;
+  opt.title = p.title.c_str();
+  opt.letter = p.letter.c_str();
+  opt.paper = true;
+  opt.interactive = interactive;
+  ImGui::PushID(static_cast<int>(index));
+  if (BeginPlot("##panel", size, opt)) {
+    SetupAxes(p.x_label.c_str(), p.y_label.c_str());
+    for (std::size_t k = 0; k < p.series.size(); ++k) {
+      const Series& s = p.series[k];
+      SeriesStyle st;
+      st.color = s.color >= 0 ? s.color : static_cast<int>(k);
+      st.line = line_style(s.style);
+      st.thickness = 2.0f;
+      st.x_sorted = std::is_sorted(s.x.begin(), s.x.end());
+      PlotLine(s.label.c_str(), s.x.data(), s.y.data(), std::min(s.x.size(), s.y.size()), st);
+    }
+    EndPlot();
+  }
+  ImGui::PopID();
+}
+}  // namespace
+
+void draw_figure(const Figure& f, bool interactive) {
+  ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(0, 0, 0, 255));
+  const ImVec2 title_pos = ImGui::GetCursorScreenPos();
+  ImGui::TextUnformatted(f.title.c_str());
+  // Bold by double-strike: the one font stays crisp at every size.
+  ImGui::GetWindowDrawList()->AddText(ImVec2(title_pos.x + 1, title_pos.y), IM_COL32(0, 0, 0, 255),
+                                      f.title.c_str());
+  ImGui::PopStyleColor();
+  ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(70, 70, 70, 255));
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextUnformatted(f.caption.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::PopStyleColor();
+  ImGui::Spacing();
+  const std::size_t n = std::max<std::size_t>(1, f.panels.size());
+  const float gap = ImGui::GetStyle().ItemSpacing.x;
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float w = (avail.x - gap * static_cast<float>(n - 1)) / static_cast<float>(n);
+  for (std::size_t i = 0; i < f.panels.size(); ++i) {
+    if (i > 0) ImGui::SameLine();
+    draw_panel(f.panels[i], i, ImVec2(w, avail.y), interactive);
+  }
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,53 @@
+// gmslab ui: the Figures panel: pick one of the paper's figures (core/figures/figure_set.hpp),
+// recompute it from its presets and draw it like the paper (the same drawing as `gmslab figures`).
+#include <imgui.h>
+
+#include "core/figures/figure_set.hpp"
+#include "ui/figure_view.hpp"
+#include "ui/panels.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+struct FiguresState {
+  std::string id;       // figure shown
+  Figure figure;        // its data
+  std::string error;    // why it could not be built
+};
+}  // namespace
+
+void draw_figures_panel(AppState& s) {
+  auto& f = s.slot<FiguresState>("figures");
+  const auto ids = figure_ids();
+  if (f.id.empty() && !ids.empty()) f.id = ids.front();
+  std::string pick;
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 18.0f);
+  if (ImGui::BeginCombo("figure id", f.id.c_str())) {
+    for (const auto& id : ids)
+      if (ImGui::Selectable(id.c_str(), id == f.id)) pick = id;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Figures of the seed paper, recomputed from the presets in %s", presets_dir().c_str());
+  if (!pick.empty() && pick != f.id) {
+    f.id = pick;
+    f.figure = {};
+  }
+  if (f.figure.id != f.id && f.error.empty()) {
+    try {
+      f.figure = make_figure(f.id, presets_dir());
+    } catch (const std::exception& e) {
+      f.error = e.what();
+    }
+  }
+  if (!pick.empty()) f.error.clear();
+  if (!f.error.empty()) {
+    ImGui::TextColored(ImVec4(0.75f, 0.1f, 0.1f, 1), "%s", f.error.c_str());
+    return;
+  }
+  ImGui::BeginChild("##figure", ImVec2(0, 0), true, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  draw_figure(f.figure, true);
+  ImGui::EndChild();
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,255 @@
+// gmslab ui: the Simulation panel. Left: scenario file, run controls, plant, drive, run settings,
+// friction model, overlay model, display options. Right: the live plots (ui/sim_plots.cpp).
+//
+// Edits go to a scratch copy (SimPanelState). A valid edit becomes a pending request; an invalid
+// one stays in the scratch copy with its validation message shown inline and is not applied.
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "ui/drive_editor.hpp"
+#include "ui/panels.hpp"
+#include "ui/param_editor.hpp"
+#include "ui/sim_plots.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+
+struct SimPanelState {
+  int generation = -1;
+  std::string path;
+  ModelParams friction, compare;
+  Plant plant;
+  Drive drive;
+  RunSettings run;
+  std::string friction_msg, plant_msg, drive_msg, compare_msg;
+};
+
+const ImVec4 kErr(0.75f, 0.10f, 0.10f, 1.0f);
+const ImVec4 kDim(0.35f, 0.35f, 0.38f, 1.0f);
+
+void sync(AppState& s, SimPanelState& p) {
+  if (p.generation == s.generation) return;
+  p.generation = s.generation;
+  p.path = s.scenario_path;
+  p.friction = s.scenario.friction;
+  p.plant = s.scenario.plant;
+  p.drive = s.scenario.drive;
+  p.run = s.scenario.run;
+  p.compare = s.compare ? *s.compare : ModelParams{};
+  p.friction_msg = p.plant_msg = p.drive_msg = p.compare_msg = "";
+}
+
+// "" when the scenario would run, else the validation message (names key and range).
+std::string check(const Scenario& sc) {
+  try {
+    Simulation probe(sc);
+    return "";
+  } catch (const InputError& e) {
+    return e.what();
+  }
+}
+
+void message(const std::string& msg) {
+  if (msg.empty()) return;
+  ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextUnformatted(("Not applied: " + msg).c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::PopStyleColor();
+}
+
+void tip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+void scenario_section(AppState& s, SimPanelState& p) {
+  ImGui::SetNextItemWidth(-ImGui::GetFontSize() * 7.6f);
+  ImGui::InputTextWithHint("##path", "scenario file (.json)", &p.path);
+  tip("Path of a scenario preset (JSON, schema_version 1), e.g. presets/fig4_stick_slip.json");
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) s.pending.load_path = p.path;
+  tip("Load the scenario from this file (restarts the run)");
+  ImGui::SameLine();
+  if (ImGui::Button("Save")) s.pending.save_path = p.path;
+  tip("Save the scenario as edited to this file (atomic: the old file stays intact on failure)");
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextUnformatted(s.scenario.name.c_str());
+  if (!s.scenario.description.empty()) ImGui::TextColored(kDim, "%s", s.scenario.description.c_str());
+  if (!s.status.empty()) ImGui::TextColored(kDim, "%s", s.status.c_str());
+  ImGui::PopTextWrapPos();
+}
+
+void run_section(AppState& s) {
+  const Simulation* sim = s.main.sim.get();
+  const float bw = ImGui::GetFontSize() * 4.5f;
+  if (s.running) {
+    if (ImGui::Button("Pause", ImVec2(bw, 0))) s.pending.pause = true;
+  } else if (ImGui::Button(sim && sim->finished() ? "Rerun" : "Run", ImVec2(bw, 0))) {
+    s.pending.run = true;
+  }
+  tip("Run or pause the simulation (parameters stay editable while it runs)");
+  ImGui::SameLine();
+  if (ImGui::Button("Reset", ImVec2(bw, 0))) s.pending.reset = true;
+  tip("Back to t = 0 with the friction in its virgin state");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-1);
+  double speed = s.view.speed;
+  const double lo = 1e-3, hi = 1e3;
+  if (ImGui::SliderScalar("##speed", ImGuiDataType_Double, &speed, &lo, &hi, "speed %.3g s/s",
+                          ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp))
+    s.view.speed = speed;
+  tip("Simulated seconds per wall-clock second");
+  if (sim) {
+    const double dur = s.scenario.run.duration;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "t = %.4g s of %.4g s%s", sim->time(), dur,
+                  s.sim_limited ? "  (CPU-limited)" : "");
+    ImGui::ProgressBar(static_cast<float>(std::clamp(sim->time() / dur, 0.0, 1.0)), ImVec2(-1, 0), buf);
+    tip("Simulated time. CPU-limited: the speed asked for needs more steps than one frame allows.");
+  }
+  if (!s.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextUnformatted(("Run stopped: " + s.error).c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopStyleColor();
+  }
+}
+
+void plant_section(AppState& s, SimPanelState& p) {
+  if (!ImGui::CollapsingHeader("Plant", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (s.scenario.drive.kind == Drive::Kind::Displacement || s.scenario.drive.kind == Drive::Kind::Velocity)
+    ImGui::TextColored(kDim, "(the motion is prescribed: the plant does not act)");
+  if (edit_plant(p.plant)) {
+    Scenario sc = s.scenario;
+    sc.plant = p.plant;
+    p.plant_msg = check(sc);
+    if (p.plant_msg.empty()) s.pending.plant = p.plant;
+  }
+  message(p.plant_msg);
+}
+
+void drive_section(AppState& s, SimPanelState& p) {
+  if (!ImGui::CollapsingHeader("Drive and run", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  bool c = edit_drive(p.drive);
+  ImGui::Separator();
+  c |= edit_run(p.run);
+  if (c) {
+    Scenario sc = s.scenario;
+    sc.drive = p.drive;
+    sc.run = p.run;
+    p.drive_msg = check(sc);
+    if (p.drive_msg.empty()) s.pending.scenario = sc;
+  }
+  ImGui::TextColored(kDim, "Changing the drive or the run settings restarts the run.");
+  message(p.drive_msg);
+}
+
+void friction_section(AppState& s, SimPanelState& p) {
+  if (!ImGui::CollapsingHeader("Friction model", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::SetNextItemWidth(-1);
+  bool c = edit_model_choice("##model", p.friction);
+  const Simulation* sim = s.main.sim.get();
+  const bool live = sim && sim->scenario().friction.model == p.friction.model;
+  c |= edit_model_params("friction", p.friction, live ? &sim->model() : nullptr,
+                         live ? sim->friction_state() : std::span<const double>{});
+  if (c) {
+    Scenario sc = s.scenario;
+    sc.friction = p.friction;
+    p.friction_msg = check(sc);
+    if (p.friction_msg.empty()) s.pending.friction = p.friction;
+  }
+  message(p.friction_msg);
+}
+
+void compare_section(AppState& s, SimPanelState& p) {
+  if (!ImGui::CollapsingHeader("Overlay a second model")) return;
+  ImGui::TextColored(kDim, "Runs on the same plant and drive; drawn dashed in the plots.");
+  bool on = s.compare.has_value();
+  if (ImGui::Checkbox("overlay", &on)) {
+    if (on) {
+      if (p.compare.model.empty()) {
+        const auto& reg = model_registry();
+        const ModelInfo* pick = &reg.front();  // prefer a model other than the main one
+        for (const auto& m : reg)
+          if (m.tag != s.scenario.friction.model) {
+            pick = &m;
+            break;
+          }
+        p.compare = pick->defaults();
+      }
+      s.pending.compare = p.compare;
+    } else {
+      s.pending.clear_compare = true;
+    }
+  }
+  tip("Simulate a second friction model on the same input and overlay it");
+  if (!on) return;
+  ImGui::SetNextItemWidth(-1);
+  bool c = edit_model_choice("##cmpmodel", p.compare);
+  const Simulation* sim = s.overlay.sim.get();
+  const bool live = sim && sim->scenario().friction.model == p.compare.model;
+  c |= edit_model_params("compare", p.compare, live ? &sim->model() : nullptr,
+                         live ? sim->friction_state() : std::span<const double>{});
+  if (c) {
+    Scenario sc = s.scenario;
+    sc.friction = p.compare;
+    p.compare_msg = check(sc);
+    if (p.compare_msg.empty()) s.pending.compare = p.compare;
+  }
+  message(p.compare_msg);
+}
+
+void display_section(AppState& s) {
+  if (!ImGui::CollapsingHeader("Display")) return;
+  ImGui::Checkbox("colour stick / slip phases", &s.view.color_phases);
+  tip("Time plots: blue while the body sticks, orange while it slips (|v| above the threshold "
+      "below, or every friction element slipping)");
+  const ParamSpec th{"slip_velocity", "v_slip", "m/s", "|v| above which the body counts as slipping",
+                     0, 1e3, true, true};
+  ImGui::Text("slip threshold [m/s]");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-1);
+  edit_param("##slipv", th, s.view.slip_velocity, 1e-4);
+  static const char* against[] = {"auto", "displacement", "velocity"};
+  int a = 0;
+  for (int i = 0; i < 3; ++i)
+    if (s.view.friction_against == against[i]) a = i;
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  if (ImGui::Combo("friction plot against", &a, against, 3)) s.view.friction_against = against[a];
+  tip("x axis of the friction plot: displacement (presliding hysteresis) or velocity (frictional "
+      "lag, Stribeck curve); auto picks velocity when the velocity is prescribed");
+  ImGui::TextColored(kDim, "Plots: wheel zooms (Shift: x only, Ctrl: y only), drag pans,\n"
+                           "double-click fits the data again.");
+}
+
+}  // namespace
+
+void draw_simulation_panel(AppState& s) {
+  auto& p = s.slot<SimPanelState>("simulation");
+  sync(s, p);
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float left = std::min(avail.x * 0.38f, ImGui::GetFontSize() * 31.0f);
+  ImGui::BeginChild("##controls", ImVec2(left, avail.y), true);
+  scenario_section(s, p);
+  ImGui::Separator();
+  run_section(s);
+  plant_section(s, p);
+  drive_section(s, p);
+  friction_section(s, p);
+  compare_section(s, p);
+  display_section(s);
+  ImGui::EndChild();
+  ImGui::SameLine();
+  ImGui::BeginChild("##plots", ImVec2(0, avail.y), false,
+                    ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  draw_simulation_plots(s);
+  ImGui::EndChild();
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,26 @@
+#include "ui/panels.hpp"
+
+#include <strings.h>
+
+namespace gmslab::ui {
+
+const std::vector<PanelEntry>& panels() {
+  static const std::vector<PanelEntry> list = {
+      {"Simulation", "Plant, drive and friction model; run it and watch the forces live",
+       draw_simulation_panel},
+      {"Figures", "The seed paper's figures, recomputed from the presets", draw_figures_panel},
+      {"Design", "Phase-lead design on the root locus, simulated with the friction", draw_design_panel},
+      // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
+  };
+  return list;
+}
+
+const PanelEntry* find_panel(const char* view) {
+  const auto& list = panels();
+  if (!view || !*view || strcasecmp(view, "auto") == 0) return list.empty() ? nullptr : &list[0];
+  for (const auto& e : list)
+    if (strcasecmp(view, e.name) == 0) return &e;
+  return nullptr;
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,553 @@
+// gmslab ui: plot widget. Index:
+//   [SECTION] state      per-plot view state kept by ID, the plot being built
+//   [SECTION] data       bounds of the series, autoscale
+//   [SECTION] lines      decimation to pixels, solid / dashed / dotted polylines, class colours
+//   [SECTION] axes       grid, ticks, tick labels, axis labels, title, legend
+//   [SECTION] input      zoom, pan, autoscale, hover readout
+//   [SECTION] api        BeginPlot / SetupAxes / PlotLine / EndPlot
+#include "ui/plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include <imgui_internal.h>
+
+#include "ui/decimate.hpp"
+#include "ui/ticks.hpp"
+
+namespace gmslab::ui {
+
+// [SECTION] state ---------------------------------------------------------------------------------
+namespace {
+
+struct View {
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  bool auto_fit = true;     // follow the data
+  bool initialized = false;
+};
+
+struct SeriesRef {
+  std::string label;               // copied: callers may pass temporaries
+  const double* x;
+  const double* y;
+  std::size_t n;
+  SeriesStyle style;
+  int index;                       // position in the plot (default colour)
+  std::vector<std::size_t> drawn;  // decimated sample indices of this frame
+};
+
+struct Axis {
+  std::string label;           // fixed label, or name when unit is set
+  std::string unit;            // SI unit; non-empty: automatic prefix
+  double scale = 1.0;          // displayed value = data / scale
+  std::string shown;           // label as drawn, with the chosen prefix
+};
+
+struct Building {
+  ImGuiID id = 0;
+  ImVec2 size;
+  PlotOptions opt;
+  Axis ax, ay;
+  bool has_limits = false, limits_always = false;
+  bool has_hint = false;
+  double hx0 = 0, hx1 = 1;  // autoscale covers at least this x range
+  double lx0 = 0, lx1 = 1, ly0 = 0, ly1 = 1;
+  std::vector<SeriesRef> series;
+};
+
+std::unordered_map<ImGuiID, View>& views() {
+  static std::unordered_map<ImGuiID, View> v;
+  return v;
+}
+Building g_plot;
+bool g_open = false;
+PlotTransform g_last;
+
+struct Colors {
+  ImU32 bg, frame, grid, text, axis;
+};
+Colors colors(bool paper) {
+  return {IM_COL32(255, 255, 255, 255), paper ? IM_COL32(0, 0, 0, 255) : IM_COL32(120, 120, 120, 255),
+          paper ? IM_COL32(235, 235, 235, 255) : IM_COL32(225, 225, 228, 255),
+          IM_COL32(20, 20, 20, 255), IM_COL32(60, 60, 60, 255)};
+}
+
+// [SECTION] data ----------------------------------------------------------------------------------
+struct Bounds {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  bool valid() const { return x1 >= x0 && y1 >= y0; }
+};
+
+// Infinite values (a diverging run) are left out too, so the view stays usable.
+void add_bounds(const SeriesRef& s, Bounds& b) {
+  if (s.n == 0) return;
+  double x0, x1, y0, y1;
+  if (s.style.x_sorted) {
+    x0 = s.x[0];
+    x1 = s.x[s.n - 1];
+  } else {
+    value_range(s.x, s.n, x0, x1);
+  }
+  value_range(s.y, s.n, y0, y1);
+  if (std::isfinite(x0)) b.x0 = std::min(b.x0, x0);
+  if (std::isfinite(x1)) b.x1 = std::max(b.x1, x1);
+  if (std::isfinite(y0)) b.y0 = std::min(b.y0, y0);
+  if (std::isfinite(y1)) b.y1 = std::max(b.y1, y1);
+}
+
+// Pads a range by `frac` on each side; widens a degenerate one.
+void pad(double& lo, double& hi, double frac) {
+  if (!(hi > lo)) {
+    const double m = lo == 0.0 ? 1.0 : 0.1 * std::fabs(lo);  // a flat trace sits mid-plot
+    lo -= m;
+    hi += m;
+    return;
+  }
+  const double d = (hi - lo) * frac;
+  lo -= d;
+  hi += d;
+}
+
+void fit(View& v, const Building& p) {
+  Bounds b;
+  bool all_sorted = true;
+  for (const auto& s : p.series) {
+    add_bounds(s, b);
+    all_sorted = all_sorted && s.style.x_sorted;
+  }
+  if (!b.valid()) b = {0, 1, 0, 1};
+  if (p.has_hint) {
+    b.x0 = std::min(b.x0, p.hx0);
+    b.x1 = std::max(b.x1, p.hx1);
+  }
+  pad(b.x0, b.x1, all_sorted || p.has_hint ? 0.0 : 0.04);
+  pad(b.y0, b.y1, 0.06);
+  v.x0 = b.x0;
+  v.x1 = b.x1;
+  v.y0 = b.y0;
+  v.y1 = b.y1;
+}
+
+// Picks the SI prefix for an axis from its visible range.
+void choose_prefix(Axis& a, double lo, double hi) {
+  a.scale = 1.0;
+  a.shown = a.label;
+  if (a.unit.empty()) return;
+  if (a.unit != "-") {
+    const double m = std::max(std::fabs(lo), std::fabs(hi));
+    static const struct { double f; const char* p; } k[] = {
+        {1e3, "k"}, {1.0, ""}, {1e-3, "m"}, {1e-6, "\xC2\xB5"}, {1e-9, "n"}};
+    if (m > 0.0 && std::isfinite(m)) {
+      a.scale = 1e-9;
+      for (const auto& e : k)
+        if (m >= e.f * 0.999) {
+          a.scale = e.f;
+          break;
+        }
+      if (m < 1e4 && a.scale == 1e3) a.scale = 1.0;  // keep 1000-9999 plain
+    }
+    const char* p = "";
+    for (const auto& e : k)
+      if (e.f == a.scale) p = e.p;
+    a.shown = a.label + " [" + p + a.unit + "]";
+  } else {
+    a.shown = a.label + " [-]";
+  }
+}
+
+// [SECTION] lines ---------------------------------------------------------------------------------
+void decimate(SeriesRef& s, const PlotTransform& t) {
+  if (s.style.x_sorted)
+    decimate_minmax(s.x, s.y, s.n, t.x0, t.x1, std::max(1, static_cast<int>(t.px1 - t.px0)),
+                    s.drawn);
+  else
+    decimate_path(s.x, s.y, s.n, t, 0.75, s.drawn);
+}
+
+// Polyline with a dash pattern (on, off pixels); a phase carries across calls.
+void dashed_polyline(ImDrawList* dl, const ImVec2* p, int n, ImU32 col, float th, float on,
+                     float off, float& phase) {
+  const float period = on + off;
+  for (int i = 0; i + 1 < n; ++i) {
+    const ImVec2 a = p[i], b = p[i + 1];
+    const float len = std::hypot(b.x - a.x, b.y - a.y);
+    float s = 0.0f;
+    while (s < len) {
+      const float in = std::fmod(phase, period);
+      const bool drawing = in < on;
+      const float step = std::min(len - s, drawing ? on - in : period - in);
+      if (drawing && len > 0.0f) {
+        const float u0 = s / len, u1 = (s + step) / len;
+        dl->AddLine(ImVec2(a.x + (b.x - a.x) * u0, a.y + (b.y - a.y) * u0),
+                    ImVec2(a.x + (b.x - a.x) * u1, a.y + (b.y - a.y) * u1), col, th);
+      }
+      s += step;
+      phase += step;
+    }
+  }
+}
+
+void stroke(ImDrawList* dl, const std::vector<ImVec2>& p, std::size_t from, std::size_t to,
+            ImU32 col, const SeriesStyle& st, float& phase) {
+  const int n = static_cast<int>(to - from);
+  if (n < 2) return;
+  switch (st.line) {
+    case LineStyle::Solid: dl->AddPolyline(&p[from], n, col, 0, st.thickness); break;
+    case LineStyle::Dashed: dashed_polyline(dl, &p[from], n, col, st.thickness, 9.f, 5.f, phase); break;
+    case LineStyle::Dotted: dashed_polyline(dl, &p[from], n, col, st.thickness, 2.f, 3.5f, phase); break;
+  }
+}
+
+ImU32 series_color(const SeriesRef& s) { return palette(s.style.color >= 0 ? s.style.color : s.index); }
+
+void draw_series(ImDrawList* dl, const SeriesRef& s, const PlotTransform& t) {
+  std::vector<ImVec2> p;
+  p.reserve(s.drawn.size());
+  for (const std::size_t i : s.drawn)
+    p.emplace_back(static_cast<float>(t.to_px_x(s.x[i])), static_cast<float>(t.to_px_y(s.y[i])));
+  float phase = 0.0f;
+  const ImU32 base = series_color(s);
+  if (!s.style.classes) {
+    stroke(dl, p, 0, p.size(), base, s.style, phase);
+    return;
+  }
+  auto color_of = [&](std::size_t k) {
+    const int c = s.style.classes[s.drawn[k]];
+    return c < s.style.n_classes ? s.style.class_colors[c] : base;
+  };
+  std::size_t start = 0;  // runs of segments with the colour of their end sample
+  for (std::size_t k = 1; k < p.size(); ++k) {
+    const bool last = k + 1 == p.size();
+    if (last || color_of(k + 1) != color_of(k)) {
+      stroke(dl, p, start, k + 1, color_of(k), s.style, phase);
+      start = k;
+    }
+  }
+}
+
+// [SECTION] axes ----------------------------------------------------------------------------------
+struct Layout {
+  ImRect frame, area;  // whole widget, plot area
+  Ticks xt, yt;
+  std::vector<std::string> xl, yl;  // tick labels
+};
+
+std::vector<std::string> labels(const Ticks& t) {
+  double mag = 0.0;
+  for (const double v : t.values) mag = std::max(mag, std::fabs(v));
+  std::vector<std::string> out;
+  for (const double v : t.values) out.push_back(format_tick(v, t.step, mag));
+  return out;
+}
+
+Layout layout(const Building& b, const View& v, ImRect frame) {
+  Layout L;
+  L.frame = frame;
+  const float fh = ImGui::GetFontSize();
+  const float top = fh * (b.opt.title || b.opt.letter ? 2.6f : 1.5f);  // title + y label line
+  const float bottom = fh * (b.ax.shown.empty() ? 1.6f : 2.9f);
+  const float plot_h = std::max(10.0f, frame.GetHeight() - top - bottom);
+  const double sy = b.ay.scale, sx = b.ax.scale;
+  L.yt = nice_ticks(v.y0 / sy, v.y1 / sy, std::clamp(static_cast<int>(plot_h / (2.6f * fh)), 2, 10));
+  L.yl = labels(L.yt);
+  float wmax = 0.0f;
+  for (const auto& s : L.yl) wmax = std::max(wmax, ImGui::CalcTextSize(s.c_str()).x);
+  const float left = wmax + fh * 0.9f;
+  const float right = fh * 1.2f;
+  L.area = ImRect(ImVec2(frame.Min.x + left, frame.Min.y + top),
+                  ImVec2(std::max(frame.Min.x + left + 10, frame.Max.x - right),
+                         frame.Min.y + top + plot_h));
+  // As many x ticks as fit with a gap of one character between their labels.
+  for (int target = std::clamp(static_cast<int>(L.area.GetWidth() / (4.5f * fh)), 3, 12); target >= 2; --target) {
+    L.xt = nice_ticks(v.x0 / sx, v.x1 / sx, target);
+    L.xl = labels(L.xt);
+    float widest = 0.0f;
+    for (const auto& s : L.xl) widest = std::max(widest, ImGui::CalcTextSize(s.c_str()).x);
+    const double spacing = L.xt.step * sx / (v.x1 - v.x0) * L.area.GetWidth();
+    if (widest + fh <= spacing) break;
+  }
+  return L;
+}
+
+void draw_axes(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t) {
+  const Colors c = colors(b.opt.paper);
+  const float fh = ImGui::GetFontSize();
+  dl->AddRectFilled(L.area.Min, L.area.Max, c.bg);
+  for (std::size_t i = 0; i < L.xt.values.size(); ++i) {
+    const float x = std::round(static_cast<float>(t.to_px_x(L.xt.values[i] * b.ax.scale)));
+    dl->AddLine(ImVec2(x, L.area.Min.y), ImVec2(x, L.area.Max.y), c.grid);
+    dl->AddLine(ImVec2(x, L.area.Max.y), ImVec2(x, L.area.Max.y - 5), c.axis);
+    const ImVec2 ts = ImGui::CalcTextSize(L.xl[i].c_str());
+    dl->AddText(ImVec2(x - ts.x * 0.5f, L.area.Max.y + 0.25f * fh), c.text, L.xl[i].c_str());
+  }
+  for (std::size_t i = 0; i < L.yt.values.size(); ++i) {
+    const float y = std::round(static_cast<float>(t.to_px_y(L.yt.values[i] * b.ay.scale)));
+    dl->AddLine(ImVec2(L.area.Min.x, y), ImVec2(L.area.Max.x, y), c.grid);
+    dl->AddLine(ImVec2(L.area.Min.x, y), ImVec2(L.area.Min.x + 5, y), c.axis);
+    const ImVec2 ts = ImGui::CalcTextSize(L.yl[i].c_str());
+    dl->AddText(ImVec2(L.area.Min.x - ts.x - 0.4f * fh, y - ts.y * 0.5f), c.text, L.yl[i].c_str());
+  }
+  // Zero lines help reading signed forces and velocities.
+  if (t.y0 < 0 && t.y1 > 0) {
+    const float y = std::round(static_cast<float>(t.to_px_y(0.0)));
+    dl->AddLine(ImVec2(L.area.Min.x, y), ImVec2(L.area.Max.x, y), IM_COL32(170, 170, 175, 255));
+  }
+  const ImVec2 xs = ImGui::CalcTextSize(b.ax.shown.c_str());
+  dl->AddText(ImVec2(L.area.GetCenter().x - xs.x * 0.5f, L.area.Max.y + 1.45f * fh), c.text,
+              b.ax.shown.c_str());
+  dl->AddText(ImVec2(L.frame.Min.x + 0.2f * fh, L.area.Min.y - 1.3f * fh), c.text, b.ay.shown.c_str());
+  if (b.opt.title || b.opt.letter) {
+    float x = L.area.Min.x;
+    const float y = L.frame.Min.y + 0.1f * fh;
+    if (b.opt.letter) {
+      // Bold by double-strike.
+      dl->AddText(ImVec2(L.frame.Min.x + 0.2f * fh, y), c.text, b.opt.letter);
+      dl->AddText(ImVec2(L.frame.Min.x + 0.2f * fh + 1, y), c.text, b.opt.letter);
+      x = std::max(x, L.frame.Min.x + 0.4f * fh + ImGui::CalcTextSize(b.opt.letter).x + fh);
+    }
+    if (b.opt.title) dl->AddText(ImVec2(x, y), c.text, b.opt.title);
+  }
+}
+
+void draw_frame_border(ImDrawList* dl, const Building& b, const Layout& L) {
+  dl->AddRect(L.area.Min, L.area.Max, colors(b.opt.paper).frame, 0.0f, 0, b.opt.paper ? 1.2f : 1.0f);
+}
+
+// The corner of the plot area (top-right, top-left, bottom-right, bottom-left) whose legend box
+// would hide the fewest drawn samples.
+ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
+  const float m = 0.5f * ImGui::GetFontSize();
+  const ImVec2 c[4] = {ImVec2(L.area.Max.x - m - box.x, L.area.Min.y + m), ImVec2(L.area.Min.x + m, L.area.Min.y + m),
+                       ImVec2(L.area.Max.x - m - box.x, L.area.Max.y - m - box.y),
+                       ImVec2(L.area.Min.x + m, L.area.Max.y - m - box.y)};
+  std::size_t count[4] = {0, 0, 0, 0};
+  for (const auto& s : b.series)  // segments whose bounding box meets the legend box
+    for (std::size_t j = 1; j < s.drawn.size(); ++j) {
+      const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
+      const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
+      const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
+      for (int k = 0; k < 4; ++k)
+        if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
+            std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
+          ++count[k];
+    }
+  int best = 0;
+  for (int k = 1; k < 4; ++k)
+    if (count[k] < count[best]) best = k;
+  return c[best];
+}
+
+// One legend entry (line sample + label) with its top-left at `at`; returns its width.
+float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
+  const float fh = ImGui::GetFontSize();
+  const float sample = 2.2f * fh;
+  const char* label = s.label.c_str();
+  const char* end = ImGui::FindRenderedTextEnd(label);
+  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(label, end).x;
+  if (!draw) return width;
+  const float cy = at.y + 0.5f * fh + 1.0f;
+  std::vector<ImVec2> p = {ImVec2(at.x, cy), ImVec2(at.x + sample, cy)};
+  float phase = 0.0f;
+  SeriesStyle st = s.style;
+  st.thickness = std::max(st.thickness, 2.0f);
+  if (s.style.classes && s.style.n_classes >= 2) {  // show both class colours, half each
+    const ImVec2 mid(0.5f * (p[0].x + p[1].x), cy);
+    dl->AddLine(p[0], mid, s.style.class_colors[0], st.thickness);
+    dl->AddLine(mid, p[1], s.style.class_colors[1], st.thickness);
+  } else {
+    stroke(dl, p, 0, 2, series_color(s), st, phase);
+  }
+  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, label, end);
+  return width;
+}
+
+// Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
+// never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
+void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t) {
+  if (!b.opt.legend || b.series.empty()) return;
+  const float fh = ImGui::GetFontSize();
+  const float gap = 1.2f * fh;
+  if (!b.opt.paper) {
+    float total = 0.0f;
+    for (const auto& s : b.series) total += legend_entry(dl, s, {}, false) + gap;
+    const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
+    if (total - gap <= room) {
+      float x = L.area.Max.x - (total - gap);
+      for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
+      return;
+    }
+  }
+  float w = 0.0f;
+  for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
+  const float line_h = fh * 1.25f;
+  const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
+  const ImVec2 min = legend_corner(b, L, box, t);
+  const ImVec2 end(min.x + box.x, min.y + box.y);
+  dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
+  dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
+  float y = min.y + 0.25f * fh + 0.125f * fh;
+  for (const auto& s : b.series) {
+    legend_entry(dl, s, ImVec2(min.x + 0.4f * fh, y), true);
+    y += line_h;
+  }
+}
+
+// [SECTION] input ---------------------------------------------------------------------------------
+void handle_input(View& v, const Layout& L, const PlotTransform& t, bool hovered, bool active) {
+  ImGuiIO& io = ImGui::GetIO();
+  if (hovered && io.MouseWheel != 0.0f) {
+    const double f = std::pow(0.85, io.MouseWheel);
+    const double fx = io.KeyCtrl ? 1.0 : f, fy = io.KeyShift ? 1.0 : f;
+    const PlotTransform z = t.zoomed(io.MousePos.x, io.MousePos.y, fx, fy);
+    v = {z.x0, z.x1, z.y0, z.y1, false, true};
+  }
+  if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 1.0f)) {
+    const PlotTransform p = t.panned(io.MouseDelta.x, io.MouseDelta.y);
+    v = {p.x0, p.x1, p.y0, p.y1, false, true};
+  }
+  if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) v.auto_fit = true;
+}
+
+void hover_readout(ImDrawList* dl, const Building& b, const PlotTransform& t) {
+  const ImVec2 m = ImGui::GetIO().MousePos;
+  double best = 25.0 * 25.0;
+  const SeriesRef* hit = nullptr;
+  std::size_t hit_i = 0;
+  for (const auto& s : b.series)
+    for (const std::size_t i : s.drawn) {
+      const double dx = t.to_px_x(s.x[i]) - m.x, dy = t.to_px_y(s.y[i]) - m.y;
+      if (dx * dx + dy * dy < best) {
+        best = dx * dx + dy * dy;
+        hit = &s;
+        hit_i = i;
+      }
+    }
+  if (!hit) return;
+  const ImVec2 p(static_cast<float>(t.to_px_x(hit->x[hit_i])), static_cast<float>(t.to_px_y(hit->y[hit_i])));
+  ImU32 col = series_color(*hit);
+  if (hit->style.classes && hit->style.classes[hit_i] < hit->style.n_classes)
+    col = hit->style.class_colors[hit->style.classes[hit_i]];
+  dl->AddCircle(p, 5.0f, col, 12, 2.0f);
+  ImGui::BeginTooltip();
+  ImGui::TextUnformatted(hit->label.c_str(), ImGui::FindRenderedTextEnd(hit->label.c_str()));
+  ImGui::Text("%s = %.6g", b.ax.shown.c_str(), hit->x[hit_i] / b.ax.scale);
+  ImGui::Text("%s = %.6g", b.ay.shown.c_str(), hit->y[hit_i] / b.ay.scale);
+  ImGui::TextDisabled("sample %zu", hit_i);
+  ImGui::EndTooltip();
+}
+
+}  // namespace
+
+ImU32 palette(int i) {
+  static const ImU32 k[] = {IM_COL32(0, 114, 178, 255),   IM_COL32(213, 94, 0, 255),
+                            IM_COL32(0, 158, 115, 255),   IM_COL32(204, 121, 167, 255),
+                            IM_COL32(230, 159, 0, 255),   IM_COL32(86, 180, 233, 255),
+                            IM_COL32(0, 0, 0, 255),       IM_COL32(240, 228, 66, 255)};
+  const int n = static_cast<int>(sizeof k / sizeof k[0]);
+  return k[((i % n) + n) % n];
+}
+
+// [SECTION] api -----------------------------------------------------------------------------------
+bool BeginPlot(const char* id, ImVec2 size, const PlotOptions& opt) {
+  IM_ASSERT(!g_open && "BeginPlot without EndPlot");
+  // Each plot is a child window: its own draw list (16-bit indices) and its own wheel input.
+  if (!ImGui::BeginChild(id, size, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse)) {
+    ImGui::EndChild();
+    return false;
+  }
+  g_plot = Building{};
+  g_plot.id = ImGui::GetID("##plotview");
+  g_plot.opt = opt;
+  g_open = true;
+  return true;
+}
+
+void SetupAxes(const char* x_label, const char* y_label) {
+  g_plot.ax = {x_label ? x_label : "", "", 1.0, x_label ? x_label : ""};
+  g_plot.ay = {y_label ? y_label : "", "", 1.0, y_label ? y_label : ""};
+}
+
+void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, const char* y_unit) {
+  g_plot.ax = {x_name, x_unit ? x_unit : "", 1.0, x_name};
+  g_plot.ay = {y_name, y_unit ? y_unit : "", 1.0, y_name};
+}
+
+void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always) {
+  g_plot.has_limits = true;
+  g_plot.limits_always = always;
+  g_plot.lx0 = x0;
+  g_plot.lx1 = x1;
+  g_plot.ly0 = y0;
+  g_plot.ly1 = y1;
+}
+
+void SetupFitRangeX(double x0, double x1) {
+  g_plot.has_hint = x1 > x0;
+  g_plot.hx0 = x0;
+  g_plot.hx1 = x1;
+}
+
+void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
+              const SeriesStyle& style) {
+  const int index = static_cast<int>(g_plot.series.size());
+  g_plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
+}
+
+void EndPlot() {
+  IM_ASSERT(g_open);
+  Building& b = g_plot;
+  View& v = views()[b.id];
+  if (b.has_limits && (b.limits_always || !v.initialized))
+    v = {b.lx0, b.lx1, b.ly0, b.ly1, false, true};
+  if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b);
+  v.initialized = true;
+  choose_prefix(b.ax, v.x0, v.x1);
+  choose_prefix(b.ay, v.y0, v.y1);
+
+  const ImVec2 pos = ImGui::GetCursorScreenPos();
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const Layout L = layout(b, v, ImRect(pos, ImVec2(pos.x + avail.x, pos.y + avail.y)));
+  PlotTransform t{v.x0, v.x1, v.y0, v.y1, L.area.Min.x, L.area.Min.y, L.area.Max.x, L.area.Max.y};
+
+  bool hovered = false, active = false;
+  if (b.opt.interactive) {
+    ImGui::SetCursorScreenPos(L.area.Min);
+    ImGui::InvisibleButton("##plotarea", L.area.GetSize());
+    hovered = ImGui::IsItemHovered();
+    active = ImGui::IsItemActive();
+    handle_input(v, L, t, hovered, active);
+    t = {v.x0, v.x1, v.y0, v.y1, L.area.Min.x, L.area.Min.y, L.area.Max.x, L.area.Max.y};
+  }
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  choose_prefix(b.ax, v.x0, v.x1);  // limits may have changed with the input
+  choose_prefix(b.ay, v.y0, v.y1);
+  const Layout L2 = layout(b, v, L.frame);
+  t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+  draw_axes(dl, b, L2, t);
+  dl->PushClipRect(L2.area.Min, L2.area.Max, true);
+  for (auto& s : b.series) {
+    decimate(s, t);
+    draw_series(dl, s, t);
+  }
+  dl->PopClipRect();
+  draw_legend(dl, b, L2, t);
+  if (b.opt.interactive && !v.auto_fit) {  // tell how to get back to the whole trace
+    const char* hint = "zoomed: double-click to fit";
+    const ImVec2 hs = ImGui::CalcTextSize(hint);
+    dl->AddText(ImVec2(L2.area.Max.x - hs.x, L2.area.Max.y + 1.45f * ImGui::GetFontSize()),
+                IM_COL32(120, 120, 130, 255), hint);
+  }
+  if (hovered) hover_readout(dl, b, t);
+  draw_frame_border(dl, b, L2);
+  g_last = t;
+  g_open = false;
+  ImGui::EndChild();
+}
+
+PlotTransform LastPlotTransform() { return g_last; }
+
+}  // namespace gmslab::ui

@@ -1,0 +1,69 @@
+// gmslab ui: a small plot widget on ImDrawList (ImPlot's shape, a fraction of its size).
+//
+//   if (ui::BeginPlot("##force", {-1, 300})) {
+//     ui::SetupAxes("t [s]", "F [N]");          // labels carry their units
+//     ui::PlotLine("friction", t, f, n, {.x_sorted = true});
+//     ui::EndPlot();                            // lays out, handles input, draws
+//   }
+//
+// View state (limits, autoscale) is kept per plot ID between frames. Interaction: mouse wheel
+// zooms about the cursor (Shift: x only, Ctrl: y only), left drag pans, double-click returns to
+// autoscale (the view then follows the data as it grows). Hovering shows the nearest drawn sample.
+// Data pointers must stay valid until EndPlot (the data is not copied; labels are). Long traces are decimated per
+// pixel column (ui/decimate.hpp), so 10^6 samples draw in well under a frame.
+#pragma once
+
+#include <imgui.h>
+
+#include <cstddef>
+#include <cstdint>
+
+#include "ui/plot_transform.hpp"
+
+namespace gmslab::ui {
+
+enum class LineStyle { Solid, Dashed, Dotted };
+
+// Colour-blind-safe palette (Okabe-Ito order: blue, vermillion, green, purple, orange, sky blue,
+// black, yellow); i wraps around.
+ImU32 palette(int i);
+
+struct SeriesStyle {
+  int color = -1;                // palette index; -1: by the series' position in the plot
+  LineStyle line = LineStyle::Solid;
+  float thickness = 2.0f;        // [px]; integers draw cheapest (textured anti-aliased lines)
+  bool x_sorted = false;         // x non-decreasing (time axes): min/max decimation per column
+  // Optional per-sample class (e.g. 0 = stick, 1 = slip): the segment ending at sample k is drawn
+  // in class_colors[classes[k]] (classes >= n_classes fall back to the series colour).
+  const std::uint8_t* classes = nullptr;
+  const ImU32* class_colors = nullptr;
+  int n_classes = 0;
+};
+
+struct PlotOptions {
+  const char* title = nullptr;   // drawn above the plot area
+  const char* letter = nullptr;  // panel letter (paper figures), drawn bold before the title
+  bool legend = true;
+  bool interactive = true;       // zoom, pan, hover
+  bool paper = false;            // paper look: black frame, ticks inside, lighter grid
+};
+
+bool BeginPlot(const char* id, ImVec2 size = ImVec2(-1, -1), const PlotOptions& opt = {});
+// Fixed axis labels, e.g. "x [um]" (paper figures: the data is already in those units).
+void SetupAxes(const char* x_label, const char* y_label);
+// Axis names and SI units: the widget picks a prefix from the visible range so ticks stay short
+// ("x [µm]" with ticks 0, 5, 10 instead of "x [m]" with 1e-05). Data stays in SI units.
+// A unit of "" or "-" gets no prefix.
+void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, const char* y_unit);
+// Limits of the first frame (or of every frame with always = true, which also disables autoscale).
+void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always = false);
+// Autoscale covers at least [x0, x1] in x (e.g. [0, duration] for a trace that is still growing).
+void SetupFitRangeX(double x0, double x1);
+void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
+              const SeriesStyle& style = {});
+void EndPlot();
+
+// Transform used by the last EndPlot (for tests and overlays).
+PlotTransform LastPlotTransform();
+
+}  // namespace gmslab::ui
