@@ -48,6 +48,14 @@ DesignOutputs compute_design(const DesignInputs& in) {
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
+      const DominantRoot target = out.compensator_kind.rfind("relocated:", 0) == 0
+                                      ? [&] {
+                                          for (const auto& rel : out.report->relocations)
+                                            if (rel.found) return rel.root;
+                                          return in.root;
+                                        }()
+                                      : in.root;
+      out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
       pts.emplace_back(-c.z, 0.0);
       if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
       for (const cplx& p : out.closed_loop_poles)

@@ -54,6 +54,7 @@ struct DesignOutputs {
   std::optional<LeadCompensator> compensator;  // what the loops use
   std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"
   std::vector<cplx> closed_loop_poles;  // with the compensator
+  Dominance dominance;                  // of those poles, about the desired s_d
   TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
   RootLocus locus;
   std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator

@@ -110,6 +110,10 @@ Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, doub
     }
     D.others.push_back(o);
   }
+  if (z < 2.0 * d.zeta * d.wn)
+    D.notes.push_back("the compensator zero -" + num_text(z) + " is within 2x of Re s_d = " +
+                      num_text(-d.zeta * d.wn) + ": it adds overshoot beyond what zeta = " +
+                      num_text(d.zeta) + " predicts");
   if (p > 50.0 * d.wn)
     D.notes.push_back("p = " + num_text(p) + " rad/s is more than 50 wn: the lead is close to a "
                       "pure PD, noise is amplified by p/z = " + num_text(p / z));

@@ -57,7 +57,8 @@ struct Dominance {
     double residue = 0.0;      // |step-response residue| / final value (x2 for a complex pair)
   };
   std::vector<Other> others;
-  std::vector<std::string> notes;  // human-readable warnings
+  std::vector<std::string> notes;  // human-readable warnings (slow poles, a zero near s_d that
+                                   // adds overshoot, p > 50 wn, instability)
 };
 
 struct LeadDesign {
