@@ -82,6 +82,8 @@ void plant_section(DesignViewState& d) {
   }
   d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &d.in.other_regime);
   tip("Overlay the locus of the other regime's plant with the same compensator");
+  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &d.in.zero_degree);
+  tip("The complementary locus: negative gain / positive feedback");
   const auto& p = d.out.plant;
   ImGui::TextColored(kDim, "G(s) = 1 / (%.4g s^2 + %.4g s + %.4g)  [m/N]", p.mass, p.damping, p.stiffness);
   tip("m [kg], c_eff [N s/m], k_eff [N/m]");

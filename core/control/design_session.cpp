@@ -70,6 +70,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop = L;
     out.locus = root_locus(L, lo);
     out.locus.view = shown;
+    if (in.zero_degree) {
+      LocusOptions neg = lo;
+      neg.negative = true;
+      neg.extra_gains.clear();
+      out.zero_degree_locus = root_locus(L, neg);
+    }
     if (in.other_regime) {
       const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
       const TransferFunction g2 = linear_plant(in.scenario, other, in.velocity).g;

@@ -45,6 +45,7 @@ struct DesignInputs {
   bool simulate = true;      // run the nonlinear loops
   std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
   bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
+  bool zero_degree = false;   // also compute the 0-degree locus (k < 0) of the drawn loop
 };
 
 struct DesignOutputs {
@@ -58,6 +59,7 @@ struct DesignOutputs {
   TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
   RootLocus locus;
   std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
+  std::optional<RootLocus> zero_degree_locus;  // k < 0 branches of the drawn loop
   StepResponse step;
   LoopTrace loop_plain, loop_compensated;
   LoopMetrics metrics_plain, metrics_compensated;
