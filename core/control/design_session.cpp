@@ -19,8 +19,7 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
     out.compensator_kind = std::move(kind);
   };
   if (r.design) return use(*r.design, "requested");
-  for (const auto& rel : r.relocations)
-    if (rel.found) return use(rel.design, "relocated:" + rel.path);
+  if (const Relocation* rel = best_relocation(r)) return use(rel->design, "relocated:" + rel->path);
   if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
 }
 }  // namespace
@@ -48,13 +47,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
-      const DominantRoot target = out.compensator_kind.rfind("relocated:", 0) == 0
-                                      ? [&] {
-                                          for (const auto& rel : out.report->relocations)
-                                            if (rel.found) return rel.root;
-                                          return in.root;
-                                        }()
-                                      : in.root;
+      const Relocation* rel = best_relocation(*out.report);
+      const DominantRoot target =
+          out.compensator_kind.rfind("relocated:", 0) == 0 && rel ? rel->root : in.root;
       out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
       pts.emplace_back(-c.z, 0.0);
       if (near(-c.p)) pts.emplace_back(-c.p, 0.0);

@@ -322,6 +322,21 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
   return out;
 }
 
+const Relocation* best_relocation(const LeadReport& r) {
+  auto stable = [](const Relocation& rel) {
+    for (const cplx& p : rel.design.closed_loop_poles)
+      if (!(p.real() < 0.0)) return false;
+    return true;
+  };
+  for (const auto& rel : r.relocations)
+    if (rel.found && rel.design.dominance.dominant) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found && stable(rel)) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found) return &rel;
+  return nullptr;
+}
+
 LeadReport lead_design(const TransferFunction& g, const DominantRoot& d,
                        std::optional<double> K_des, const LeadOptions& opt) {
   g.check_proper("plant");
