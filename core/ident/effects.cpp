@@ -217,6 +217,13 @@ std::vector<Column> effect_columns(Effect e) {
                             for (std::size_t k = 0; k < d.size(); ++k)
                               o[k] = cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]);
                           }));
+      for (int cs = 0; cs < 2; ++cs)  // friction level modulated along the screw (sign follows g)
+        v.push_back(col(std::string(cs ? "ripple_gcos1" : "ripple_gsin1"), "N", true,
+                        [cs](D d, C c, G g, O o) {
+                          const double w = 2 * std::numbers::pi / c.wavelength;
+                          for (std::size_t k = 0; k < d.size(); ++k)
+                            o[k] = g[k] * (cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]));
+                        }));
       break;
     case Effect::PositionDependent:
       for (int n = 1; n <= 3; ++n)
@@ -247,18 +254,22 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      v.push_back(col("dwell", "N", true, [](D d, C c, G g, O o) {
-        std::fill(o.begin(), o.end(), 0.0);
-        for (const auto& s : motion_starts(d, c)) {
-          const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
-          for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
-            if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
-            const double e = std::exp(-std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0);
-            if (e < 1e-6) break;
-            o[k] = phi * g[k] * e;
+      // Basis over the travel s since the start, q = s / s0: e^-q, q e^-q, q^2 e^-q / 2.
+      for (int m = 0; m < 3; ++m)
+        v.push_back(col("dwell_q" + std::to_string(m), "N", true,
+                        [m](D d, C c, G g, O o) {
+          std::fill(o.begin(), o.end(), 0.0);
+          const double s0 = c.dwell_s0;
+          for (const auto& s : motion_starts(d, c)) {
+            const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
+              if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
+              const double q = std::abs(d.x[k] - d.x[s.k]) / s0;
+              if (q > 30.0) break;
+              o[k] = phi * g[k] * std::exp(-q) * (m == 0 ? 1.0 : m == 1 ? q : 0.5 * q * q);
+            }
           }
-        }
-      }));
+        }));
       break;
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {

@@ -16,7 +16,8 @@
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
 //   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d),
-//                        column = phi g exp(-s / s0), s = travel since the motion started       [N]
+//                        columns phi g q^j e^-q / j!, j = 0, 1, 2, q = s / s0, s = travel since
+//                        the motion started, s0 chosen from the residual                       [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
