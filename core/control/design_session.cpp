@@ -29,9 +29,14 @@ DesignOutputs compute_design(const DesignInputs& in) {
   std::string stage = "plant";
   try {
     out.plant = linear_plant(in.scenario, in.regime, in.velocity);
-    stage = "design";
-    out.report = lead_design(out.plant.g, in.root, in.K, in.options);
-    choose(in, out);
+    try {  // a failed design still leaves the plant's own locus to draw
+      out.report = lead_design(out.plant.g, in.root, in.K, in.options);
+      choose(in, out);
+    } catch (const std::exception& e) {
+      out.error = std::string("design: ") + e.what();
+      out.report.reset();
+      if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
+    }
     out.horizon = in.horizon > 0.0 ? in.horizon
                                    : std::clamp(10.0 / (in.root.zeta * in.root.wn), 0.01, 20.0);
     stage = "root locus";
@@ -47,10 +52,11 @@ DesignOutputs compute_design(const DesignInputs& in) {
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
-      const Relocation* rel = best_relocation(*out.report);
+      const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
       const DominantRoot target =
           out.compensator_kind.rfind("relocated:", 0) == 0 && rel ? rel->root : in.root;
-      out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
+      if (out.report)
+        out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
       pts.emplace_back(-c.z, 0.0);
       if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
       for (const cplx& p : out.closed_loop_poles)
@@ -106,7 +112,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop_compensated = simulate_loop(in.scenario, cfg);
     out.metrics_compensated = loop_metrics(out.loop_compensated);
   } catch (const std::exception& e) {
-    out.error = stage + ": " + e.what();
+    out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
   }
   return out;
 }

@@ -15,7 +15,8 @@
 // locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
 // zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
 // pole would otherwise shrink the interesting region to a dot).
-// Never throws: a failure of any stage is reported in `error` and later stages are skipped.
+// Never throws: a failure of any stage is reported in `error` and later stages are skipped; a
+// failed design (e.g. K0 <= 0) still gets the plant's locus (or the manual compensator's loop).
 #pragma once
 
 #include <optional>
