@@ -157,6 +157,7 @@ EffectContext make_context(const Dataset& d) {
   c.v_rest = 0.02 * c.v_ref;
   estimate_levels(d, c);
   c.dwell_s0 = 3.0 * c.x_ba;
+  c.v_stribeck = 0.1 * c.v_ref;
   if (d.has_Fn) {
     double s = 0.0;
     for (double f : d.Fn) s += f;
@@ -254,19 +255,21 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      // Basis over the travel s since the start, q = s / s0: e^-q, q e^-q, q^2 e^-q / 2.
+      // Raised break-away level after a rest, fading with travel s (q = s / s0) and, like a
+      // Stribeck peak, with velocity: phi g e^-q w(v), phi g q e^-q w(v), phi g e^-q;
+      // w(v) = exp(-(|v| / v_stribeck)^2).
       for (int m = 0; m < 3; ++m)
-        v.push_back(col("dwell_q" + std::to_string(m), "N", true,
-                        [m](D d, C c, G g, O o) {
+        v.push_back(col("dwell_" + std::to_string(m), "N", true, [m](D d, C c, G g, O o) {
           std::fill(o.begin(), o.end(), 0.0);
-          const double s0 = c.dwell_s0;
           for (const auto& s : motion_starts(d, c)) {
             const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
             for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
               if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
-              const double q = std::abs(d.x[k] - d.x[s.k]) / s0;
+              const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
               if (q > 30.0) break;
-              o[k] = phi * g[k] * std::exp(-q) * (m == 0 ? 1.0 : m == 1 ? q : 0.5 * q * q);
+              const double r = std::abs(d.v[k]) / c.v_stribeck;
+              const double w = m == 2 ? 1.0 : std::exp(-r * r);
+              o[k] = phi * g[k] * std::exp(-q) * (m == 1 ? q : 1.0) * w;
             }
           }
         }));

@@ -15,9 +15,9 @@
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
-//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d),
-//                        columns phi g q^j e^-q / j!, j = 0, 1, 2, q = s / s0, s = travel since
-//                        the motion started, s0 chosen from the residual                       [N]
+//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d); columns
+//                        phi g e^-q w, phi g q e^-q w, phi g e^-q with q = s / s0 (s = travel since
+//                        the start, s0 from the residual), w = exp(-(v / v_stribeck)^2)          [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
@@ -64,6 +64,7 @@ struct EffectContext {
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
   double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
+  double v_stribeck = 1e-3;          // velocity scale of the dwell term (the model's Vs) [m/s]
 };
 
 // Scales from the training record (robust statistics of the used samples).
