@@ -16,8 +16,9 @@
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
 //   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d); columns
-//                        phi g e^-q w, phi g q e^-q w, phi g e^-q with q = s / s0 (s = travel since
-//                        the start, s0 from the residual), w = exp(-(v / v_stribeck)^2)          [N]
+//                        phi S e^-q, phi S q e^-q, phi g e^-q with q = s / s0 (s = travel since
+//                        the start, s0 from the residual) and S = dg / d(Fs/Fc), the model's own
+//                        response to a raised break-away level (fit.cpp computes it)          [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
@@ -64,7 +65,6 @@ struct EffectContext {
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
   double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
-  double v_stribeck = 1e-3;          // velocity scale of the dwell term (the model's Vs) [m/s]
 };
 
 // Scales from the training record (robust statistics of the used samples).
@@ -75,7 +75,8 @@ EffectContext make_context(const Dataset& train);
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
   std::string unit;  // unit of the coefficient, e.g. "kg"
-  bool uses_g = false;
+  bool uses_g = false;  // g: the unit model output (n samples), followed by dg / d(Fs/Fc) when
+                        // the fit has a dwell_stiction term (then g.size() == 2 n)
   std::function<void(const Dataset&, const EffectContext&, std::span<const double> g,
                      std::span<double> out)>
       fill;

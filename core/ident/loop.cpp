@@ -114,12 +114,8 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     if (c.wavelength > 0 && !contains(cur.spec.effects, Effect::PositionPeriodic))
       refine_wavelength(cur, train, c);
     if (!contains(cur.spec.effects, Effect::DwellStiction) &&
-        effect_applicable(Effect::DwellStiction, train, c)) {
-      const auto& info = model_info(cur.spec.model);
-      if (const auto i = info.scalar_index("Vs"); i >= 0)
-        c.v_stribeck = cur.friction.scalars[static_cast<std::size_t>(i)];
+        effect_applicable(Effect::DwellStiction, train, c))
       choose_dwell_length(cur, train, c);
-    }
     for (Effect e : o.candidates) {
       if (contains(cur.spec.effects, e) || !effect_applicable(e, train, c)) continue;
       if (o.base.cancel && o.base.cancel->load()) throw Cancelled();
@@ -283,8 +279,7 @@ nlohmann::json to_json(const IdentReport& r) {
                   {"t_mid_s", c.t_mid},         {"t_half_s", c.t_half},
                   {"v_ref_mps", c.v_ref},       {"x_breakaway_m", c.x_ba},
                   {"force_level_N", c.f_level}, {"ripple_wavelength_m", c.wavelength},
-                  {"dwell_decay_m", c.dwell_s0}, {"dwell_velocity_mps", c.v_stribeck},
-                  {"normal_force_mean_N", c.Fn0}};
+                  {"dwell_decay_m", c.dwell_s0}, {"normal_force_mean_N", c.Fn0}};
   return j;
 }
 

@@ -21,10 +21,16 @@ TEST(IdentFit, GmsFitOfCleanGmsRecordReachesNoiseLevel) {
   auto t0 = std::chrono::steady_clock::now();
   const auto r = fit_model(spec, d, c, o);
   auto dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("n=%zu evals=%d rms=%.4f time=%.2fs x_ba=%.3g f_level=%.3g vref=%.3g\n", d.size(), r.evaluations, r.rms_train, dt, c.x_ba, c.f_level, c.v_ref);
-  for (const auto& t : r.terms) std::printf("  %s %s = %g %s\n", t.effect.c_str(), t.name.c_str(), t.value, t.unit.c_str());
-  for (std::size_t i = 0; i < r.friction.scalars.size(); ++i) std::printf("  scalar %zu = %g\n", i, r.friction.scalars[i]);
-  for (auto& row : r.friction.elements) std::printf("  el alpha=%g k=%g\n", row[0], row[1]);
+  std::printf("n=%zu evaluations=%d rms=%.4f N (%.2f s)\n", d.size(), r.evaluations, r.rms_train, dt);
   EXPECT_LT(r.rms_train, 1.3 * so.noise);
+  // The shared Stribeck curve and viscous term of the generating model are recovered.
+  const auto g = synth::synth_gms();
+  EXPECT_NEAR(r.friction.scalar("Fs"), g.S.Fs, 0.02 * g.S.Fs);
+  EXPECT_NEAR(r.friction.scalar("Fc"), g.S.Fc, 0.02 * g.S.Fc);
+  EXPECT_NEAR(r.friction.scalar("Vs"), g.S.Vs, 0.1 * g.S.Vs);
+  EXPECT_NEAR(r.friction.scalar("sigma2"), g.sigma2, 0.05 * g.sigma2);
+  double sum = 0;
+  for (double a : r.friction.column("alpha")) sum += a;
+  EXPECT_NEAR(sum, 1.0, 1e-9);
 }
 
