@@ -34,3 +34,30 @@ TEST(IdentFit, GmsFitOfCleanGmsRecordReachesNoiseLevel) {
   EXPECT_NEAR(sum, 1.0, 1e-9);
 }
 
+
+// Any registered model can be fitted through its ModelInfo: the identified parameters are valid
+// for the model, and every model with a state (presliding memory) explains most of the force of a
+// GMS record. Static models (state-free) return zero force at rest while the GMS record holds
+// its presliding force through every dwell, so they only have to beat the zero model.
+TEST(IdentFit, EveryRegisteredModelFitsThroughItsModelInfo) {
+  synth::SynthOptions so;
+  so.moves = 6;
+  const auto d = prepare_dataset(synth::synthesize(so));
+  const auto c = make_context(d);
+  double f2 = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) f2 += d.F[k] * d.F[k];
+  const double null_rms = std::sqrt(f2 / static_cast<double>(d.size()));
+  for (const auto& info : model_registry()) {
+    FitSpec spec;
+    spec.model = std::string(info.tag);
+    spec.elements = 3;
+    FitOptions o;
+    o.starts = 1;
+    o.max_evaluations = 100;
+    const auto r = fit_model(spec, d, c, o);
+    EXPECT_TRUE(validate(r.friction).empty()) << info.tag;
+    const bool dynamic = build_model(info.defaults())->state_size() > 0;
+    EXPECT_LT(r.rms_train, (dynamic ? 0.2 : 0.9) * null_rms) << info.tag;
+    std::printf("  %-14s rms %.3f N\n", std::string(info.tag).c_str(), r.rms_train);
+  }
+}
