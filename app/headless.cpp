@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -23,6 +24,64 @@
 #include "ui/style.hpp"
 
 namespace gmslab::app {
+
+namespace {
+// ImGui_ImplOpenGL2_RenderDrawData of Dear ImGui 1.86 ignores ImDrawCmd::VtxOffset, so a draw list
+// with more than 65536 vertices (plots of long traces, 16-bit indices) would be drawn wrongly.
+// This is the same fixed-function drawing with the vertex offset honoured, which lets us declare
+// ImGuiBackendFlags_RendererHasVtxOffset. (The font texture still comes from the backend.)
+void render_draw_data(const ImDrawData* dd) {
+  const int fb_w = static_cast<int>(dd->DisplaySize.x * dd->FramebufferScale.x);
+  const int fb_h = static_cast<int>(dd->DisplaySize.y * dd->FramebufferScale.y);
+  if (fb_w <= 0 || fb_h <= 0) return;
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_LIGHTING);
+  glDisable(GL_COLOR_MATERIAL);
+  glEnable(GL_SCISSOR_TEST);
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+  glEnableClientState(GL_COLOR_ARRAY);
+  glDisableClientState(GL_NORMAL_ARRAY);
+  glEnable(GL_TEXTURE_2D);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glShadeModel(GL_SMOOTH);
+  glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+  glViewport(0, 0, fb_w, fb_h);
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glOrtho(dd->DisplayPos.x, dd->DisplayPos.x + dd->DisplaySize.x, dd->DisplayPos.y + dd->DisplaySize.y,
+          dd->DisplayPos.y, -1.0, 1.0);
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  const ImVec2 off = dd->DisplayPos, scale = dd->FramebufferScale;
+  for (int n = 0; n < dd->CmdListsCount; ++n) {
+    const ImDrawList* cl = dd->CmdLists[n];
+    for (const ImDrawCmd& cmd : cl->CmdBuffer) {
+      if (cmd.UserCallback) {
+        if (cmd.UserCallback != ImDrawCallback_ResetRenderState) cmd.UserCallback(cl, &cmd);
+        continue;
+      }
+      const ImVec2 c0((cmd.ClipRect.x - off.x) * scale.x, (cmd.ClipRect.y - off.y) * scale.y);
+      const ImVec2 c1((cmd.ClipRect.z - off.x) * scale.x, (cmd.ClipRect.w - off.y) * scale.y);
+      if (c1.x <= c0.x || c1.y <= c0.y) continue;
+      glScissor(static_cast<int>(c0.x), static_cast<int>(fb_h - c1.y), static_cast<int>(c1.x - c0.x),
+                static_cast<int>(c1.y - c0.y));
+      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(reinterpret_cast<std::intptr_t>(cmd.GetTexID())));
+      const ImDrawVert* v = cl->VtxBuffer.Data + cmd.VtxOffset;
+      glVertexPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->pos);
+      glTexCoordPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->uv);
+      glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(ImDrawVert), &v->col);
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(cmd.ElemCount),
+                     sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT, cl->IdxBuffer.Data + cmd.IdxOffset);
+    }
+  }
+  glDisable(GL_SCISSOR_TEST);
+}
+}  // namespace
 
 Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(height) {
   gl_buf_.assign(static_cast<std::size_t>(w_) * h_ * 4, 0);
@@ -41,6 +100,7 @@ Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(heigh
   io.DisplaySize = ImVec2(static_cast<float>(w_), static_cast<float>(h_));
   io.DeltaTime = 1.0f / 60.0f;
   ImGui_ImplOpenGL2_Init();
+  io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;  // render_draw_data honours it
 }
 
 Offscreen::~Offscreen() {
@@ -64,7 +124,7 @@ const std::vector<unsigned char>& Offscreen::render(const std::function<void()>&
     glViewport(0, 0, w_, h_);
     glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    ImGui_ImplOpenGL2_RenderDrawData(ImGui::GetDrawData());
+    render_draw_data(ImGui::GetDrawData());
     glFinish();
   }
   // OSMesa's rows run bottom to top; PNG rows run top to bottom.

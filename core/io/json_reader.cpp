@@ -1,6 +1,7 @@
 #include "core/io/json_reader.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -37,6 +38,11 @@ bool JsonReader::has(const std::string& key) const {
 
 void JsonReader::fail(const std::string& key, const std::string& what) const {
   throw InputError(where(key) + ": " + what);
+}
+
+void JsonReader::fail_object(const std::string& what) const {
+  throw InputError(file_ + ": " + (path_.empty() ? "the document" : "key '" + path_ + "'") + ": " +
+                   what);
 }
 
 const nlohmann::json& JsonReader::get(const std::string& key, const char* expected) {
@@ -173,15 +179,21 @@ std::string location(const std::string& text, std::size_t pos, const std::string
   return file + ":" + std::to_string(line) + ":" + std::to_string(col);
 }
 
-// A hint on what would be accepted, for the syntax errors people actually make.
-std::string syntax_hint(const std::string& what) {
-  const auto has = [&](const char* s) { return what.find(s) != std::string::npos; };
-  if (has("'NaN") || has("'nan") || has("'Inf") || has("'inf") || has("'-Inf") || has("'-inf"))
+// A hint on what would be accepted, for the syntax errors people actually make. `pos` is the byte
+// offset where the parser stopped.
+std::string syntax_hint(const std::string& text, std::size_t pos, const std::string& what) {
+  std::size_t a = std::min(pos, text.size());
+  while (a > 0 && (std::isalpha(static_cast<unsigned char>(text[a - 1])) || text[a - 1] == '-' ||
+                   text[a - 1] == '+'))
+    --a;
+  std::string word;
+  for (std::size_t i = a; i < text.size() && word.size() < 4; ++i)
+    if (text[i] != '-' && text[i] != '+') word += static_cast<char>(std::tolower(text[i]));
+  if (word.rfind("nan", 0) == 0 || word.rfind("inf", 0) == 0)
     return " (JSON has no NaN or Infinity; every value must be a finite number)";
-  if (has("UTF-8") || has("invalid string"))
-    return " (the file must be UTF-8 text, as JSON requires)";
-  if (has("unexpected end of input"))
+  if (pos + 1 >= text.size())
     return " (the file ends in the middle of a value: is it truncated?)";
+  if (what.find("UTF-8") != std::string::npos) return " (the file must be UTF-8 text, as JSON requires)";
   return "";
 }
 }  // namespace
@@ -193,8 +205,9 @@ nlohmann::json parse_json(const std::string& text, const std::string& file) {
   } catch (const nlohmann::json::parse_error& e) {
     std::string what = e.what();
     if (const auto p = what.find("parse error"); p != std::string::npos) what = what.substr(p);
-    throw InputError(location(text, e.byte == 0 ? 0 : e.byte - 1, file) +
-                     ": malformed JSON: " + what + syntax_hint(what));
+    const std::size_t pos = e.byte == 0 ? 0 : e.byte - 1;
+    throw InputError(location(text, pos, file) + ": malformed JSON: " + what +
+                     syntax_hint(text, pos, what));
   } catch (const nlohmann::json::exception& e) {
     // out_of_range 406: a number such as 1e999 that no double can hold. The message quotes the
     // token; locate its first occurrence for the line and column.

@@ -43,6 +43,8 @@ class JsonReader {
   // Throws for keys present but never read.
   void finish() const;
   [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+  // Throws for this object as a whole ("file: key 'friction': what"), for cross-field problems.
+  [[noreturn]] void fail_object(const std::string& what) const;
 
  private:
   const nlohmann::json& get(const std::string& key, const char* expected);

@@ -59,7 +59,11 @@ ModelParams model_params_from_json(JsonReader& r) {
   r.finish();
   std::vector<std::string> problems;
   if (info->check) info->check(p, problems);
-  if (!problems.empty()) r.fail("model", "parameters of '" + p.model + "': " + problems.front());
+  if (!problems.empty()) {
+    std::string all;
+    for (const auto& m : problems) all += (all.empty() ? "" : "; ") + m;
+    r.fail_object("parameters of model '" + p.model + "': " + all);
+  }
   return p;
 }
 

@@ -97,6 +97,7 @@ void Simulation::reset() {
   v_ = 0.0;
   if (sc_.drive.kind == Drive::Kind::Displacement) x_ = sc_.drive.signal(0.0);
   if (sc_.drive.kind == Drive::Kind::Velocity) v_ = sc_.drive.signal(0.0);
+  rebase_energy();
   record(0.0, 0.0);
 }
 
@@ -113,6 +114,7 @@ void Simulation::set_friction(const ModelParams& p) {
     trace_.element_force.assign(trace_.size() * trace_.n_elements, 0.0);
     trace_.element_slip.assign(trace_.size() * trace_.n_elements, 0);
   }
+  rebase_energy();
 }
 
 void Simulation::set_plant(const Plant& p) {
@@ -120,6 +122,7 @@ void Simulation::set_plant(const Plant& p) {
   s.plant = p;
   check_scenario(s);
   sc_.plant = p;
+  rebase_energy();
 }
 
 void Simulation::record(double ff, double fapp) {
@@ -174,17 +177,24 @@ std::size_t Simulation::advance_as(std::size_t n) {
       x_ += vm * h;
       v_ = v1;
     } else {
-      if constexpr (K == Drive::Kind::Force)
+      double xp_rate = 0.0;  // pull: velocity of the pulling point [m/s]
+      if constexpr (K == Drive::Kind::Force) {
         fapp = d.signal(t);
-      else
-        fapp = d.pull_spring * (d.signal(t) - x_) + d.pull_damper * (d.signal.rate_at(t) - v_);
+      } else {
+        xp_rate = d.signal.rate_at(t);
+        fapp = d.pull_spring * (d.signal(t) - x_) + d.pull_damper * (xp_rate - v_);
+      }
       const double f_other = fapp - pl.spring * x_ - pl.damper * v_;
       ff = model_->step(state_, {v_, h, f_other, pl.mass});
       v_ += h * (f_other - ff) * inv_m;
       x_ += h * v_;
+      // Divergence watch: work the drive did this step (force: F dx; pull: F dx_p) [J].
+      drive_work_ += h * fapp * (K == Drive::Kind::Force ? v_ : xp_rate);
     }
     ++step_;
     if (!std::isfinite(ff + x_ + v_)) diverged(ff);
+    if constexpr (K == Drive::Kind::Force || K == Drive::Kind::Pull)
+      if ((step_ & (kEnergyCheckEvery - 1)) == 0) check_energy();
     if (--until_record_ == 0 || step_ == total_steps_) {
       record(ff, fapp);
       until_record_ = every;
@@ -193,12 +203,97 @@ std::size_t Simulation::advance_as(std::size_t n) {
   return done;
 }
 
+namespace {
+// Largest explicit step for the damping of a mass-driven plant: 2 m / sum c, where sum c adds the
+// plant and pull dampers and the friction's velocity terms (sigma2, sigma1, micro-damping sigma_i),
+// all of which the frozen-velocity step applies explicitly. +inf for prescribed motion.
+double damping_limit_dt(const Scenario& s, double& c) {
+  c = 0.0;
+  if (s.drive.kind == Drive::Kind::Displacement || s.drive.kind == Drive::Kind::Velocity)
+    return std::numeric_limits<double>::infinity();
+  c = s.plant.damper + (s.drive.kind == Drive::Kind::Pull ? s.drive.pull_damper : 0.0);
+  const auto& info = model_info(s.friction.model);
+  for (const char* key : {"sigma1", "sigma2"})
+    if (const auto i = info.scalar_index(key); i >= 0) c += s.friction.scalars[i];
+  if (const auto col = info.column_index("sigma"); col >= 0)
+    for (const auto& row : s.friction.elements) c += row[static_cast<std::size_t>(col)];
+  return c > 0.0 ? 2.0 * s.plant.mass / c : std::numeric_limits<double>::infinity();
+}
+
+// "Likely cause: ..." with the numbers: the step against the stiffness and damping limits.
+std::string divergence_cause(const Scenario& s) {
+  const double h = s.run.dt, lim_k = stability_limit_dt(s);
+  double c = 0.0;
+  const double lim_c = damping_limit_dt(s, c);
+  std::ostringstream o;
+  o << "Likely cause: ";
+  if (h >= lim_c)
+    o << "run.dt = " << h << " s is too large for the damping: sum c = " << c
+      << " N s/m (dampers + friction damping) on m = " << s.plant.mass
+      << " kg needs dt < 2 m / sum c = " << lim_c << " s.";
+  else if (h >= lim_k)
+    o << "run.dt = " << h << " s is too large for the stiffest element: it needs dt < " << lim_k
+      << " s = 2 / sqrt(sum k / m) (springs + stuck friction elements).";
+  else if (h >= 0.5 * std::min(lim_k, lim_c))
+    o << "run.dt = " << h << " s is close to the stability limit (stiffness: dt < " << lim_k
+      << " s, damping: dt < " << lim_c << " s); a tenth of the limit is accurate.";
+  else
+    o << "a parameter is extreme (run.dt = " << h << " s is within the stability limits: "
+      << "stiffness dt < " << lim_k << " s, damping dt < " << lim_c << " s).";
+  o << " Lower run.dt or soften the stiffest element.";
+  return o.str();
+}
+
+// Largest energy the friction can store elastically [J]: Fb^2 / (2 k_min) over its stiffnesses
+// (element k_i, bristle sigma0); 0 for a model without stiffness.
+double friction_storage(const FrictionModel& m, const ModelParams& p) {
+  const auto& info = m.info();
+  double kmin = std::numeric_limits<double>::infinity();
+  if (const auto col = info.column_index("k"); col >= 0)
+    for (const auto& row : p.elements) kmin = std::min(kmin, row[static_cast<std::size_t>(col)]);
+  if (const auto i = info.scalar_index("sigma0"); i >= 0) kmin = std::min(kmin, p.scalars[i]);
+  const double fb = m.break_away();
+  return std::isfinite(kmin) && kmin > 0.0 ? fb * fb / (2.0 * kmin) : 0.0;
+}
+}  // namespace
+
 void Simulation::diverged(double ff) const {
   std::ostringstream o;
   o << "simulation diverged at t = " << time() << " s (non-finite "
-    << (!std::isfinite(ff) ? "friction force" : "state")
-    << "). Likely cause: run.dt = " << sc_.run.dt << " s is too large for the stiffest element "
-    << "(limit " << stability_limit_dt(sc_) << " s), or a parameter is extreme.";
+    << (!std::isfinite(ff) ? "friction force" : "state") << "). " << divergence_cause(sc_);
+  throw SimulationError(o.str());
+}
+
+double Simulation::mechanical_energy() const {
+  const Plant& p = sc_.plant;
+  double e = 0.5 * p.mass * v_ * v_ + 0.5 * p.spring * x_ * x_;
+  if (sc_.drive.kind == Drive::Kind::Pull) {
+    const double stretch = sc_.drive.signal(time()) - x_;
+    e += 0.5 * sc_.drive.pull_spring * stretch * stretch;
+  }
+  return e;
+}
+
+void Simulation::rebase_energy() {
+  drive_work_ = 0.0;
+  energy0_ = mechanical_energy();
+  storage_ = friction_storage(*model_, sc_.friction);
+}
+
+// Passivity: E(t) <= E(0) + W_drive + E_friction_storage. Symplectic Euler's energy wobbles by a
+// factor up to 1 / (1 - dt / dt_limit) around a conserved value, so the margin scales with that;
+// an unstable step grows the energy exponentially and crosses any such margin within a few checks.
+void Simulation::check_energy() const {
+  const double e = mechanical_energy();
+  const double budget = energy0_ + std::abs(drive_work_) + storage_;
+  const double ratio = std::min(sc_.run.dt / stability_limit_dt(sc_), 0.99);
+  const double margin = (4.0 + 4.0 * ratio / (1.0 - ratio)) * budget + 1e-12;
+  if (!(e - energy0_ - drive_work_ - storage_ > margin)) return;
+  std::ostringstream o;
+  o << "simulation diverged at t = " << time() << " s: the energy of the mass and springs grew to "
+    << e << " J, more than it started with (" << energy0_ << " J) plus what the drive put in ("
+    << drive_work_ << " J) plus what the friction can store (" << storage_
+    << " J) - the integration creates energy. " << divergence_cause(sc_);
   throw SimulationError(o.str());
 }
 

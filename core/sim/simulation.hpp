@@ -39,6 +39,10 @@ class Simulation {
   explicit Simulation(const Scenario& scenario);  // validates; throws InputError
   void reset();
   // Advance by n steps of scenario.run.dt (stops early at the end of the run). Returns steps done.
+  // Throws SimulationError, naming the likely cause (step vs stiffness / damping limits), when the
+  // state turns non-finite or, for force and pull drives, the energy of the mass and springs grows
+  // beyond what the drive put in (checked every 1024 steps). The trace keeps the finite samples
+  // before that; reset() or a live edit makes the simulation usable again.
   std::size_t advance(std::size_t n);
   void run_to_end();
   bool finished() const { return step_ >= total_steps_; }
@@ -61,6 +65,13 @@ class Simulation {
   template <Drive::Kind K>
   std::size_t advance_as(std::size_t n);
   [[noreturn]] void diverged(double ff) const;
+  // Divergence watch for mass-driven plants, every kEnergyCheckEvery steps (hardening): throws
+  // SimulationError naming the likely cause when the energy of the mass and springs exceeds its
+  // start value + the drive's work + the friction's elastic storage by a margin.
+  static constexpr std::uint64_t kEnergyCheckEvery = 1024;  // a power of 2
+  double mechanical_energy() const;  // 1/2 m v^2 + 1/2 k x^2 (+ 1/2 k_p (x_p - x)^2) [J]
+  void rebase_energy();              // at reset and after live edits
+  void check_energy() const;
 
   Scenario sc_;
   std::unique_ptr<FrictionModel> model_;
@@ -70,6 +81,9 @@ class Simulation {
   std::uint64_t total_steps_ = 0;
   std::uint64_t until_record_ = 1;  // steps until the next trace sample
   double x_ = 0.0, v_ = 0.0;
+  double drive_work_ = 0.0;  // work done by the drive since the last rebase [J]
+  double energy0_ = 0.0;     // mechanical energy at the last rebase [J]
+  double storage_ = 0.0;     // largest elastic energy the friction can hold [J]
 };
 
 // Convenience: run a whole scenario and return its trace.

@@ -206,10 +206,11 @@ TEST(LeadDesignApplicability, LeadCannotAddMoreThanPiMinusBeta) {
   const LeadLimits L = lead_limits(tf({1}, {1, 0, 0, 0}), {0.5, 1.0});
   EXPECT_FALSE(L.applicable);
   EXPECT_NE(L.reason.find("one lead cannot"), std::string::npos);
-  // A plant with enough phase: phi <= 0, no lead needed.
+  // A plant with more than enough phase: phi <= 0, s_d needs lag, not lead.
   const LeadLimits M = lead_limits(tf({1}, {1, 1}), {0.5, 1.0});
   EXPECT_FALSE(M.applicable);
   EXPECT_LE(M.phi, 0.0);
+  EXPECT_NE(M.reason.find("needs phase lag"), std::string::npos) << M.reason;
 }
 
 TEST(LeadDesignUsableMax, BoundedPoleZeroRatioGivesTheLargestKWithinTheBound) {
