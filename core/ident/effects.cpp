@@ -172,8 +172,14 @@ std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c)
   for (std::size_t k = 1; k < d.size(); ++k) {
     const bool r = std::abs(d.v[k]) < c.v_rest;
     if (r && !resting) rest_since = d.t[k];
-    if (!r && resting && d.t[k] - rest_since >= c.dwell_min)
-      out.push_back({k, d.t[k] - rest_since, sgn(d.v[k])});
+    if (!r && resting) {
+      // The motion began before |v| crossed v_rest: walk back to where it left (near) zero.
+      std::size_t j = k;
+      while (j > 0 && d.t[j - 1] > rest_since && std::abs(d.v[j - 1]) > 0.05 * c.v_rest &&
+             sgn(d.v[j - 1]) == sgn(d.v[k]))
+        --j;
+      if (d.t[j] - rest_since >= c.dwell_min) out.push_back({j, d.t[j] - rest_since, sgn(d.v[k])});
+    }
     resting = r;
   }
   return out;
@@ -254,19 +260,22 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      // Basis over the travel s since the start, q = s / s0: e^-q, q e^-q, q^2 e^-q / 2.
+      // Raised break-away level after a rest, fading with travel s (q = s / s0): the model's own
+      // response to a raised Fs (sensitivity S = dg / d(Fs/Fc), second half of g) weighted by
+      // phi e^-q and phi q e^-q, plus phi g e^-q.
       for (int m = 0; m < 3; ++m)
-        v.push_back(col("dwell_q" + std::to_string(m), "N", true,
-                        [m](D d, C c, G g, O o) {
+        v.push_back(col("dwell_" + std::to_string(m), "N", true, [m](D d, C c, G g, O o) {
           std::fill(o.begin(), o.end(), 0.0);
-          const double s0 = c.dwell_s0;
+          const std::size_t n = d.size();
+          const bool sens = g.size() >= 2 * n;
           for (const auto& s : motion_starts(d, c)) {
             const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
-            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
-              if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
-              const double q = std::abs(d.x[k] - d.x[s.k]) / s0;
+            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < n; ++k) {
+              if (k > s.k + 1 && std::abs(d.v[k]) < 0.05 * c.v_rest) break;  // at rest again
+              const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
               if (q > 30.0) break;
-              o[k] = phi * g[k] * std::exp(-q) * (m == 0 ? 1.0 : m == 1 ? q : 0.5 * q * q);
+              const double base = m < 2 && sens ? g[n + k] : g[k];
+              o[k] = phi * base * std::exp(-q) * (m == 1 ? q : 1.0);
             }
           }
         }));

@@ -183,7 +183,7 @@ std::vector<Term> design(const FitSpec& spec, const Parameterization& par) {
   std::vector<Term> t;
   t.push_back({{"Fc", "N", true,
                 [](const Dataset&, const EffectContext&, std::span<const double> g,
-                   std::span<double> o) { std::copy(g.begin(), g.end(), o.begin()); }},
+                   std::span<double> o) { std::copy_n(g.begin(), o.size(), o.begin()); }},
                "base"});
   if (par.has_viscous())
     t.push_back({{"sigma2", "N s/m", false,
@@ -201,6 +201,7 @@ class Evaluator {
   Evaluator(const FitSpec& spec, const Parameterization& par, const Dataset& d,
             const EffectContext& c)
       : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
+    for (Effect e : spec.effects) needs_sensitivity_ |= e == Effect::DwellStiction;
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
     const auto nu = static_cast<Eigen::Index>(rows_.size());
@@ -222,11 +223,27 @@ class Evaluator {
   const std::vector<Term>& terms() const { return terms_; }
   double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
 
-  // Simulates g for shape u; false when the model cannot be built or diverges.
+  // Simulates g for shape u; false when the model cannot be built or diverges. With a
+  // dwell_stiction term, g also carries (second half) the sensitivity dg / d(Fs/Fc) by a 1 %
+  // forward difference (models without Fs: g itself).
   bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
+    const std::size_t n = d_.size();
     try {
-      const auto m = build_model(par_.unit_model(u));
-      simulate_along(*m, d_, g);
+      auto mp = par_.unit_model(u);
+      simulate_along(*build_model(mp), d_, g);
+      if (needs_sensitivity_) {
+        std::vector<double> g2;
+        const auto fs = model_info(mp.model).scalar_index("Fs");
+        if (fs >= 0) {
+          const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
+          mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
+          simulate_along(*build_model(mp), d_, g2);
+          for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
+        } else {
+          g2 = g;
+        }
+        g.insert(g.end(), g2.begin(), g2.end());
+      }
     } catch (const std::exception&) {
       return false;
     }
@@ -275,7 +292,7 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_)) g_.assign(d_.size(), 0.0);
+    if (!simulate(u, g_)) g_.assign(needs_sensitivity_ ? 2 * d_.size() : d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
       terms_[j].column.fill(d_, c_, g_, full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
@@ -299,6 +316,7 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
+  bool needs_sensitivity_ = false;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -416,7 +434,7 @@ std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const Ef
   const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
   std::vector<double> g(d.size(), 0.0);
   simulate_along(*build_model(par.unit_model(r.u)), d, g);
-  return g;
+  return g;  // the unit output only (no sensitivity)
 }
 
 double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c) {

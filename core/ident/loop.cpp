@@ -311,32 +311,95 @@ Series decimated(std::string label, const std::vector<double>& x, const std::vec
 
 }  // namespace
 
+namespace {
+
+std::string fmt(double x) {
+  std::ostringstream o;
+  o.precision(3);
+  o << x;
+  return o.str();
+}
+
+std::string stage_label(const IdentReport& r, std::size_t i) {
+  return i == 0 ? "base " + r.model : "+ " + std::string(effect_name(r.effects_added[i - 1]));
+}
+
+// Mean residual in signed-velocity bins over the used samples (empty bins skipped).
+Series by_velocity(std::string label, const Dataset& d, const std::vector<double>& res, double vmax) {
+  const int nb = 48;
+  std::vector<double> s(nb, 0.0), n(nb, 0.0);
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    if (!d.use[k]) continue;
+    const int b = static_cast<int>((d.v[k] / vmax + 1.0) * 0.5 * nb);
+    if (b < 0 || b >= nb) continue;
+    s[static_cast<std::size_t>(b)] += res[k], n[static_cast<std::size_t>(b)] += 1;
+  }
+  Series out;
+  out.label = std::move(label);
+  for (int b = 0; b < nb; ++b)
+    if (n[static_cast<std::size_t>(b)] >= 5) {
+      out.x.push_back(((b + 0.5) / nb * 2.0 - 1.0) * vmax * 1e3);
+      out.y.push_back(s[static_cast<std::size_t>(b)] / n[static_cast<std::size_t>(b)]);
+    }
+  return out;
+}
+
+// The used samples of d within [t0, t1].
+Series window(std::string label, const Dataset& d, const std::vector<double>& y, double t0, double t1) {
+  Series s;
+  s.label = std::move(label);
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k] && d.t[k] >= t0 && d.t[k] <= t1) s.x.push_back(d.t[k]), s.y.push_back(y[k]);
+  return s;
+}
+
+}  // namespace
+
 Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& val) {
   Figure f;
   f.id = "identify_report";
-  f.title = "Identification: " + r.model + " on " + std::filesystem::path(r.train_source).filename().string();
-  std::ostringstream cap;
-  cap << "Validation RMS " << r.rms_before_validation << " -> " << r.rms_after_validation << " N";
-  if (!r.effects_added.empty()) {
-    cap << " after adding";
-    for (Effect e : r.effects_added) cap << ' ' << effect_name(e);
-  } else {
-    cap << " (no effect added)";
+  f.title = "Identification: " + r.model + " on " +
+            std::filesystem::path(r.train_source).filename().string() + ", validated on " +
+            std::filesystem::path(r.validation_source).filename().string();
+  std::string cap = "Validation RMS " + fmt(r.rms_before_validation) + " N (base " + r.model +
+                    ") -> " + fmt(r.rms_after_validation) + " N";
+  if (r.effects_added.empty()) cap += " (no effect added)";
+  else {
+    cap += " after adding";
+    for (Effect e : r.effects_added) cap += " " + std::string(effect_name(e));
   }
-  f.caption = cap.str();
-  Panel a{"A", "Measured and fitted force (validation)", "t [s]", "F [N]", {}};
-  a.series.push_back(decimated("measured", val.t, val.F, nullptr));
-  a.series.push_back(decimated("base " + r.model, val.t, predict(r.stages.front(), val, r.context), nullptr));
-  if (r.stages.size() > 1) a.series.push_back(decimated("final", val.t, predict(r.final_fit(), val, r.context), nullptr));
-  a.series.back().style = Series::Style::Dashed;
-  Panel b{"B", "Residual after each round (training)", "t [s]", "F - F_fit [N]", {}};
+  // Panel A: a 4 s window of the validation record at full resolution (masked samples left out).
+  const double t0 = val.t.front() + 0.4 * (val.t.back() - val.t.front());
+  const double t1 = std::min(val.t.back(), t0 + 4.0);
+  Panel a{"A", "Measured and fitted force, validation, " + fmt(t1 - t0) + " s window", "t [s]",
+          "F [N]", {}};
+  a.series.push_back(window("measured", val, val.F, t0, t1));
+  a.series.push_back(window("base " + r.model, val, predict(r.stages.front(), val, r.context), t0, t1));
+  if (r.stages.size() > 1) {
+    a.series.push_back(window("final", val, predict(r.final_fit(), val, r.context), t0, t1));
+    a.series.back().style = Series::Style::Dashed;
+  }
+  // Panels B and C: residual over time and by velocity after each stage. Stages whose RMS is more
+  // than 5x the final one would flatten the others and are left out (named in the caption).
+  Panel b{"B", "Training residual after each round", "t [s]", "F - F_fit [N]", {}};
+  Panel c{"C", "Mean training residual by velocity", "v [mm/s]", "mean F - F_fit [N]", {}};
+  double vmax = 0;
+  for (std::size_t k = 0; k < train.size(); ++k)
+    if (train.use[k]) vmax = std::max(vmax, std::abs(train.v[k]));
+  std::string left_out;
   for (std::size_t i = 0; i < r.stages.size(); ++i) {
+    if (i + 1 < r.stages.size() && r.stages[i].rms_train > 5.0 * r.final_fit().rms_train) {
+      left_out += (left_out.empty() ? "" : ", ") + stage_label(r, i) + " (" + fmt(r.stages[i].rms_train) + " N RMS)";
+      continue;
+    }
     auto res = predict(r.stages[i], train, r.context);
     for (std::size_t k = 0; k < train.size(); ++k) res[k] = train.F[k] - res[k];
-    const std::string label = i == 0 ? "base" : "+ " + std::string(effect_name(r.effects_added[i - 1]));
-    b.series.push_back(decimated(label, train.t, res, &train.use));
+    b.series.push_back(decimated(stage_label(r, i), train.t, res, &train.use));
+    c.series.push_back(by_velocity(stage_label(r, i), train, res, vmax));
   }
-  f.panels = {std::move(a), std::move(b)};
+  if (!left_out.empty()) cap += ". B, C leave out " + left_out;
+  f.caption = cap;
+  f.panels = {std::move(a), std::move(b), std::move(c)};
   return f;
 }
 

@@ -35,7 +35,6 @@ Run run_loop(std::optional<Effect> effect) {
               rep.rms_after_train);
   for (auto e : rep.effects_added) std::printf(" %s", std::string(effect_name(e)).c_str());
   std::printf("\n");
-  std::printf("   wavelength %.6g dwell_s0 %.3g x_ba %.3g\n", rep.context.wavelength, rep.context.dwell_s0, rep.context.x_ba);
   for (const auto& rd : rep.rounds) {
     for (const auto& k : rd.candidates)
       std::printf("   cand %-20s expl %.4f screen val %.4f\n", std::string(effect_name(k.effect)).c_str(), k.explained, k.screen_rms_validation);
