@@ -114,9 +114,10 @@ void cross(ImDrawList* dl, ImVec2 p, float r, ImU32 c, float th) {
   dl->AddLine(ImVec2(p.x - r, p.y + r), ImVec2(p.x + r, p.y - r), c, th);
 }
 
-// The other regime's locus: thin grey branches and grey pole crosses, no asymptotes.
-void draw_other_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl) {
-  const ImU32 col = IM_COL32(150, 150, 160, 200);
+// A secondary locus (the other regime's, or the 0-degree one): thin branches in `col` and pole
+// crosses, no asymptotes.
+void draw_other_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl,
+                      ImU32 col = IM_COL32(150, 150, 160, 200)) {
   const double far = 20 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
   for (const auto& br : rl.branches)
     for (std::size_t i = 1; i < br.size(); ++i) {
@@ -259,10 +260,14 @@ double zeta_for_overshoot(double os) {
 }
 
 void draw_design_locus(DesignViewState& d, ImVec2 size) {
+  const float y_before = ImGui::GetCursorPosY();
+  ImGui::PushTextWrapPos(0.0f);
   ImGui::TextDisabled("Locus in Kc.  x pole  o zero  green: compensator  square: closed loop at Kc  "
-                      "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s",
-                      d.out.other_locus ? "  grey: other regime" : "");
-  size.y -= ImGui::GetTextLineHeightWithSpacing();
+                      "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s%s",
+                      d.out.other_locus ? "  grey: other regime" : "",
+                      d.out.zero_degree_locus ? "  light blue: 0-degree (k < 0)" : "");
+  ImGui::PopTextWrapPos();
+  size.y -= ImGui::GetCursorPosY() - y_before;
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("##locus", size);
   const bool hovered = ImGui::IsItemHovered();
@@ -276,6 +281,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   draw_requirements(dl, t, zeta_for_overshoot(d.max_overshoot), 4.0 / d.settling_time);
   draw_grid(dl, t);
   if (d.out.other_locus) draw_other_locus(dl, t, *d.out.other_locus);
+  if (d.out.zero_degree_locus) draw_other_locus(dl, t, *d.out.zero_degree_locus, IM_COL32(86, 180, 233, 170));
   draw_locus(dl, t, d.out.locus);
   const float r = 6.0f;
   // plant poles (black x) and zeros (o); compensator zero/pole in green

@@ -82,6 +82,8 @@ void plant_section(DesignViewState& d) {
   }
   d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &d.in.other_regime);
   tip("Overlay the locus of the other regime's plant with the same compensator");
+  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &d.in.zero_degree);
+  tip("The complementary locus: negative gain / positive feedback");
   const auto& p = d.out.plant;
   ImGui::TextColored(kDim, "G(s) = 1 / (%.4g s^2 + %.4g s + %.4g)  [m/N]", p.mass, p.damping, p.stiffness);
   tip("m [kg], c_eff [N s/m], k_eff [N/m]");
@@ -127,9 +129,26 @@ void result_section(DesignViewState& d) {
     ImGui::TextColored(kDim, "%s, %s = %.5g, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
                        c.Kc * c.z / c.p * r.type.K0, c.p / c.z);
   }
-  const control::LeadDesign* des = r.design ? &*r.design : nullptr;
-  if (des)
-    for (const auto& n : des->dominance.notes) {
+  if (o.step.t.size() > 4) {
+    // The linear step against the requirements (the zero and the extra poles move it off the
+    // second-order values of zeta and wn).
+    control::LoopTrace st;
+    st.t = o.step.t;
+    st.x = o.step.y;
+    st.r.assign(o.step.t.size(), o.step.y.back());
+    const control::LoopMetrics m = control::loop_metrics(st);
+    const bool os_ok = m.overshoot <= d.max_overshoot;
+    const bool ts_ok = std::isfinite(m.settling_time) && m.settling_time <= d.settling_time;
+    ImGui::TextColored(os_ok ? kOk : kErr, "linear step: overshoot %.3g %%", m.overshoot);
+    tip("Overshoot of the linear closed-loop step (requirement in Requirements below)");
+    ImGui::SameLine();
+    if (std::isfinite(m.settling_time))
+      ImGui::TextColored(ts_ok ? kOk : kErr, "settling %.3g s", m.settling_time);
+    else
+      ImGui::TextColored(kErr, "does not settle within %.3g s", o.horizon);
+  }
+  if (o.compensator)
+    for (const auto& n : o.dominance.notes) {
       ImGui::PushStyleColor(ImGuiCol_Text, kErr);
       ImGui::TextWrapped("! %s", n.c_str());
       ImGui::PopStyleColor();

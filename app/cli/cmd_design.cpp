@@ -35,11 +35,10 @@ struct Opts {
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
 };
 
-// The design to simulate: the requested one, the usable maximum, or the first relocation found.
+// The design to simulate: the requested one, the best relocation, or the usable maximum.
 std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
   if (r.design) return std::pair{std::string("requested"), *r.design};
-  for (const auto& rel : r.relocations)
-    if (rel.found) return std::pair{"relocated:" + rel.path, rel.design};
+  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
   if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
   return std::nullopt;
 }

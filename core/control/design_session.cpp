@@ -19,8 +19,7 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
     out.compensator_kind = std::move(kind);
   };
   if (r.design) return use(*r.design, "requested");
-  for (const auto& rel : r.relocations)
-    if (rel.found) return use(rel.design, "relocated:" + rel.path);
+  if (const Relocation* rel = best_relocation(r)) return use(rel->design, "relocated:" + rel->path);
   if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
 }
 }  // namespace
@@ -30,9 +29,14 @@ DesignOutputs compute_design(const DesignInputs& in) {
   std::string stage = "plant";
   try {
     out.plant = linear_plant(in.scenario, in.regime, in.velocity);
-    stage = "design";
-    out.report = lead_design(out.plant.g, in.root, in.K, in.options);
-    choose(in, out);
+    try {  // a failed design still leaves the plant's own locus to draw
+      out.report = lead_design(out.plant.g, in.root, in.K, in.options);
+      choose(in, out);
+    } catch (const std::exception& e) {
+      out.error = std::string("design: ") + e.what();
+      out.report.reset();
+      if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
+    }
     out.horizon = in.horizon > 0.0 ? in.horizon
                                    : std::clamp(10.0 / (in.root.zeta * in.root.wn), 0.01, 20.0);
     stage = "root locus";
@@ -48,6 +52,11 @@ DesignOutputs compute_design(const DesignInputs& in) {
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
+      const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
+      const DominantRoot target =
+          out.compensator_kind.rfind("relocated:", 0) == 0 && rel ? rel->root : in.root;
+      if (out.report)
+        out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
       pts.emplace_back(-c.z, 0.0);
       if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
       for (const cplx& p : out.closed_loop_poles)
@@ -62,6 +71,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop = L;
     out.locus = root_locus(L, lo);
     out.locus.view = shown;
+    if (in.zero_degree) {
+      LocusOptions neg = lo;
+      neg.negative = true;
+      neg.extra_gains.clear();
+      out.zero_degree_locus = root_locus(L, neg);
+    }
     if (in.other_regime) {
       const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
       const TransferFunction g2 = linear_plant(in.scenario, other, in.velocity).g;
@@ -97,7 +112,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop_compensated = simulate_loop(in.scenario, cfg);
     out.metrics_compensated = loop_metrics(out.loop_compensated);
   } catch (const std::exception& e) {
-    out.error = stage + ": " + e.what();
+    out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
   }
   return out;
 }

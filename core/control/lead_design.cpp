@@ -110,6 +110,10 @@ Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, doub
     }
     D.others.push_back(o);
   }
+  if (z < 2.0 * d.zeta * d.wn)
+    D.notes.push_back("the compensator zero -" + num_text(z) + " is within 2x of Re s_d = " +
+                      num_text(-d.zeta * d.wn) + ": it adds overshoot beyond what zeta = " +
+                      num_text(d.zeta) + " predicts");
   if (p > 50.0 * d.wn)
     D.notes.push_back("p = " + num_text(p) + " rad/s is more than 50 wn: the lead is close to a "
                       "pure PD, noise is amplified by p/z = " + num_text(p / z));
@@ -316,6 +320,21 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
   std::vector<Relocation> out;
   for (const auto& p : paths) out.push_back(search_path(g, p, K_des, target));
   return out;
+}
+
+const Relocation* best_relocation(const LeadReport& r) {
+  auto stable = [](const Relocation& rel) {
+    for (const cplx& p : rel.design.closed_loop_poles)
+      if (!(p.real() < 0.0)) return false;
+    return true;
+  };
+  for (const auto& rel : r.relocations)
+    if (rel.found && rel.design.dominance.dominant) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found && stable(rel)) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found) return &rel;
+  return nullptr;
 }
 
 LeadReport lead_design(const TransferFunction& g, const DominantRoot& d,

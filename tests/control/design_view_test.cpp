@@ -50,6 +50,23 @@ TEST(DesignSession, FailuresAreReportedNotThrown) {
   const DesignOutputs out = compute_design(in);
   EXPECT_NE(out.error.find("design"), std::string::npos) << out.error;
   EXPECT_FALSE(out.compensator.has_value());
+  // The plant's own locus is still there: 1/(s^2 + 0.4 s), two branches from 0 and -0.4.
+  ASSERT_EQ(out.locus.branches.size(), 2u);
+  EXPECT_NEAR(out.locus.breakaways.at(0).s.real(), -0.2, 1e-9);
+}
+
+TEST(DesignSession, NegativeSlidingDampingIsReportedWithThePlantLocus) {
+  // At v0 = Vs the Stribeck slope (-367 N s/m) beats sigma2: an unstable real pole, K0 < 0.
+  DesignInputs in;
+  in.scenario = load_scenario(kPreset);
+  in.velocity = 1e-3;
+  const DesignOutputs out = compute_design(in);
+  EXPECT_NE(out.error.find("K0"), std::string::npos) << out.error;
+  EXPECT_LT(out.plant.damping, 0.0);
+  ASSERT_EQ(out.locus.poles.size(), 2u);
+  double pmax = -1e300;
+  for (const cplx& p : out.locus.poles) pmax = std::max(pmax, p.real());
+  EXPECT_NEAR(pmax, -out.plant.damping / out.plant.mass, 1e-9);
 }
 
 #ifdef GMSLAB_HEADLESS_EXE

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/io/csv.hpp"
 #include "core/sim/simulation.hpp"
 #include "hardening_util.hpp"
 
@@ -272,6 +273,80 @@ TEST(BadInput, DeeplyNestedSequencesAreRefusedNotRecursedForever) {
   j["drive"]["signal"] = sig;
   const auto msg = load_error("deep.json", j.dump());
   EXPECT_HAS(msg, "sequences nest more than 8 levels deep; flatten the signal");
+}
+
+
+// ---- measured-data CSV (core/io/csv.hpp) ----------------------------------------------------
+
+namespace csv_rows {
+// Header + 12 rows of t [s], x [m], F [N]; row i (1-based data row) is on line i + 1.
+std::string good_csv() {
+  std::string s = "t_s,x_m,F_N\n";
+  for (int i = 0; i < 12; ++i)
+    s += std::to_string(0.001 * i) + "," + std::to_string(1e-6 * i) + "," + std::to_string(0.1 * i) +
+         "\n";
+  return s;
+}
+
+std::string csv_error(const std::string& name, const std::string& text) {
+  const std::string path = temp_file(name);
+  write_file_atomic(path, text);
+  try {
+    load_measured_csv(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The CSV with line `line` (1-based) replaced.
+std::string with_line(int line, const std::string& repl) {
+  std::string s = good_csv();
+  std::size_t a = 0;
+  for (int i = 1; i < line; ++i) a = s.find('\n', a) + 1;
+  return s.replace(a, s.find('\n', a) - a, repl);
+}
+}  // namespace csv_rows
+
+TEST(BadInputCsv, TimeThatDoesNotIncreaseNamesLineAndColumn) {
+  using namespace csv_rows;
+  const auto msg = csv_error("time.csv", with_line(6, "0.002,4e-6,0.4"));
+  EXPECT_HAS(msg, temp_file("time.csv") + ":6: column 't_s': time 0.002 is not greater than the "
+                                          "previous row's; time must strictly increase");
+}
+
+TEST(BadInputCsv, TextAndNonFiniteNumbersNameLineAndColumn) {
+  using namespace csv_rows;
+  auto msg = csv_error("text.csv", with_line(4, "0.002,abc,0.2"));
+  EXPECT_HAS(msg, temp_file("text.csv") + ":4: column 'x_m': 'abc' is not a number");
+  msg = csv_error("nan.csv", with_line(5, "0.003,3e-6,nan"));
+  EXPECT_HAS(msg, temp_file("nan.csv") + ":5: column 'F_N': 'nan' is not a finite number");
+  msg = csv_error("inf.csv", with_line(5, "0.003,1e999,0.3"));
+  EXPECT_HAS(msg, temp_file("inf.csv") + ":5: column 'x_m'");
+}
+
+TEST(BadInputCsv, EmptyTruncatedAndShortFilesSaySo) {
+  using namespace csv_rows;
+  EXPECT_HAS(csv_error("empty.csv", ""),
+             temp_file("empty.csv") + ": empty; expected a header row (e.g. t_s,x_m,F_N)");
+  const std::string g = good_csv();
+  const auto msg = csv_error("cut.csv", g.substr(0, g.size() - 6));  // last row cut mid-field
+  EXPECT_HAS(msg, temp_file("cut.csv") + ":13: 2 fields, but the header has 3 (truncated or "
+                                         "malformed row)");
+  EXPECT_HAS(csv_error("short.csv", g.substr(0, g.find("0.005"))),
+             temp_file("short.csv") + ": only 5 data rows; at least 10 are needed");
+}
+
+TEST(BadInputCsv, FileThatIsNotUtf8NamesTheLine) {
+  using namespace csv_rows;
+  const auto msg = csv_error("latin1.csv", "# caf\xe9\n" + good_csv());
+  EXPECT_HAS(msg, temp_file("latin1.csv") + ":1: the file is not UTF-8 text");
+}
+
+TEST(BadInputCsv, MissingColumnNamesWhatIsAccepted) {
+  using namespace csv_rows;
+  const auto msg = csv_error("cols.csv", "t_s,x_m\n0,0\n");
+  EXPECT_HAS(msg, temp_file("cols.csv") + ":1: no column for");
 }
 
 }  // namespace

@@ -123,12 +123,14 @@ TEST(FrictionProperty, ForceStaysBoundedByBreakAwayPlusViscousAndDampingParts) {
   }
 }
 
-// KNOWN FINDING (reported to the models owner): the Leuven model with randomised parameters gives
-// out energy over closed cycles, e.g. 7e-4 J over a 0.8 mm cycle at 0.66 mm/s with Fs = 2.06,
-// Fc = 1.08, Vs = 8.7e-4, delta = 1.98, n = 1.64, sigma1 = 241, sigma2 = 0.33 and seven elements
-// (the full set is printed when the check fails). Its F_h (v - dz/dt) term is negative after every
-// reversal, so the model is not passive by construction; whether the size seen here is the model
-// or its stepping is open. Until settled, Leuven is checked at its defaults only.
+// KNOWN FINDING (reported to the models owner): the Leuven model gives out energy over closed
+// cycles for some parameter sets, e.g. -1.4e-3 J over 0 -> 0.81 mm -> -0.81 mm -> 0 at 0.66 mm/s
+// with Fs = 2.0574, Fc = 1.0846, Vs = 8.67e-4, delta = 1.98, n = 1.636, sigma1 = 241.4,
+// sigma2 = 0.332 and seven elements (the full set is printed when the check fails). Traced: after
+// the reversal at +0.81 mm the element forces stay clamped at +W_i and the friction keeps its
+// positive sign (+1.63 N, then +2.68 N) while v < 0 - a stepping bug, not the model (the work does
+// not converge with smaller steps: +7.1e-3 J at 2000 steps per leg, -1.4e-3 J at 200 and 20000).
+// Until fixed, Leuven is checked at its defaults only.
 bool random_sets_checked(const ModelInfo& info) { return info.tag != "leuven"; }
 
 TEST(FrictionProperty, ClosedDisplacementCycleNeverCreatesEnergy) {
