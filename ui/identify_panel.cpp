@@ -39,11 +39,7 @@ struct Job {
   }
 };
 
-struct Config {
-  std::string data, validate, columns, mask_edges = "pulse_code:0.005:0.060";
-  std::string model = "gms";
-  int elements = 4;
-};
+using Config = IdentifyInputs;
 
 struct IdentifyState : Config {
   std::unique_ptr<Job> job;
@@ -161,7 +157,48 @@ void rounds_table(const ident::IdentReport& r) {
   ImGui::EndTable();
 }
 
+// Takes over a finished run (result or error); true when a run is still going.
+bool collect(IdentifyState& st) {
+  if (!st.job) return false;
+  Job& j = *st.job;
+  if (!j.done) return true;
+  j.thread.join();
+  std::lock_guard<std::mutex> lock(j.m);
+  if (j.result) st.result = std::move(j.result);
+  st.error = j.error;
+  st.job.reset();
+  return false;
+}
+
 }  // namespace
+
+void identify_start(AppState& s, const IdentifyInputs& in) {
+  auto& st = s.slot<IdentifyState>("identify");
+  if (collect(st)) return;  // one run at a time
+  static_cast<Config&>(st) = in;
+  start(st);
+}
+
+bool identify_busy(AppState& s) { return collect(s.slot<IdentifyState>("identify")); }
+
+void identify_cancel(AppState& s) {
+  auto& st = s.slot<IdentifyState>("identify");
+  if (st.job) st.job->cancel = true;
+}
+
+const ident::IdentReport* identify_report(AppState& s) {
+  auto& st = s.slot<IdentifyState>("identify");
+  return st.result ? &st.result->report : nullptr;
+}
+
+std::string identify_error(AppState& s) { return s.slot<IdentifyState>("identify").error; }
+
+void identify_send_to_plant(AppState& s) {
+  auto& st = s.slot<IdentifyState>("identify");
+  if (!st.result) return;
+  s.pending.scenario = ident::identified_scenario(st.result->report, st.result->train);
+  st.status = "sent to the Simulation panel";
+}
 
 void draw_identify_panel(AppState& s) {
   auto& st = s.slot<IdentifyState>("identify");
@@ -190,22 +227,13 @@ void draw_identify_panel(AppState& s) {
                        "");
     ImGui::SameLine();
     ImGui::Text("%s: %d evaluations, RMS %.4g N", stage.c_str(), evals, rms);
-    if (j.done) {
-      j.thread.join();
-      std::lock_guard<std::mutex> lock(j.m);
-      if (j.result) st.result = std::move(j.result);
-      st.error = j.error;
-      st.job.reset();
-    }
+    collect(st);
   }
   if (!st.error.empty()) ImGui::TextColored(ImVec4(0.75f, 0.1f, 0.1f, 1), "%s", st.error.c_str());
   if (!st.result) return;
   const auto& r = st.result->report;
   ImGui::SameLine();
-  if (ImGui::Button("Send model to plant")) {
-    s.pending.scenario = ident::identified_scenario(r, st.result->train);
-    st.status = "sent to the Simulation panel";
-  }
+  if (ImGui::Button("Send model to plant")) identify_send_to_plant(s);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("Replace the Simulation panel's scenario: identified friction, identified mass, training motion");
   if (!st.status.empty()) {

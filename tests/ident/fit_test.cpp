@@ -41,7 +41,8 @@ TEST(IdentFit, GmsFitOfCleanGmsRecordReachesNoiseLevel) {
 // its presliding force through every dwell, so they only have to beat the zero model.
 TEST(IdentFit, EveryRegisteredModelFitsThroughItsModelInfo) {
   synth::SynthOptions so;
-  so.moves = 6;
+  so.moves = 4;
+  so.rate = 250.0;
   const auto d = prepare_dataset(synth::synthesize(so));
   const auto c = make_context(d);
   double f2 = 0;
@@ -50,10 +51,10 @@ TEST(IdentFit, EveryRegisteredModelFitsThroughItsModelInfo) {
   for (const auto& info : model_registry()) {
     FitSpec spec;
     spec.model = std::string(info.tag);
-    spec.elements = 3;
+    spec.elements = 2;
     FitOptions o;
     o.starts = 1;
-    o.max_evaluations = 100;
+    o.max_evaluations = 60;
     const auto r = fit_model(spec, d, c, o);
     EXPECT_TRUE(validate(r.friction).empty()) << info.tag;
     const bool dynamic = build_model(info.defaults())->state_size() > 0;
