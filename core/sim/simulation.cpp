@@ -304,7 +304,7 @@ void Simulation::run_to_end() {
 Trace simulate(const Scenario& scenario) {
   Simulation s(scenario);
   s.run_to_end();
-  return s.trace();
+  return s.take_trace();
 }
 
 }  // namespace gmslab

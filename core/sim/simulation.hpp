@@ -55,6 +55,8 @@ class Simulation {
   const Scenario& scenario() const { return sc_; }
   const FrictionModel& model() const { return *model_; }
   const Trace& trace() const { return trace_; }
+  // Moves the trace out (no copy of a long run); reset() before advancing again.
+  Trace take_trace() { return std::move(trace_); }
   double time() const { return static_cast<double>(step_) * sc_.run.dt; }
   double position() const { return x_; }
   double velocity() const { return v_; }
