@@ -21,7 +21,8 @@ struct Xy {
 };
 using Csv = std::map<std::string, std::map<std::string, Xy>>;  // panel -> series -> points
 
-Csv csv_of(const std::string& id) {
+// Returns the cached parse (a reference: callers keep references into it).
+const Csv& csv_of(const std::string& id) {
   static std::map<std::string, Csv> cache;
   if (auto it = cache.find(id); it != cache.end()) return it->second;
   std::stringstream ss;
