@@ -26,36 +26,38 @@
 namespace gmslab::app {
 
 namespace {
-// Debian's ImGui 1.86 uses 16-bit indices and its OpenGL2 backend ignores ImDrawCmd::VtxOffset, so
-// one window's draw list could hold at most 65,536 vertices and a dense figure would abort. This
-// fixed-function renderer honours VtxOffset; with ImGuiBackendFlags_RendererHasVtxOffset set, ImGui
-// splits large draw lists instead of overflowing them. Same GL state as the backend's.
-void render_draw_data(const ImDrawData* dd, int fb_w, int fb_h) {
-  glPushAttrib(GL_ENABLE_BIT | GL_COLOR_BUFFER_BIT | GL_TRANSFORM_BIT | GL_TEXTURE_BIT);
+// ImGui_ImplOpenGL2_RenderDrawData of Dear ImGui 1.86 ignores ImDrawCmd::VtxOffset, so a draw list
+// with more than 65536 vertices (plots of long traces, 16-bit indices) would be drawn wrongly.
+// This is the same fixed-function drawing with the vertex offset honoured, which lets us declare
+// ImGuiBackendFlags_RendererHasVtxOffset. (The font texture still comes from the backend.)
+void render_draw_data(const ImDrawData* dd) {
+  const int fb_w = static_cast<int>(dd->DisplaySize.x * dd->FramebufferScale.x);
+  const int fb_h = static_cast<int>(dd->DisplaySize.y * dd->FramebufferScale.y);
+  if (fb_w <= 0 || fb_h <= 0) return;
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
   glDisable(GL_LIGHTING);
   glDisable(GL_COLOR_MATERIAL);
   glEnable(GL_SCISSOR_TEST);
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+  glEnableClientState(GL_COLOR_ARRAY);
+  glDisableClientState(GL_NORMAL_ARRAY);
   glEnable(GL_TEXTURE_2D);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   glShadeModel(GL_SMOOTH);
   glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-  glEnableClientState(GL_VERTEX_ARRAY);
-  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-  glEnableClientState(GL_COLOR_ARRAY);
   glViewport(0, 0, fb_w, fb_h);
   glMatrixMode(GL_PROJECTION);
-  glPushMatrix();
   glLoadIdentity();
-  glOrtho(dd->DisplayPos.x, dd->DisplayPos.x + dd->DisplaySize.x,
-          dd->DisplayPos.y + dd->DisplaySize.y, dd->DisplayPos.y, -1.0, 1.0);
+  glOrtho(dd->DisplayPos.x, dd->DisplayPos.x + dd->DisplaySize.x, dd->DisplayPos.y + dd->DisplaySize.y,
+          dd->DisplayPos.y, -1.0, 1.0);
   glMatrixMode(GL_MODELVIEW);
-  glPushMatrix();
   glLoadIdentity();
-  const GLenum idx_type = sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+  const ImVec2 off = dd->DisplayPos, scale = dd->FramebufferScale;
   for (int n = 0; n < dd->CmdListsCount; ++n) {
     const ImDrawList* cl = dd->CmdLists[n];
     for (const ImDrawCmd& cmd : cl->CmdBuffer) {
@@ -63,28 +65,21 @@ void render_draw_data(const ImDrawData* dd, int fb_w, int fb_h) {
         if (cmd.UserCallback != ImDrawCallback_ResetRenderState) cmd.UserCallback(cl, &cmd);
         continue;
       }
-      const float x0 = cmd.ClipRect.x - dd->DisplayPos.x, y0 = cmd.ClipRect.y - dd->DisplayPos.y;
-      const float x1 = cmd.ClipRect.z - dd->DisplayPos.x, y1 = cmd.ClipRect.w - dd->DisplayPos.y;
-      if (x1 <= x0 || y1 <= y0) continue;
-      glScissor(static_cast<int>(x0), static_cast<int>(static_cast<float>(fb_h) - y1),
-                static_cast<int>(x1 - x0), static_cast<int>(y1 - y0));
+      const ImVec2 c0((cmd.ClipRect.x - off.x) * scale.x, (cmd.ClipRect.y - off.y) * scale.y);
+      const ImVec2 c1((cmd.ClipRect.z - off.x) * scale.x, (cmd.ClipRect.w - off.y) * scale.y);
+      if (c1.x <= c0.x || c1.y <= c0.y) continue;
+      glScissor(static_cast<int>(c0.x), static_cast<int>(fb_h - c1.y), static_cast<int>(c1.x - c0.x),
+                static_cast<int>(c1.y - c0.y));
+      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(reinterpret_cast<std::intptr_t>(cmd.GetTexID())));
       const ImDrawVert* v = cl->VtxBuffer.Data + cmd.VtxOffset;
       glVertexPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->pos);
       glTexCoordPointer(2, GL_FLOAT, sizeof(ImDrawVert), &v->uv);
       glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(ImDrawVert), &v->col);
-      glBindTexture(GL_TEXTURE_2D, static_cast<GLuint>(reinterpret_cast<std::intptr_t>(cmd.GetTexID())));
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(cmd.ElemCount), idx_type,
-                     cl->IdxBuffer.Data + cmd.IdxOffset);
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(cmd.ElemCount),
+                     sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT, cl->IdxBuffer.Data + cmd.IdxOffset);
     }
   }
-  glDisableClientState(GL_COLOR_ARRAY);
-  glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-  glDisableClientState(GL_VERTEX_ARRAY);
-  glMatrixMode(GL_MODELVIEW);
-  glPopMatrix();
-  glMatrixMode(GL_PROJECTION);
-  glPopMatrix();
-  glPopAttrib();
+  glDisable(GL_SCISSOR_TEST);
 }
 }  // namespace
 
@@ -105,7 +100,7 @@ Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(heigh
   io.DisplaySize = ImVec2(static_cast<float>(w_), static_cast<float>(h_));
   io.DeltaTime = 1.0f / 60.0f;
   ImGui_ImplOpenGL2_Init();
-  io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;  // see render_draw_data
+  io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;  // render_draw_data honours it
 }
 
 Offscreen::~Offscreen() {
@@ -129,7 +124,7 @@ const std::vector<unsigned char>& Offscreen::render(const std::function<void()>&
     glViewport(0, 0, w_, h_);
     glClearColor(1.0f, 1.0f, 1.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    render_draw_data(ImGui::GetDrawData(), w_, h_);
+    render_draw_data(ImGui::GetDrawData());
     glFinish();
   }
   // OSMesa's rows run bottom to top; PNG rows run top to bottom.

@@ -114,9 +114,22 @@ std::string default_session_path() {
 int run_window(const std::string& session_path) {
   glfwSetErrorCallback(glfw_error);
   if (!glfwInit()) return kNoWindow;
+  // GL 3.2 core: the ImGui OpenGL3 backend then draws draw lists beyond 65536 vertices
+  // (ImGuiBackendFlags_RendererHasVtxOffset), which long plotted traces need. GL 3.0 as fallback.
+  const char* glsl = "#version 150";
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 0);
-  GLFWwindow* win = glfwCreateWindow(1600, 1000, "gmslab - friction simulation (GMS)", nullptr, nullptr);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 2);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  const char* title = "gmslab - friction simulation (GMS)";
+  GLFWwindow* win = glfwCreateWindow(1600, 1000, title, nullptr, nullptr);
+  if (!win) {
+    glfwDefaultWindowHints();
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 0);
+    glsl = "#version 130";
+    win = glfwCreateWindow(1600, 1000, title, nullptr, nullptr);
+  }
   if (!win) {
     glfwTerminate();
     return kNoWindow;
@@ -135,7 +148,9 @@ int run_window(const std::string& session_path) {
   glfwGetWindowContentScale(win, &sx, &sy);
   ui::setup_style(17.0f * std::max(1.0f, sy));
   ImGui_ImplGlfw_InitForOpenGL(win, true);
-  ImGui_ImplOpenGL3_Init("#version 130");
+  ImGui_ImplOpenGL3_Init(glsl);
+  if (!(ImGui::GetIO().BackendFlags & ImGuiBackendFlags_RendererHasVtxOffset))
+    std::fprintf(stderr, "gmslab: OpenGL < 3.2: very long traces may not draw completely\n");
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

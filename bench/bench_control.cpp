@@ -62,6 +62,7 @@ static void BM_DesignViewFrame(benchmark::State& st) {
   in.regime = Regime::Sliding;
   in.root = {0.7, 60.0};
   in.K = 1000.0;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);  // the view's default: two periods, 1 s
   for (auto _ : st) {
     const DesignOutputs out = compute_design(in);
     if (!out.error.empty()) st.SkipWithError(out.error.c_str());
@@ -69,3 +70,29 @@ static void BM_DesignViewFrame(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_DesignViewFrame)->Unit(benchmark::kMillisecond);
+
+#if __has_include(<imgui.h>)  // built with the app: time a whole drag frame of the Design panel
+#include "app/headless.hpp"
+#include "ui/app.hpp"
+#include "ui/design_view.hpp"
+
+// One drag frame: s_d moved (so locus, design, step and both friction loops are recomputed),
+// then the full window drawn and rasterised by OSMesa (llvmpipe, CPU: an upper bound for the
+// GPU window).
+static void BM_DesignViewDragFrameRendered(benchmark::State& st) {
+  gmslab::ui::AppState s;
+  gmslab::ui::load_scenario_into(s, fig4(), "");
+  s.view.tab = "Design";
+  gmslab::app::Offscreen off(1600, 1000);
+  off.render([&] { gmslab::ui::draw_frame(s); }, 3);
+  auto& d = s.slot<gmslab::ui::DesignViewState>("design");
+  int i = 0;
+  for (auto _ : st) {
+    d.in.root.wn = 60.0 + (i++ % 2);
+    d.dirty = true;
+    benchmark::DoNotOptimize(off.render([&] { gmslab::ui::draw_frame(s); }, 1).data());
+  }
+  st.counters["compute_ms"] = d.compute_ms;
+}
+BENCHMARK(BM_DesignViewDragFrameRendered)->Unit(benchmark::kMillisecond);
+#endif

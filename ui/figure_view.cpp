@@ -32,7 +32,7 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
       SeriesStyle st;
       st.color = s.color >= 0 ? s.color : static_cast<int>(k);
       st.line = line_style(s.style);
-      st.thickness = 1.8f;
+      st.thickness = 2.0f;
       st.x_sorted = std::is_sorted(s.x.begin(), s.x.end());
       PlotLine(s.label.c_str(), s.x.data(), s.y.data(), std::min(s.x.size(), s.y.size()), st);
     }

@@ -22,7 +22,7 @@ void draw_figures_panel(AppState& s) {
   if (f.id.empty() && !ids.empty()) f.id = ids.front();
   std::string pick;
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 18.0f);
-  if (ImGui::BeginCombo("figure", f.id.c_str())) {
+  if (ImGui::BeginCombo("figure id", f.id.c_str())) {
     for (const auto& id : ids)
       if (ImGui::Selectable(id.c_str(), id == f.id)) pick = id;
     ImGui::EndCombo();

@@ -216,6 +216,14 @@ void display_section(AppState& s) {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(-1);
   edit_param("##slipv", th, s.view.slip_velocity, 1e-4);
+  static const char* against[] = {"auto", "displacement", "velocity"};
+  int a = 0;
+  for (int i = 0; i < 3; ++i)
+    if (s.view.friction_against == against[i]) a = i;
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  if (ImGui::Combo("friction plot against", &a, against, 3)) s.view.friction_against = against[a];
+  tip("x axis of the friction plot: displacement (presliding hysteresis) or velocity (frictional "
+      "lag, Stribeck curve); auto picks velocity when the velocity is prescribed");
   ImGui::TextColored(kDim, "Plots: wheel zooms (Shift: x only, Ctrl: y only), drag pans,\n"
                            "double-click fits the data again.");
 }

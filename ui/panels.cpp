@@ -1,5 +1,7 @@
 #include "ui/panels.hpp"
 
+#include "ui/identify_panel.hpp"
+
 #include <strings.h>
 
 namespace gmslab::ui {
@@ -9,6 +11,8 @@ const std::vector<PanelEntry>& panels() {
       {"Simulation", "Plant, drive and friction model; run it and watch the forces live",
        draw_simulation_panel},
       {"Figures", "The seed paper's figures, recomputed from the presets", draw_figures_panel},
+      {"Design", "Phase-lead design on the root locus, simulated with the friction", draw_design_panel},
+      {"Identify", "Fit a friction model to measured data and find what it lacks", draw_identify_panel},
       // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
   };
   return list;

@@ -28,5 +28,6 @@ const PanelEntry* find_panel(const char* view);
 
 void draw_simulation_panel(AppState& s);
 void draw_figures_panel(AppState& s);
+void draw_design_panel(AppState& s);
 
 }  // namespace gmslab::ui

@@ -141,50 +141,55 @@ bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelPara
               info.max_elements);
   const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
                                 ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_ScrollY;
-  const float rows_h = ImGui::GetFrameHeightWithSpacing() * static_cast<float>(std::min<std::size_t>(p.elements.size() + 1, 9));
+  const float row_h = ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().CellPadding.y;
+  const float rows_h = row_h * static_cast<float>(std::min<std::size_t>(p.elements.size() + 1, 9));
   if (!ImGui::BeginTable("##elements", ncol, flags, ImVec2(0, rows_h + 4))) return false;
   ImGui::TableSetupScrollFreeze(0, 1);
   ImGui::TableSetupColumn("i", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 1.6f);
   std::vector<std::string> heads;
   for (const auto& c : info.columns) heads.push_back(field_label(c));
-  for (const auto& h : heads) ImGui::TableSetupColumn(h.c_str());
+  for (const auto& h : heads) ImGui::TableSetupColumn(h.c_str(), ImGuiTableColumnFlags_WidthStretch, 1.0f);
   if (show_live) {
     ImGui::TableSetupColumn("F_i [N]", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 4.5f);
     ImGui::TableSetupColumn("state", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 2.8f);
   }
   ImGui::TableHeadersRow();
   std::ptrdiff_t remove = -1;
-  for (std::size_t r = 0; r < p.elements.size(); ++r) {
-    ImGui::PushID(static_cast<int>(r));
-    ImGui::TableNextRow();
-    ImGui::TableNextColumn();
-    ImGui::AlignTextToFramePadding();
-    ImGui::Text("%zu", r + 1);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("element %zu: right-click to remove", r + 1);
-    if (ImGui::BeginPopupContextItem("##row") ) {
-      if (ImGui::MenuItem("Remove this element", nullptr, false, p.elements.size() > info.min_elements))
-        remove = static_cast<std::ptrdiff_t>(r);
-      ImGui::EndPopup();
-    }
-    for (std::size_t c = 0; c < info.columns.size(); ++c) {
-      ImGui::TableNextColumn();
-      ImGui::SetNextItemWidth(-1);
-      ImGui::PushID(static_cast<int>(c));
-      const double ref = defaults.elements.empty() ? 0.0 : defaults.elements[0][c];
-      changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref);
-      ImGui::PopID();
-    }
-    if (show_live) {
-      const ElementState e = live->element(state, r);
+  // Only the visible rows are drawn (models may have thousands of elements).
+  ImGuiListClipper clipper;
+  clipper.Begin(static_cast<int>(p.elements.size()));
+  while (clipper.Step())
+    for (std::size_t r = static_cast<std::size_t>(clipper.DisplayStart); r < static_cast<std::size_t>(clipper.DisplayEnd); ++r) {
+      ImGui::PushID(static_cast<int>(r));
+      ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::AlignTextToFramePadding();
-      ImGui::Text("%+.4f", e.force);
-      ImGui::TableNextColumn();
-      ImGui::TextColored(e.slipping ? ImVec4(0.84f, 0.37f, 0.0f, 1) : ImVec4(0.0f, 0.45f, 0.70f, 1),
-                         e.slipping ? "slip" : "stick");
+      ImGui::Text("%zu", r + 1);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("element %zu: right-click to remove", r + 1);
+      if (ImGui::BeginPopupContextItem("##row") ) {
+        if (ImGui::MenuItem("Remove this element", nullptr, false, p.elements.size() > info.min_elements))
+          remove = static_cast<std::ptrdiff_t>(r);
+        ImGui::EndPopup();
+      }
+      for (std::size_t c = 0; c < info.columns.size(); ++c) {
+        ImGui::TableNextColumn();
+        ImGui::SetNextItemWidth(-1);
+        ImGui::PushID(static_cast<int>(c));
+        const double ref = defaults.elements.empty() ? 0.0 : defaults.elements[0][c];
+        changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref);
+        ImGui::PopID();
+      }
+      if (show_live) {
+        const ElementState e = live->element(state, r);
+        ImGui::TableNextColumn();
+        ImGui::AlignTextToFramePadding();
+        ImGui::Text("%+.4f", e.force);
+        ImGui::TableNextColumn();
+        ImGui::TextColored(e.slipping ? ImVec4(0.84f, 0.37f, 0.0f, 1) : ImVec4(0.0f, 0.45f, 0.70f, 1),
+                           e.slipping ? "slip" : "stick");
+      }
+      ImGui::PopID();
     }
-    ImGui::PopID();
-  }
   ImGui::EndTable();
   if (remove >= 0) {
     p.elements.erase(p.elements.begin() + remove);

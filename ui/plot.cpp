@@ -31,7 +31,7 @@ struct View {
 };
 
 struct SeriesRef {
-  const char* label;
+  std::string label;               // copied: callers may pass temporaries
   const double* x;
   const double* y;
   std::size_t n;
@@ -261,8 +261,15 @@ Layout layout(const Building& b, const View& v, ImRect frame) {
   L.area = ImRect(ImVec2(frame.Min.x + left, frame.Min.y + top),
                   ImVec2(std::max(frame.Min.x + left + 10, frame.Max.x - right),
                          frame.Min.y + top + plot_h));
-  L.xt = nice_ticks(v.x0 / sx, v.x1 / sx, std::clamp(static_cast<int>(L.area.GetWidth() / (6.5f * fh)), 2, 12));
-  L.xl = labels(L.xt);
+  // As many x ticks as fit with a gap of one character between their labels.
+  for (int target = std::clamp(static_cast<int>(L.area.GetWidth() / (4.5f * fh)), 3, 12); target >= 2; --target) {
+    L.xt = nice_ticks(v.x0 / sx, v.x1 / sx, target);
+    L.xl = labels(L.xt);
+    float widest = 0.0f;
+    for (const auto& s : L.xl) widest = std::max(widest, ImGui::CalcTextSize(s.c_str()).x);
+    const double spacing = L.xt.step * sx / (v.x1 - v.x0) * L.area.GetWidth();
+    if (widest + fh <= spacing) break;
+  }
   return L;
 }
 
@@ -338,8 +345,9 @@ ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotT
 float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   const float fh = ImGui::GetFontSize();
   const float sample = 2.2f * fh;
-  const char* end = ImGui::FindRenderedTextEnd(s.label);
-  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(s.label, end).x;
+  const char* label = s.label.c_str();
+  const char* end = ImGui::FindRenderedTextEnd(label);
+  const float width = sample + 0.4f * fh + ImGui::CalcTextSize(label, end).x;
   if (!draw) return width;
   const float cy = at.y + 0.5f * fh + 1.0f;
   std::vector<ImVec2> p = {ImVec2(at.x, cy), ImVec2(at.x + sample, cy)};
@@ -353,7 +361,7 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   } else {
     stroke(dl, p, 0, 2, series_color(s), st, phase);
   }
-  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, s.label, end);
+  dl->AddText(ImVec2(p[1].x + 0.4f * fh, at.y), colors(false).text, label, end);
   return width;
 }
 
@@ -420,9 +428,12 @@ void hover_readout(ImDrawList* dl, const Building& b, const PlotTransform& t) {
     }
   if (!hit) return;
   const ImVec2 p(static_cast<float>(t.to_px_x(hit->x[hit_i])), static_cast<float>(t.to_px_y(hit->y[hit_i])));
-  dl->AddCircle(p, 5.0f, series_color(*hit), 12, 2.0f);
+  ImU32 col = series_color(*hit);
+  if (hit->style.classes && hit->style.classes[hit_i] < hit->style.n_classes)
+    col = hit->style.class_colors[hit->style.classes[hit_i]];
+  dl->AddCircle(p, 5.0f, col, 12, 2.0f);
   ImGui::BeginTooltip();
-  ImGui::TextUnformatted(hit->label, ImGui::FindRenderedTextEnd(hit->label));
+  ImGui::TextUnformatted(hit->label.c_str(), ImGui::FindRenderedTextEnd(hit->label.c_str()));
   ImGui::Text("%s = %.6g", b.ax.shown.c_str(), hit->x[hit_i] / b.ax.scale);
   ImGui::Text("%s = %.6g", b.ay.shown.c_str(), hit->y[hit_i] / b.ay.scale);
   ImGui::TextDisabled("sample %zu", hit_i);
@@ -483,7 +494,7 @@ void SetupFitRangeX(double x0, double x1) {
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style) {
   const int index = static_cast<int>(g_plot.series.size());
-  g_plot.series.push_back({label, x, y, n, style, index, {}});
+  g_plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
 }
 
 void EndPlot() {
@@ -524,6 +535,12 @@ void EndPlot() {
   }
   dl->PopClipRect();
   draw_legend(dl, b, L2, t);
+  if (b.opt.interactive && !v.auto_fit) {  // tell how to get back to the whole trace
+    const char* hint = "zoomed: double-click to fit";
+    const ImVec2 hs = ImGui::CalcTextSize(hint);
+    dl->AddText(ImVec2(L2.area.Max.x - hs.x, L2.area.Max.y + 1.45f * ImGui::GetFontSize()),
+                IM_COL32(120, 120, 130, 255), hint);
+  }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
   g_last = t;

@@ -9,7 +9,7 @@
 // View state (limits, autoscale) is kept per plot ID between frames. Interaction: mouse wheel
 // zooms about the cursor (Shift: x only, Ctrl: y only), left drag pans, double-click returns to
 // autoscale (the view then follows the data as it grows). Hovering shows the nearest drawn sample.
-// Series pointers must stay valid until EndPlot (nothing is copied). Long traces are decimated per
+// Data pointers must stay valid until EndPlot (the data is not copied; labels are). Long traces are decimated per
 // pixel column (ui/decimate.hpp), so 10^6 samples draw in well under a frame.
 #pragma once
 
@@ -31,7 +31,7 @@ ImU32 palette(int i);
 struct SeriesStyle {
   int color = -1;                // palette index; -1: by the series' position in the plot
   LineStyle line = LineStyle::Solid;
-  float thickness = 1.6f;        // [px]
+  float thickness = 2.0f;        // [px]; integers draw cheapest (textured anti-aliased lines)
   bool x_sorted = false;         // x non-decreasing (time axes): min/max decimation per column
   // Optional per-sample class (e.g. 0 = stick, 1 = slip): the segment ending at sample k is drawn
   // in class_colors[classes[k]] (classes >= n_classes fall back to the series colour).

@@ -2,7 +2,11 @@
 
 #include <imgui.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
+#include <vector>
 
 #include "ui/plot.hpp"
 
@@ -66,7 +70,7 @@ void force_plot(const Runs& r, const AppState& s, ImVec2 size) {
   if (massive) {
     SeriesStyle d;
     d.color = kDrive;
-    d.thickness = 1.2f;
+    d.thickness = 1.0f;
     d.x_sorted = true;
     d.line = LineStyle::Dotted;
     PlotLine(s.scenario.drive.kind == Drive::Kind::Pull ? "pull spring force" : "applied force F(t)",
@@ -94,18 +98,71 @@ void time_plot(const char* id, const char* title, const char* name, const char* 
   EndPlot();
 }
 
-void hysteresis_plot(const Runs& r, ImVec2 size) {
+void hysteresis_plot(const Runs& r, const AppState& s, ImVec2 size) {
+  const bool vel = s.view.friction_against == "velocity" ||
+                   (s.view.friction_against == "auto" && s.scenario.drive.kind == Drive::Kind::Velocity);
+  const std::vector<double> Trace::*xf = vel ? &Trace::v : &Trace::x;
   PlotOptions o;
-  o.title = "Friction force against displacement";
+  o.title = vel ? "Friction force against velocity" : "Friction force against displacement";
   if (!BeginPlot("##hyst", size, o)) return;
-  SetupAxesSI("x", "m", "F_f", "N");
+  SetupAxesSI(vel ? "v" : "x", vel ? "m/s" : "m", "F_f", "N");
   SeriesStyle st;
   st.color = kStick;
-  PlotLine(r.main_name.c_str(), r.main->x.data(), r.main->friction.data(), r.main->size(), st);
+  PlotLine(r.main_name.c_str(), (r.main->*xf).data(), r.main->friction.data(), r.main->size(), st);
   if (r.overlay)
-    PlotLine(r.overlay_name.c_str(), r.overlay->x.data(), r.overlay->friction.data(), r.overlay->size(),
+    PlotLine(r.overlay_name.c_str(), (r.overlay->*xf).data(), r.overlay->friction.data(), r.overlay->size(),
              overlay_style(false));
   EndPlot();
+}
+
+// A strip of bars, one per friction element: its force F_i (up or down from the centre line,
+// scaled to the largest |F_i|) in blue while it sticks and orange while it slips.
+void element_strip(const Simulation& sim, ImVec2 size) {
+  const FrictionModel& m = sim.model();
+  const std::size_t n = m.element_count();
+  ImGui::BeginChild("##elements", size, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  const float fh = ImGui::GetFontSize();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  std::vector<ElementState> st(n);
+  double fmax = 1e-12;
+  std::size_t slipping = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    st[i] = m.element(sim.friction_state(), i);
+    fmax = std::max(fmax, std::fabs(st[i].force));
+    slipping += st[i].slipping;
+  }
+  char head[160];
+  std::snprintf(head, sizeof head, "Elements: force F_i (largest |F_i| = %.4g N), %zu of %zu slipping", fmax, slipping, n);
+  dl->AddText(p0, IM_COL32(20, 20, 20, 255), head);
+  const float left = p0.x + 0.2f * fh, right = p0.x + size.x - 0.2f * fh;
+  const float top = p0.y + 1.4f * fh, bottom = p0.y + size.y - 0.2f * fh;
+  const float mid = 0.5f * (top + bottom), half = 0.5f * (bottom - top);
+  dl->AddRectFilled(ImVec2(left, top), ImVec2(right, bottom), IM_COL32(255, 255, 255, 255));
+  dl->AddLine(ImVec2(left, mid), ImVec2(right, mid), IM_COL32(170, 170, 175, 255));
+  const float w = (right - left) / static_cast<float>(std::max<std::size_t>(n, 1));
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x0 = left + w * static_cast<float>(i) + (w > 4 ? 1.0f : 0.0f);
+    const float x1 = left + w * static_cast<float>(i + 1) - (w > 4 ? 1.0f : 0.0f);
+    const float y = mid - static_cast<float>(st[i].force / fmax) * half;
+    dl->AddRectFilled(ImVec2(x0, std::min(y, mid)), ImVec2(std::max(x1, x0 + 1), std::max(y, mid)),
+                      st[i].slipping ? kPhaseColors[kSlip] : kPhaseColors[kStick]);
+    if (w > 9.0f * fh) {  // room for the value
+      char v[64];
+      std::snprintf(v, sizeof v, "F_%zu = %+.4g N, %s", i + 1, st[i].force, st[i].slipping ? "slip" : "stick");
+      const float ty = st[i].force >= 0 ? mid + 0.1f * fh : mid - 1.1f * fh;
+      dl->AddText(ImVec2(x0 + 0.3f * fh, ty), IM_COL32(40, 40, 40, 255), v);
+    }
+  }
+  dl->AddRect(ImVec2(left, top), ImVec2(right, bottom), IM_COL32(120, 120, 120, 255));
+  ImGui::Dummy(size);
+  if (ImGui::IsItemHovered() && n > 0) {
+    const float mx = ImGui::GetIO().MousePos.x;
+    const std::size_t i = std::min(n - 1, static_cast<std::size_t>(std::max(0.0f, (mx - left) / w)));
+    ImGui::SetTooltip("element %zu: F_%zu = %+.6g N, %s", i + 1, i + 1, st[i].force,
+                      st[i].slipping ? "slipping" : "sticking");
+  }
+  ImGui::EndChild();
 }
 }  // namespace
 
@@ -124,13 +181,17 @@ void draw_simulation_plots(AppState& s) {
     r.overlay_name = short_name(model_info(s.compare->model).name) + " (overlay)";
     if (r.overlay_name == r.main_name + " (overlay)") r.overlay_name = r.main_name + " (overlay, own parameters)";
   }
-  const ImVec2 c = cell(2, 2);
+  const bool strip = s.main.sim->model().element_count() > 0;
+  const float strip_h = ImGui::GetFontSize() * 4.6f;
+  ImVec2 c = cell(2, 2);
+  if (strip) c.y -= 0.5f * (strip_h + ImGui::GetStyle().ItemSpacing.y);
   force_plot(r, s, c);
   ImGui::SameLine();
   time_plot("##pos", "Position against time", "x", "m", &Trace::x, r, s, c);
-  hysteresis_plot(r, c);
+  hysteresis_plot(r, s, c);
   ImGui::SameLine();
   time_plot("##vel", "Velocity against time", "v", "m/s", &Trace::v, r, s, c);
+  if (strip) element_strip(*s.main.sim, ImVec2(ImGui::GetContentRegionAvail().x, strip_h));
 }
 
 }  // namespace gmslab::ui

@@ -35,11 +35,10 @@ struct Opts {
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
 };
 
-// The design to simulate: the requested one, the usable maximum, or the first relocation found.
+// The design to simulate: the requested one, the best relocation, or the usable maximum.
 std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
   if (r.design) return std::pair{std::string("requested"), *r.design};
-  for (const auto& rel : r.relocations)
-    if (rel.found) return std::pair{"relocated:" + rel.path, rel.design};
+  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
   if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
   return std::nullopt;
 }
@@ -75,27 +74,53 @@ nlohmann::json simulate(const Scenario& sc, const Opts& o, const LeadDesign& d) 
   return out;
 }
 
+// Short numbers for the summary (6 significant digits; "n/a" for null).
+std::string f(const nlohmann::json& v) {
+  if (!v.is_number()) return "n/a";
+  std::ostringstream o;
+  o.precision(6);
+  o << v.get<double>();
+  return o.str();
+}
+
+std::string poles_text(const nlohmann::json& poles) {
+  std::string s;
+  for (const auto& p : poles) {
+    if (!p[1].is_number() || p[1].get<double>() < 0.0) continue;
+    s += (s.empty() ? "" : ", ") + f(p[0]) + (p[1].get<double>() > 0.0 ? " +- j" + f(p[1]) : "");
+  }
+  return s;
+}
+
 void print_summary(std::ostream& os, const nlohmann::json& j) {
-  os << "applicable: " << (j["applicable"].get<bool>() ? "yes" : "no");
+  const std::string k = j["constant"].get<std::string>();
+  os << "single lead applicable: " << (j["applicable"].get<bool>() ? "yes" : "no");
   if (j.contains("reason")) os << " (" << j["reason"].get<std::string>() << ")";
-  os << "\nphi = " << j["phi_deg"] << " deg, K0 = " << j["K0"] << ", " << j["constant"].get<std::string>()
-     << "_max = " << j["K_max"] << ", usable (p/z <= " << j["max_ratio"] << ") = " << j["K_max_usable"]
-     << '\n';
+  os << "\nphi = " << f(j["phi_deg"]) << " deg, K0 = " << f(j["K0"]) << ", " << k << "_max = "
+     << f(j["K_max"]) << ", usable (p/z <= " << f(j["max_ratio"]) << ") = " << f(j["K_max_usable"]) << '\n';
   if (j.contains("z"))
-    os << "design (" << j["design_kind"].get<std::string>() << "): Gc = " << j["Kc"] << " (s + "
-       << j["z"] << ") / (s + " << j["p"] << "), K = " << j["K"] << "\nclosed-loop poles: "
-       << j["closed_loop_poles"] << '\n';
+    os << "design (" << j["design_kind"].get<std::string>() << "): Gc = " << f(j["Kc"]) << " (s + "
+       << f(j["z"]) << ") / (s + " << f(j["p"]) << "), " << k << " = " << f(j["K"])
+       << "\nclosed-loop poles: " << poles_text(j["closed_loop_poles"]) << '\n';
+  if (j.contains("notes"))
+    for (const auto& n : j["notes"]) os << "note: " << n.get<std::string>() << '\n';
   if (j.contains("relocations"))
     for (const auto& r : j["relocations"]) {
       os << "relocation " << r["path"].get<std::string>() << ": ";
-      if (r["found"].get<bool>())
-        os << "wn = " << r["wn"] << ", zeta = " << r["zeta"] << ", Gc = " << r["Kc"] << " (s + "
-           << r["z"] << ") / (s + " << r["p"] << ")\n";
-      else
+      if (r["found"].get<bool>()) {
+        os << "wn = " << f(r["wn"]) << " rad/s, zeta = " << f(r["zeta"]) << ", Gc = " << f(r["Kc"])
+           << " (s + " << f(r["z"]) << ") / (s + " << f(r["p"]) << ")\n";
+        for (const auto& n : r["notes"]) os << "  note: " << n.get<std::string>() << '\n';
+      } else
         os << "none: " << r["reason"].get<std::string>() << '\n';
     }
   if (j.contains("simulation"))
-    for (const auto& s : j["simulation"]) os << "simulation " << s << '\n';
+    for (const auto& s : j["simulation"])
+      os << "loop with friction, " << s["compensation"].get<std::string>()
+         << ": e_ss = " << f(s["steady_state_error_m"]) << " m, RMS = " << f(s["rms_error_m"])
+         << " m, overshoot = " << f(s["overshoot_percent"]) << " %, settling = "
+         << f(s["settling_time_s"]) << " s" << (s["hunting"].get<bool>() ? ", hunting: amplitude " +
+            f(s["cycle_amplitude_m"]) + " m, period " + f(s["cycle_period_s"]) + " s" : "") << '\n';
 }
 
 int run_design(const Opts& o) {

@@ -1,15 +1,215 @@
-// gmslab identify: placeholder registration; the identify issue replaces this file with the real command.
+// gmslab identify --data TRAIN.csv [--validate VAL.csv] [--columns ...] [--model gms]
+//   [--elements 4] [--mask t0:t1,...] --report REPORT.json [--plot REPORT.png]
+// Fits the model, runs the residual loop (core/ident/loop.hpp), writes the report JSON, the
+// identified model as a scenario preset, and optionally the report figure as PNG (drawn by
+// gmslab-headless from the figure's JSON). Progress goes to stderr.
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+
 #include "app/cli/cli.hpp"
 #include "core/error.hpp"
+#include "core/ident/figure_json.hpp"
+#include "core/ident/loop.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/csv.hpp"
+#include "core/io/scenario_io.hpp"
+
+extern char** environ;
 
 namespace gmslab::cli {
 
+namespace {
+
+struct IdentifyOptions {
+  std::string data, validate, columns, model = "gms", mask, validate_mask, mask_edges;
+  std::string report, plot, scenario, method = "bobyqa", effects, size = "1600x1000";
+  int elements = 4, starts = 3, max_evals = 500;
+  double holdout = 0.25, min_gain = 0.03;
+};
+
+// "COLUMN:BEFORE:AFTER" -> windows around every change of that extra column (if the file has it).
+std::vector<ident::TimeWindow> edge_masks(const std::string& spec, const MeasuredRecord& r) {
+  if (spec.empty()) return {};
+  const auto c1 = spec.find(':');
+  const auto c2 = spec.find(':', c1 == std::string::npos ? c1 : c1 + 1);
+  double before = 0, after = 0;
+  try {
+    if (c1 == std::string::npos || c2 == std::string::npos) throw std::invalid_argument("");
+    before = std::stod(spec.substr(c1 + 1, c2 - c1 - 1));
+    after = std::stod(spec.substr(c2 + 1));
+  } catch (const std::exception&) {
+    throw InputError("--mask-edges '" + spec +
+                     "': expected COLUMN:BEFORE:AFTER in seconds, e.g. pulse_code:0.005:0.060");
+  }
+  if (!(before >= 0 && after >= 0))
+    throw InputError("--mask-edges '" + spec + "': BEFORE and AFTER must be >= 0 s");
+  const auto* col = r.extra_column(spec.substr(0, c1));
+  if (!col) return {};
+  return ident::edge_windows(r.t, *col, before, after);
+}
+
+ident::Dataset load(const std::string& path, const CsvColumns& cols, const std::string& mask,
+                    const std::string& edges) {
+  const auto rec = load_measured_csv(path, cols);
+  auto windows = ident::parse_masks(mask);
+  const auto e = edge_masks(edges, rec);
+  windows.insert(windows.end(), e.begin(), e.end());
+  return ident::prepare_dataset(rec, windows);
+}
+
+std::string self_dir() {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return "";
+  const std::string self(buf, static_cast<std::size_t>(n));
+  return self.substr(0, self.rfind('/') + 1);
+}
+
+// Runs gmslab-headless plot-figure FIGURE.json --out PNG --size WxH; returns its exit code.
+int render_png(const std::string& figure_json, const std::string& png, const std::string& size) {
+  std::string exe = self_dir() + "gmslab-headless";
+  if (access(exe.c_str(), X_OK) != 0) exe = "gmslab-headless";
+  std::vector<std::string> args = {exe, "plot-figure", figure_json, "--out", png, "--size", size};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = exe.find('/') != std::string::npos
+                     ? posix_spawn(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ)
+                     : posix_spawnp(&pid, exe.c_str(), nullptr, nullptr, argv.data(), environ);
+  if (rc != 0) {
+    std::cerr << "gmslab: cannot run " << exe << ": " << std::strerror(rc) << '\n';
+    return 127;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+std::string stem_path(const std::string& path, const std::string& suffix) {
+  std::filesystem::path p(path);
+  p.replace_extension();
+  return p.string() + suffix;
+}
+
+int run_identify(const IdentifyOptions& o) {
+  const CsvColumns cols = o.columns.empty() ? CsvColumns{} : parse_column_map(o.columns);
+  ident::FitSpec spec;
+  spec.model = std::string(model_info(o.model).tag);
+  spec.elements = static_cast<std::size_t>(o.elements);
+  ident::Dataset train = load(o.data, cols, o.mask, o.mask_edges);
+  ident::Dataset val;
+  if (!o.validate.empty()) {
+    val = load(o.validate, cols, o.validate_mask, o.mask_edges);
+  } else {
+    auto split = ident::split_holdout(train, o.holdout);
+    train = std::move(split.first);
+    val = std::move(split.second);
+  }
+  std::cerr << "identify: " << train.source << " (" << train.used() << " samples used), validation "
+            << val.source << " (" << val.used() << ")\n";
+  ident::LoopOptions lo;
+  lo.base.method = lo.refit.method = o.method;
+  lo.base.starts = o.starts;
+  lo.base.max_evaluations = o.max_evals;
+  lo.min_gain = o.min_gain;
+  if (!o.effects.empty()) {
+    lo.candidates.clear();
+    std::size_t a = 0;
+    while (a <= o.effects.size()) {
+      auto b = o.effects.find(',', a);
+      if (b == std::string::npos) b = o.effects.size();
+      if (b > a) lo.candidates.push_back(ident::effect_from_name(o.effects.substr(a, b - a)));
+      a = b + 1;
+    }
+  }
+  std::string last_stage;
+  auto progress = [&](const ident::FitProgress& p) {
+    if (p.stage != last_stage) std::cerr << '\n';
+    last_stage = p.stage;
+    std::cerr << "\r  " << p.stage << ": " << p.evaluations << " evaluations, RMS " << p.best_rms
+              << " N   " << std::flush;
+  };
+  lo.base.progress = lo.refit.progress = progress;
+  const auto rep = ident::identify(train, val, spec, lo);
+  std::cerr << '\n';
+  nlohmann::json j = to_json(rep);
+  const std::string scenario = o.scenario.empty() ? stem_path(o.report, ".scenario.json") : o.scenario;
+  j["scenario_file"] = scenario;
+  save_scenario(ident::identified_scenario(rep, train), scenario);
+  write_file_atomic(o.report, j.dump(2) + "\n");
+  std::cerr << "identify: validation RMS " << rep.rms_before_validation << " -> "
+            << rep.rms_after_validation << " N; effects added:";
+  for (auto e : rep.effects_added) std::cerr << ' ' << ident::effect_name(e);
+  if (rep.effects_added.empty()) std::cerr << " none";
+  std::cerr << "\nwrote " << o.report << " and " << scenario << '\n';
+  if (!o.plot.empty()) {
+    int w = 0, h = 0;
+    parse_size(o.size, w, h);
+    const std::string fig = stem_path(o.plot, ".figure.json");
+    save_figure_json(ident::report_figure(rep, train, val), fig);
+    const int rc = render_png(fig, o.plot, o.size);
+    if (rc != 0) {
+      std::cerr << "gmslab: the report figure could not be drawn (gmslab-headless plot-figure "
+                   "exited with "
+                << rc << "); its data is in " << fig << '\n';
+      return 1;
+    }
+    std::cerr << "wrote " << o.plot << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
 void register_identify(CLI::App& app, Action& action) {
-  auto* sub = app.add_subcommand("identify", "(not available yet in this build)");
-  sub->allow_extras();
-  sub->callback([&action] {
-    action = [] () -> int { throw InputError("'gmslab identify' is not available in this build yet"); };
-  });
+  static IdentifyOptions o;
+  auto* sub = app.add_subcommand(
+      "identify",
+      "Fit a friction model to measured data, then find the effects it lacks (residual loop)");
+  sub->add_option("--data", o.data, "Training record (CSV: t, x, F [, v, Fn], units in the header)")
+      ->required();
+  sub->add_option("--validate", o.validate,
+                  "Validation record (CSV); default: a hold-out part of --data");
+  sub->add_option("--columns", o.columns, "Explicit column names, e.g. t=t_s,x=x_m,F=F_N");
+  sub->add_option("--model", o.model, "Base friction model (registry tag)")->capture_default_str();
+  sub->add_option("--elements", o.elements, "Element count of multi-element models")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  sub->add_option("--mask", o.mask, "Time windows of --data to ignore, t0:t1,... [s]");
+  sub->add_option("--validate-mask", o.validate_mask, "Time windows of --validate to ignore [s]");
+  sub->add_option("--mask-edges", o.mask_edges,
+                  "COLUMN:BEFORE:AFTER [s]: ignore windows around every change of COLUMN "
+                  "(e.g. pulse_code:0.005:0.060)");
+  sub->add_option("--holdout", o.holdout, "Fraction held out for validation without --validate")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 0.5));
+  sub->add_option("--method", o.method, "Optimiser: bobyqa, sbplx or neldermead")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"bobyqa", "sbplx", "neldermead"}));
+  sub->add_option("--starts", o.starts, "Starts of the base fit")->capture_default_str()->check(CLI::Range(1, 50));
+  sub->add_option("--max-evals", o.max_evals, "Cost evaluations per start")
+      ->capture_default_str()
+      ->check(CLI::Range(20, 100000));
+  sub->add_option("--min-gain", o.min_gain,
+                  "Relative validation RMS drop needed to keep an effect [-]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.9));
+  sub->add_option("--effects", o.effects, "Candidate effects (comma-separated; default: all)");
+  sub->add_option("--report", o.report, "Report JSON to write")->required();
+  sub->add_option("--scenario", o.scenario,
+                  "Scenario preset of the identified model (default: REPORT stem + .scenario.json)");
+  sub->add_option("--plot", o.plot, "Report figure PNG (drawn by gmslab-headless)");
+  sub->add_option("--size", o.size, "PNG size WIDTHxHEIGHT")->capture_default_str();
+  sub->callback([&action] { action = [] { return run_identify(o); }; });
 }
 
 }  // namespace gmslab::cli

@@ -1,12 +1,17 @@
 #include "core/control/assignment.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace gmslab::control {
 
 // Kuhn-Munkres with potentials (u, v) and shortest augmenting paths; 1-based internally.
-std::vector<int> solve_assignment(const std::vector<double>& cost, int n) {
+std::vector<int> solve_assignment(const std::vector<double>& cost_in, int n) {
   const double inf = std::numeric_limits<double>::infinity();
+  // Non-finite costs (NaN, +-inf) become +-1e300 so every augmenting path search terminates.
+  std::vector<double> cost(cost_in);
+  for (double& c : cost)
+    if (!std::isfinite(c)) c = (c < 0.0) ? -1e300 : 1e300;
   std::vector<double> u(n + 1, 0.0), v(n + 1, 0.0);
   std::vector<int> p(n + 1, 0), way(n + 1, 0);  // p[j]: row matched to column j
   for (int i = 1; i <= n; ++i) {

@@ -6,7 +6,8 @@
 
 namespace gmslab::control {
 
-// cost: n x n row-major (cost[i * n + j] = cost of giving row i column j), finite values.
+// cost: n x n row-major (cost[i * n + j] = cost of giving row i column j); NaN and +inf count as
+// 1e300, -inf as -1e300.
 // Returns col[i] = the column assigned to row i, minimising the total cost (a permutation).
 std::vector<int> solve_assignment(const std::vector<double>& cost, int n);
 

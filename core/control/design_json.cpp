@@ -59,6 +59,7 @@ nlohmann::json to_json(const LeadReport& r) {
     for (const Relocation& rel : r.relocations) {
       nlohmann::json o;
       o["path"] = rel.path;
+      o["name"] = rel.path;  // the same, under the word
       o["found"] = rel.found;
       if (rel.found) {
         o["wn"] = rel.root.wn;

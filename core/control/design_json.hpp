@@ -3,7 +3,7 @@
 // Keys: applicable, reason, phi_deg, beta_deg, s_d [re, im], type, constant ("Kp"/"Kv"/"Ka"),
 // K0, M, K_max, K_max_usable, max_ratio, pd_limit {Kd, z}, usable_design {z, p, Kc, K},
 // and when a design exists: z, p, Kc, K, ratio (p/z), within_max_ratio, closed_loop_poles
-// [[re, im], ...], dominant, notes; when K is out of reach: relocations [{path, found, wn, zeta,
+// [[re, im], ...], dominant, notes; when K is out of reach: relocations [{path (= name), found, wn, zeta,
 // z, p, Kc, K, K_max, closed_loop_poles | reason, peak_K, peak_wn, peak_zeta}].
 #pragma once
 

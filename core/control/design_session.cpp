@@ -1,6 +1,7 @@
 #include "core/control/design_session.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 
 namespace gmslab::control {
@@ -18,8 +19,7 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
     out.compensator_kind = std::move(kind);
   };
   if (r.design) return use(*r.design, "requested");
-  for (const auto& rel : r.relocations)
-    if (rel.found) return use(rel.design, "relocated:" + rel.path);
+  if (const Relocation* rel = best_relocation(r)) return use(rel->design, "relocated:" + rel->path);
   if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
 }
 }  // namespace
@@ -29,25 +29,62 @@ DesignOutputs compute_design(const DesignInputs& in) {
   std::string stage = "plant";
   try {
     out.plant = linear_plant(in.scenario, in.regime, in.velocity);
-    stage = "design";
-    out.report = lead_design(out.plant.g, in.root, in.K, in.options);
-    choose(in, out);
+    try {  // a failed design still leaves the plant's own locus to draw
+      out.report = lead_design(out.plant.g, in.root, in.K, in.options);
+      choose(in, out);
+    } catch (const std::exception& e) {
+      out.error = std::string("design: ") + e.what();
+      out.report.reset();
+      if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
+    }
     out.horizon = in.horizon > 0.0 ? in.horizon
                                    : std::clamp(10.0 / (in.root.zeta * in.root.wn), 0.01, 20.0);
     stage = "root locus";
     LocusOptions lo;
     TransferFunction L = out.plant.g;
-    std::vector<cplx> extra = {in.root.s()};
+    const cplx sd = in.root.s();
+    std::vector<cplx> pts = {sd, 2.0 * sd.real()};
+    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
+    for (const cplx& s : out.plant.g.poles()) pts.push_back(s);
+    for (const cplx& s : out.plant.g.zeros()) pts.push_back(s);
     if (out.compensator) {
       const LeadCompensator& c = *out.compensator;
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
-      extra.emplace_back(-c.z, 0.0);
-      for (const cplx& p : out.closed_loop_poles) extra.push_back(p);
+      const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
+      const DominantRoot target =
+          out.compensator_kind.rfind("relocated:", 0) == 0 && rel ? rel->root : in.root;
+      if (out.report)
+        out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
+      pts.emplace_back(-c.z, 0.0);
+      if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
+      for (const cplx& p : out.closed_loop_poles)
+        if (near(p)) pts.push_back(p);
     }
-    lo.view = auto_view(L, extra);
+    // Refine over a box 2.5x the shown one (the canvas widens it to its aspect), 0.5 % steps.
+    const ViewBox shown = in.locus_view ? *in.locus_view : view_around(pts);
+    const double cx = 0.5 * (shown.re_min + shown.re_max), hw = 1.25 * shown.width();
+    const double cy = 0.5 * (shown.im_min + shown.im_max), hh = 1.25 * shown.height();
+    lo.view = ViewBox{cx - hw, cx + hw, cy - hh, cy + hh};
+    lo.max_jump = 0.005;
+    out.loop = L;
     out.locus = root_locus(L, lo);
+    out.locus.view = shown;
+    if (in.zero_degree) {
+      LocusOptions neg = lo;
+      neg.negative = true;
+      neg.extra_gains.clear();
+      out.zero_degree_locus = root_locus(L, neg);
+    }
+    if (in.other_regime) {
+      const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
+      const TransferFunction g2 = linear_plant(in.scenario, other, in.velocity).g;
+      TransferFunction L2 = g2;
+      if (out.compensator)
+        L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
+      out.other_locus = root_locus(L2, lo);
+    }
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
@@ -58,9 +95,16 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.C = *out.compensator;
     cfg.sample_time = in.sample_time;
     cfg.mismatch = in.mismatch;
-    cfg.dt = in.scenario.run.dt;
+    // A view-rate step: 20000 steps over the run, never coarser than 5 % of the stability limit
+    // of the stiffest mode (stuck elements + springs + Kc), never finer than the scenario's dt.
+    const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
+    const double limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
+    const double dt0 = in.scenario.run.dt;
     cfg.duration = out.horizon;
-    cfg.record_every = std::max(1, static_cast<int>(out.horizon / cfg.dt / 1000));
+    if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
+      cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
+    cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
+    cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
     cfg.comp = Compensation::None;
     out.loop_plain = simulate_loop(in.scenario, cfg);
     out.metrics_plain = loop_metrics(out.loop_plain);
@@ -68,7 +112,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop_compensated = simulate_loop(in.scenario, cfg);
     out.metrics_compensated = loop_metrics(out.loop_compensated);
   } catch (const std::exception& e) {
-    out.error = stage + ": " + e.what();
+    out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
   }
   return out;
 }

@@ -8,8 +8,15 @@
 //          (the plant's own locus when there is no compensator)
 // step   = linear closed-loop unit-step response, t in [0, horizon]
 // loops  = the same loop with the scenario's friction: without and with compensation
-// horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given.
-// Never throws: a failure of any stage is reported in `error` and later stages are skipped.
+// horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
+// horizon, or two periods of a sine reference when that is longer, at a view-rate step
+// dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
+// Kc) / m)).
+// locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
+// zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
+// pole would otherwise shrink the interesting region to a dot).
+// Never throws: a failure of any stage is reported in `error` and later stages are skipped; a
+// failed design (e.g. K0 <= 0) still gets the plant's locus (or the manual compensator's loop).
 #pragma once
 
 #include <optional>
@@ -37,6 +44,9 @@ struct DesignInputs {
   double sample_time = 0.0;  // controller sample time [s] (0: continuous)
   double horizon = 0.0;      // [s]; 0: automatic
   bool simulate = true;      // run the nonlinear loops
+  std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
+  bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
+  bool zero_degree = false;   // also compute the 0-degree locus (k < 0) of the drawn loop
 };
 
 struct DesignOutputs {
@@ -46,7 +56,11 @@ struct DesignOutputs {
   std::optional<LeadCompensator> compensator;  // what the loops use
   std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"
   std::vector<cplx> closed_loop_poles;  // with the compensator
+  Dominance dominance;                  // of those poles, about the desired s_d
+  TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
   RootLocus locus;
+  std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
+  std::optional<RootLocus> zero_degree_locus;  // k < 0 branches of the drawn loop
   StepResponse step;
   LoopTrace loop_plain, loop_compensated;
   LoopMetrics metrics_plain, metrics_compensated;

@@ -54,8 +54,8 @@ LeadLimits lead_limits(const TransferFunction& g, const DominantRoot& d) {
   L.applicable = phi > 0.0 && phi < kPi - L.beta;
   if (phi <= 0.0)
     L.reason = "phi = " + num_text(phi * 180 / kPi) +
-               " deg <= 0: the plant already has enough phase at s_d; no lead is needed "
-               "(a gain or a lag places it)";
+               " deg <= 0: s_d needs phase lag, not lead (a pure gain places it only at phi = 0); "
+               "use a lag network or move s_d";
   else if (!L.applicable)
     L.reason = "phi = " + num_text(phi * 180 / kPi) + " deg >= 180 - beta = " +
                num_text(180 - L.beta * 180 / kPi) +
@@ -110,6 +110,10 @@ Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, doub
     }
     D.others.push_back(o);
   }
+  if (z < 2.0 * d.zeta * d.wn)
+    D.notes.push_back("the compensator zero -" + num_text(z) + " is within 2x of Re s_d = " +
+                      num_text(-d.zeta * d.wn) + ": it adds overshoot beyond what zeta = " +
+                      num_text(d.zeta) + " predicts");
   if (p > 50.0 * d.wn)
     D.notes.push_back("p = " + num_text(p) + " rad/s is more than 50 wn: the lead is close to a "
                       "pure PD, noise is amplified by p/z = " + num_text(p / z));
@@ -222,7 +226,7 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
   double t_prev = 0.0;
   bool prev_ok = false;
   double lost_at = kNaN;
-  bool lost_by_excess = true;  // phi >= pi - beta (else phi <= 0: no lead needed)
+  bool lost_by_excess = true;  // phi >= pi - beta (else phi <= 0: lag needed)
   double peak_t = 0.0;
   r.peak_K = -1.0;
   for (int i = 0; i <= n; ++i) {
@@ -273,7 +277,11 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
   }
   std::ostringstream o;
   o.precision(5);
-  if (r.peak_K > 0.0)
+  if (r.peak_K > 0.0 && peak_t >= 1.0 - 1.0 / n)
+    o << "along the explored range (up to 100x the start in wn or wd, or zeta down to 0.1 % of "
+         "it) K_max only reaches " << r.peak_K << " (wn = " << r.peak_root.wn
+      << " rad/s, zeta = " << r.peak_root.zeta << "), below the target " << target;
+  else if (r.peak_K > 0.0)
     o << "along this path K_max peaks at " << r.peak_K << " (wn = " << r.peak_root.wn
       << " rad/s, zeta = " << r.peak_root.zeta << "), below the target " << target;
   else
@@ -282,8 +290,8 @@ Relocation search_path(const TransferFunction& g, const Path& path, double K_des
     o << (path.param == "zeta" ? "; below zeta = " : "; above " + path.param + " = ") << lost_at
       << (path.param == "zeta" ? " " : " rad/s ")
       << (lost_by_excess ? "phi reaches pi - beta and no single lead places the roots"
-                         : "phi drops to 0: no lead is needed there (a gain or a lag places the "
-                           "roots), so this path leaves the lead family");
+                         : "phi drops to 0 (beyond, s_d needs lag, not lead), so this path "
+                           "leaves the lead family");
   r.reason = o.str();
   return r;
 }
@@ -312,6 +320,21 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
   std::vector<Relocation> out;
   for (const auto& p : paths) out.push_back(search_path(g, p, K_des, target));
   return out;
+}
+
+const Relocation* best_relocation(const LeadReport& r) {
+  auto stable = [](const Relocation& rel) {
+    for (const cplx& p : rel.design.closed_loop_poles)
+      if (!(p.real() < 0.0)) return false;
+    return true;
+  };
+  for (const auto& rel : r.relocations)
+    if (rel.found && rel.design.dominance.dominant) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found && stable(rel)) return &rel;
+  for (const auto& rel : r.relocations)
+    if (rel.found) return &rel;
+  return nullptr;
 }
 
 LeadReport lead_design(const TransferFunction& g, const DominantRoot& d,

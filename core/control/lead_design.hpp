@@ -57,7 +57,8 @@ struct Dominance {
     double residue = 0.0;      // |step-response residue| / final value (x2 for a complex pair)
   };
   std::vector<Other> others;
-  std::vector<std::string> notes;  // human-readable warnings
+  std::vector<std::string> notes;  // human-readable warnings (slow poles, a zero near s_d that
+                                   // adds overshoot, p > 50 wn, instability)
 };
 
 struct LeadDesign {
@@ -112,6 +113,9 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
                                  double margin);
 Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, double Kc, double z,
                           double p, const std::vector<cplx>& poles);
+// The relocation to use: the first found whose s_d dominates, else the first found with a stable
+// closed loop, else the first found; nullptr when no path reaches K.
+const Relocation* best_relocation(const LeadReport& r);
 // Everything at once (the CLI and the design view call this).
 LeadReport lead_design(const TransferFunction& g, const DominantRoot& d,
                        std::optional<double> K_des, const LeadOptions& opt = {});

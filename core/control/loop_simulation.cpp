@@ -49,7 +49,7 @@ void check_config(const Scenario& s, const LoopConfig& c) {
   need(c.C.Kc > 0.0 && c.C.z > 0.0 && c.C.p > 0.0 && std::isfinite(c.C.Kc + c.C.z + c.C.p),
        "compensator: Kc, z, p must be finite and > 0");
   need(c.dt > 0.0 && c.dt <= 0.1, "dt must be in (0, 0.1] s");
-  need(c.duration > 0.0 && c.duration / c.dt <= 1e9, "duration must be > 0 s and <= 1e9 steps");
+  need(c.duration > 0.0 && c.duration / c.dt <= 1e8, "duration must be > 0 s and at most 1e8 steps of dt");
   need(c.record_every >= 1, "record_every must be >= 1");
   need(c.sample_time == 0.0 || (c.sample_time >= c.dt && c.sample_time <= c.duration),
        "sample time T must be 0 (continuous) or in [dt, duration] s");

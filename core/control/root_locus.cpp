@@ -112,8 +112,7 @@ std::vector<cplx> closed_loop_poles(const TransferFunction& L, double k) {
 
 cplx gain_at(const TransferFunction& L, cplx s) { return -L.den(s) / L.num(s); }
 
-namespace {
-ViewBox view_around(std::vector<cplx> pts) {
+ViewBox view_around(const std::vector<cplx>& pts) {
   double lo = 0.0, hi = 0.0, im = 0.0;
   for (const auto& s : pts) {
     if (is_nan(s) || !std::isfinite(std::abs(s))) continue;
@@ -127,7 +126,6 @@ ViewBox view_around(std::vector<cplx> pts) {
   r *= 1.3;
   return {c - r, c + r, -r, r};
 }
-}  // namespace
 
 ViewBox auto_view(const TransferFunction& L, const std::vector<cplx>& extra) {
   std::vector<cplx> pts = extra;

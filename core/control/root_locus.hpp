@@ -64,6 +64,8 @@ RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt = {});
 std::vector<cplx> closed_loop_poles(const TransferFunction& L, double k);
 // The gain that puts a closed-loop pole at s: k = -den(s)/num(s) (complex unless s is on a locus).
 cplx gain_at(const TransferFunction& L, cplx s);
+// A square-ish view centred on the real axis that contains the points, with a 30 % margin.
+ViewBox view_around(const std::vector<cplx>& points);
 // A view that shows poles, zeros, the key points and the centroid, with a margin.
 ViewBox auto_view(const TransferFunction& L, const std::vector<cplx>& extra = {});
 

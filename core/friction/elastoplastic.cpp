@@ -51,6 +51,8 @@ const ModelInfo& ElastoPlasticModel::info() const { return model_info("elastopla
 double ElastoPlasticModel::steady_state(double v) const { return sgn(v) * S_(v) + sigma2_ * v; }
 
 double ElastoPlasticModel::ramp_rate(double w, double u, double w_max) const {
+  if (w <= z_ba_) return u;                         // RK4 stages may leave the ramp:
+  if (w >= w_max) return u * (1.0 - w / w_max);     // use the law that holds there
   const double mid = 0.5 * (w_max + z_ba_);
   const double alpha = 0.5 + 0.5 * std::sin(std::numbers::pi * (w - mid) / (w_max - z_ba_));
   return u * (1.0 - alpha * w / w_max);
@@ -64,16 +66,24 @@ double ElastoPlasticModel::advance_w(double w, double u, double w_max, double h)
     w = z_ba_;
     h -= t_ba;
   }
-  // Ramp: RK4 sub-steps of at most 1/32 of the ramp width of travel.
-  const double width = w_max - z_ba_;
-  const int n = static_cast<int>(std::clamp(std::ceil(32.0 * u * h / width), 1.0, 4096.0));
-  const double hs = h / n;
-  for (int i = 0; i < n && w < w_max; ++i) {
-    const double k1 = ramp_rate(w, u, w_max);
+  // Ramp: classical RK4 on adaptive sub-steps, each limited by the local Lipschitz constant of
+  // u (1 - alpha w / w_max) (L hs <= 1/5) and to 1/16 of the ramp width of travel. Once alpha is 1
+  // to within 1e-10 the remaining time is the exact exponential of the plastic law.
+  const double width = w_max - z_ba_, c = std::numbers::pi / width, mid = 0.5 * (w_max + z_ba_);
+  while (h > 0.0 && w < w_max) {
+    const double phase = c * (w - mid);
+    const double alpha = 0.5 + 0.5 * std::sin(phase);
+    if (1.0 - alpha < 1e-10) return w_max + (w - w_max) * std::exp(-u * h / w_max);
+    const double dalpha = std::abs(0.5 * c * std::cos(phase));  // cos(-pi/2) may be -1e-17
+    const double lipschitz = u * (dalpha * w + alpha + 1e-6) / w_max;  // > 0
+    const double travel_rate = u * (1.0 - alpha * w / w_max);
+    const double hs = std::min({h, 0.2 / lipschitz, 0.0625 * width / travel_rate});
+    const double k1 = travel_rate;
     const double k2 = ramp_rate(w + 0.5 * hs * k1, u, w_max);
     const double k3 = ramp_rate(w + 0.5 * hs * k2, u, w_max);
     const double k4 = ramp_rate(w + hs * k3, u, w_max);
     w = std::min(w + hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0, w_max);
+    h -= hs;
   }
   return w;
 }

@@ -12,8 +12,9 @@
 //
 // Step with v frozen, in w = z sgn(v) (deflection along the motion), u = |v|, w_max = S(v)/sigma0:
 //   w < z_ba       dw/dt = u            exact, up to the crossing of z_ba inside the step
-//   ramp           dw/dt = u (1 - alpha(w) w / w_max)    classical RK4 on sub-steps of at most
-//                  (w_max - z_ba)/32 of travel, clipped to w_max (the fixed point)
+//   ramp           dw/dt = u (1 - alpha(w) w / w_max)    classical RK4 on adaptive sub-steps
+//                  (local Lipschitz constant x sub-step <= 1/5, travel <= (w_max - z_ba)/16),
+//                  clipped to w_max (the fixed point); once alpha = 1 to 1e-10, exact exponential
 //   w >= w_max     dw/dt = u (1 - w / w_max)             exact exponential (LuGre)
 // dz/dt in F is the step average. At v = 0 the state is held.
 #pragma once

@@ -1,6 +1,7 @@
 #include "core/friction/gms.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 namespace gmslab {
@@ -76,6 +77,12 @@ ModelInfo gms_model_info() {
 GmsModel::GmsModel(const ModelParams& p)
     : params_(p), p_(GmsParams::from(p)), n_(p_.alpha.size()) {
   inv_vs_ = 1.0 / p_.S.Vs;
+  // Beyond r_sat, (Fs - Fc) exp(-r^delta) < Fc 2^-54 <= half an ulp of Fc, so Fc + that rounds to
+  // Fc: skipping pow and exp there gives bit-identical results (sliding is the common case).
+  const double gap = p_.S.Fs - p_.S.Fc;
+  r_sat_ = gap > 0.0 ? std::pow(std::log(gap / p_.S.Fc) + 54.0 * std::log(2.0), 1.0 / p_.S.delta)
+                     : 0.0;
+  if (!(r_sat_ > 0.0)) r_sat_ = gap > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
   sigma_over_k_.resize(n_);
   for (std::size_t i = 0; i < n_; ++i) sigma_over_k_[i] = p_.sigma[i] / p_.k[i];
 }
@@ -130,7 +137,8 @@ double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   const double h = in.h;
   const double inv_h = 1.0 / h;  // independent of v: off the step's critical path
   const double s = sgn(v);
-  const double S = p_.S.at_scaled(std::abs(v) * inv_vs_);
+  const double r = std::abs(v) * inv_vs_;
+  const double S = r > r_sat_ ? p_.S.Fc : p_.S.at_scaled(r);
   const double E = exp_neg(p_.C * h / S);  // slip relaxation over the step, common to all
   const double vh = v * h;
   const auto [sum_f, sum_damp] =

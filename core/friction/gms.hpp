@@ -58,6 +58,7 @@ class GmsModel final : public FrictionModel {
   std::size_t n_;
   std::vector<double> sigma_over_k_;  // sigma_i / k_i [s]
   double inv_vs_ = 0.0;              // 1 / Vs [s/m]
+  double r_sat_ = 0.0;               // |v|/Vs beyond which S(v) == Fc exactly in doubles [-]
 };
 
 ModelInfo gms_model_info();

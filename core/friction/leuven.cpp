@@ -53,6 +53,7 @@ LeuvenModel::LeuvenModel(const ModelParams& p)
       k_(p.column("k")),
       W_(p.column("W")) {
   k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
+  n_int_ = (n_exp_ == std::floor(n_exp_) && n_exp_ >= 1.0) ? static_cast<int>(n_exp_) : 0;
 }
 
 const ModelInfo& LeuvenModel::info() const { return model_info("leuven"); }
@@ -71,10 +72,16 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
 
 double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
   const double r = hysteresis(F, dz) / S;  // S carries the sign of v
-  const double phi = (n_exp_ == 2.0)   ? r * std::abs(r)
-                     : (n_exp_ == 1.0) ? r
-                                       : std::copysign(std::pow(std::abs(r), n_exp_), r);
-  return v * (1.0 - phi);
+  const double a = std::abs(r);
+  double p = 1.0;
+  if (n_int_ > 0) {  // integer exponent: by squaring (pow is the cost of a whole step otherwise)
+    double b = a;
+    for (int e = n_int_; e > 0; e >>= 1, b *= b)
+      if (e & 1) p *= b;
+  } else {
+    p = std::pow(a, n_exp_);
+  }
+  return v * (1.0 - std::copysign(p, r));
 }
 
 double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const {

@@ -59,6 +59,7 @@ class LeuvenModel final : public FrictionModel {
   ModelParams params_;
   Stribeck S_;
   double n_exp_, sigma1_, sigma2_, k_total_;
+  int n_int_ = 0;  // n when it is a whole number (fast power), else 0
   std::vector<double> k_, W_;
 };
 

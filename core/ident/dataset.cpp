@@ -120,6 +120,11 @@ std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction, int
     val.use[k] = d.use[k] && held;
   }
   val.source = d.source + " (hold-out)";
+  if (train.used() < kMinSamples || val.used() < kMinSamples)
+    throw InputError(d.source + ": too few samples to hold out a validation part (" +
+                     std::to_string(train.used()) + " training, " + std::to_string(val.used()) +
+                     " validation; at least " + std::to_string(kMinSamples) +
+                     " each); give a longer record or a separate --validate file");
   return {std::move(train), std::move(val)};
 }
 

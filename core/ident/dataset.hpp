@@ -47,7 +47,8 @@ std::vector<TimeWindow> edge_windows(const std::vector<double>& t, const std::ve
 Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks = {},
                         std::size_t edge = 10);
 // A hold-out split of one record: every `period`-th block of `block` seconds goes to validation.
-// Returns {train, validation}: the same samples with complementary use[] masks.
+// Returns {train, validation}: the same samples with complementary use[] masks. Throws
+// InputError when either part would have fewer than kMinSamples used samples.
 std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction = 0.25, int blocks = 8);
 
 // Local least-squares slope of y(t) over +-w samples (non-uniform t); ends use one-sided windows.

@@ -172,8 +172,14 @@ std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c)
   for (std::size_t k = 1; k < d.size(); ++k) {
     const bool r = std::abs(d.v[k]) < c.v_rest;
     if (r && !resting) rest_since = d.t[k];
-    if (!r && resting && d.t[k] - rest_since >= c.dwell_min)
-      out.push_back({k, d.t[k] - rest_since, sgn(d.v[k])});
+    if (!r && resting) {
+      // The motion began before |v| crossed v_rest: walk back to where it left (near) zero.
+      std::size_t j = k;
+      while (j > 0 && d.t[j - 1] > rest_since && std::abs(d.v[j - 1]) > 0.05 * c.v_rest &&
+             sgn(d.v[j - 1]) == sgn(d.v[k]))
+        --j;
+      if (d.t[j] - rest_since >= c.dwell_min) out.push_back({j, d.t[j] - rest_since, sgn(d.v[k])});
+    }
     resting = r;
   }
   return out;
@@ -217,6 +223,13 @@ std::vector<Column> effect_columns(Effect e) {
                             for (std::size_t k = 0; k < d.size(); ++k)
                               o[k] = cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]);
                           }));
+      for (int cs = 0; cs < 2; ++cs)  // friction level modulated along the screw (sign follows g)
+        v.push_back(col(std::string(cs ? "ripple_gcos1" : "ripple_gsin1"), "N", true,
+                        [cs](D d, C c, G g, O o) {
+                          const double w = 2 * std::numbers::pi / c.wavelength;
+                          for (std::size_t k = 0; k < d.size(); ++k)
+                            o[k] = g[k] * (cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]));
+                        }));
       break;
     case Effect::PositionDependent:
       for (int n = 1; n <= 3; ++n)
@@ -247,18 +260,25 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      v.push_back(col("dwell", "N", true, [](D d, C c, G g, O o) {
-        std::fill(o.begin(), o.end(), 0.0);
-        for (const auto& s : motion_starts(d, c)) {
-          const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
-          for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < d.size(); ++k) {
-            if (k > s.k && std::abs(d.v[k]) < c.v_rest) break;
-            const double e = std::exp(-std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0);
-            if (e < 1e-6) break;
-            o[k] = phi * g[k] * e;
+      // Raised break-away level after a rest, fading with travel s (q = s / s0): the model's own
+      // response to a raised Fs (sensitivity S = dg / d(Fs/Fc), second half of g) weighted by
+      // phi e^-q and phi q e^-q, plus phi g e^-q.
+      for (int m = 0; m < 3; ++m)
+        v.push_back(col("dwell_" + std::to_string(m), "N", true, [m](D d, C c, G g, O o) {
+          std::fill(o.begin(), o.end(), 0.0);
+          const std::size_t n = d.size();
+          const bool sens = g.size() >= 2 * n;
+          for (const auto& s : motion_starts(d, c)) {
+            const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < n; ++k) {
+              if (k > s.k + 1 && std::abs(d.v[k]) < 0.05 * c.v_rest) break;  // at rest again
+              const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
+              if (q > 30.0) break;
+              const double base = m < 2 && sens ? g[n + k] : g[k];
+              o[k] = phi * base * std::exp(-q) * (m == 1 ? q : 1.0);
+            }
           }
-        }
-      }));
+        }));
       break;
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {

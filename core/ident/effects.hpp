@@ -15,8 +15,10 @@
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
-//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d),
-//                        column = phi g exp(-s / s0), s = travel since the motion started       [N]
+//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d); columns
+//                        phi S e^-q, phi S q e^-q, phi g e^-q with q = s / s0 (s = travel since
+//                        the start, s0 from the residual) and S = dg / d(Fs/Fc), the model's own
+//                        response to a raised break-away level (fit.cpp computes it)          [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
@@ -73,7 +75,8 @@ EffectContext make_context(const Dataset& train);
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
   std::string unit;  // unit of the coefficient, e.g. "kg"
-  bool uses_g = false;
+  bool uses_g = false;  // g: the unit model output (n samples), followed by dg / d(Fs/Fc) when
+                        // the fit has a dwell_stiction term (then g.size() == 2 n)
   std::function<void(const Dataset&, const EffectContext&, std::span<const double> g,
                      std::span<double> out)>
       fill;

@@ -93,7 +93,7 @@ Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
   for (std::size_t r = 0; r < elements_; ++r) {
     // Element break-away displacements spread geometrically from 0.15 x_ba to x_ba.
     const double frac = elements_ > 1 ? static_cast<double>(elements_ - 1 - r) / (n - 1) : 0.0;
-    const double xr = c.x_ba * std::pow(0.15, frac);
+    const double xr = 0.5 * c.x_ba * std::pow(0.15, frac);  // x_ba spans a full swing
     for (std::size_t j = 0; j < info.columns.size(); ++j) {
       const auto& s = info.columns[j];
       const int jj = static_cast<int>(j);
@@ -183,7 +183,7 @@ std::vector<Term> design(const FitSpec& spec, const Parameterization& par) {
   std::vector<Term> t;
   t.push_back({{"Fc", "N", true,
                 [](const Dataset&, const EffectContext&, std::span<const double> g,
-                   std::span<double> o) { std::copy(g.begin(), g.end(), o.begin()); }},
+                   std::span<double> o) { std::copy_n(g.begin(), o.size(), o.begin()); }},
                "base"});
   if (par.has_viscous())
     t.push_back({{"sigma2", "N s/m", false,
@@ -201,6 +201,7 @@ class Evaluator {
   Evaluator(const FitSpec& spec, const Parameterization& par, const Dataset& d,
             const EffectContext& c)
       : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
+    for (Effect e : spec.effects) needs_sensitivity_ |= e == Effect::DwellStiction;
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
     const auto nu = static_cast<Eigen::Index>(rows_.size());
@@ -222,11 +223,27 @@ class Evaluator {
   const std::vector<Term>& terms() const { return terms_; }
   double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
 
-  // Simulates g for shape u; false when the model cannot be built or diverges.
+  // Simulates g for shape u; false when the model cannot be built or diverges. With a
+  // dwell_stiction term, g also carries (second half) the sensitivity dg / d(Fs/Fc) by a 1 %
+  // forward difference (models without Fs: g itself).
   bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
+    const std::size_t n = d_.size();
     try {
-      const auto m = build_model(par_.unit_model(u));
-      simulate_along(*m, d_, g);
+      auto mp = par_.unit_model(u);
+      simulate_along(*build_model(mp), d_, g);
+      if (needs_sensitivity_) {
+        std::vector<double> g2;
+        const auto fs = model_info(mp.model).scalar_index("Fs");
+        if (fs >= 0) {
+          const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
+          mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
+          simulate_along(*build_model(mp), d_, g2);
+          for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
+        } else {
+          g2 = g;
+        }
+        g.insert(g.end(), g2.begin(), g2.end());
+      }
     } catch (const std::exception&) {
       return false;
     }
@@ -275,7 +292,7 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_)) g_.assign(d_.size(), 0.0);
+    if (!simulate(u, g_)) g_.assign(needs_sensitivity_ ? 2 * d_.size() : d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
       terms_[j].column.fill(d_, c_, g_, full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
@@ -299,6 +316,7 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
+  bool needs_sensitivity_ = false;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -334,23 +352,31 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);
   const std::size_t n = par.size();
-  std::vector<double> best_u = warm && warm->size() == n ? *warm : par.initial();
+  std::vector<double> best_u = par.initial();
   Eigen::VectorXd best_th;
   double best = ev.cost(best_u, &best_th);
   int evals = 1;
+  // Start points: the warm start (if any), the data-based guess, then jittered copies of the
+  // first; finally a polishing restart from the best point found.
+  std::vector<std::vector<double>> starts;
+  if (warm && warm->size() == n) starts.push_back(*warm);
+  if (starts.empty() || o.data_start) starts.push_back(par.initial());
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> jitter(-0.2, 0.2);
-  const std::vector<double> first = best_u;
-  for (int s = 0; s < std::max(1, o.starts) && n > 0; ++s) {
-    std::vector<double> x = first;
-    if (s > 0)
-      for (auto& xi : x) xi = std::clamp(xi + jitter(rng), 0.0, 1.0);
+  while (static_cast<int>(starts.size()) < std::max(1, o.starts)) {
+    auto x = starts.front();
+    for (auto& xi : x) xi = std::clamp(xi + jitter(rng), 0.0, 1.0);
+    starts.push_back(x);
+  }
+  const int total = static_cast<int>(starts.size()) + 1;
+  for (int s = 0; s < total && n > 0; ++s) {
+    std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
     opt.set_lower_bounds(std::vector<double>(n, 0.0));
     opt.set_upper_bounds(std::vector<double>(n, 1.0));
-    opt.set_maxeval(o.max_evaluations);
+    opt.set_maxeval(s + 1 < total ? o.max_evaluations : std::max(100, o.max_evaluations / 3));
     opt.set_ftol_rel(o.rel_tol);
-    opt.set_initial_step(std::vector<double>(n, 0.1));
+    opt.set_initial_step(std::vector<double>(n, s + 1 < total ? 0.1 : 0.03));
     int local = 0;
     struct Ctx {
       Evaluator* ev;
@@ -361,7 +387,9 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       int* local;
       std::string stage;
     } ctx{&ev, &o, &best, &best_u, &evals, &local,
-          o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(o.starts)};
+          o.stage + (s + 1 < total ? ", start " + std::to_string(s + 1) + "/" +
+                                         std::to_string(total - 1)
+                                   : ", polish")};
     opt.set_min_objective(
         [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
           auto& cx = *static_cast<Ctx*>(p);
@@ -400,6 +428,13 @@ std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectCo
   const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
   Evaluator ev(r.spec, par, d, c);
   return ev.predict(r.u, r.theta);
+}
+
+std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c) {
+  const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
+  std::vector<double> g(d.size(), 0.0);
+  simulate_along(*build_model(par.unit_model(r.u)), d, g);
+  return g;  // the unit output only (no sensitivity)
 }
 
 double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c) {

@@ -57,6 +57,7 @@ struct FitOptions {
   int starts = 3;                 // multi-start count (>= 1)
   int max_evaluations = 600;      // per start
   double rel_tol = 1e-7;          // relative cost tolerance
+  bool data_start = true;         // also start from the data-based guess when warm-started
   std::string stage = "fit";      // label shown in progress
   std::function<void(const FitProgress&)> progress;  // may be empty
   const std::atomic<bool>* cancel = nullptr;         // set -> Cancelled
@@ -124,6 +125,8 @@ FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectCo
                        const std::vector<double>& u);
 // The fitted force along any record (e.g. validation); same normalisations (c) as the fit.
 std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectContext& c);
+// The friction model's unit-force-level output g along d for the fitted shape.
+std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c);
 // RMS of (F - predict) over d's used samples [N].
 double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c);
 

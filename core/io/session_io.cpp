@@ -17,7 +17,8 @@ json to_json(const Session& s) {
   j["view"] = {{"speed", s.view.speed},
                {"color_phases", s.view.color_phases},
                {"slip_velocity", s.view.slip_velocity},
-               {"tab", s.view.tab}};
+               {"tab", s.view.tab},
+               {"friction_against", s.view.friction_against}};
   return j;
 }
 
@@ -29,6 +30,7 @@ ViewSettings view_from_json(JsonReader& r) {
   v.slip_velocity = r.number("slip_velocity", 0, 1e3, "m/s", true);
   v.tab = r.string("tab");
   if (v.tab.size() > 64) r.fail("tab", "at most 64 characters");
+  v.friction_against = r.choice("friction_against", {"auto", "displacement", "velocity"});
   r.finish();
   return v;
 }

@@ -6,7 +6,8 @@
 //   "scenario_path": "presets/fig4_stick_slip.json",   where the scenario came from ("" if none)
 //   "scenario": { ...a full scenario, schema_version 1 (core/io/scenario_io.hpp)... },
 //   "compare": {"model": "lugre", ...} | null,          overlay model on the same input
-//   "view": {"speed": 1.0, "color_phases": true, "slip_velocity": 1e-4, "tab": "Simulation"}
+//   "view": {"speed": 1.0, "color_phases": true, "slip_velocity": 1e-4, "tab": "Simulation",
+//            "friction_against": "auto"}                 auto | displacement | velocity
 // }
 // Every key is required. Unknown keys, wrong types, non-finite or out-of-range values are
 // InputErrors naming the file and the key path ("view.speed") with the allowed range; errors in
@@ -29,6 +30,9 @@ struct ViewSettings {
   bool color_phases = true;        // colour stick and slip phases in the time plots
   double slip_velocity = 1e-4;     // |v| above which the body counts as slipping [m/s], (0, 1e3]
   std::string tab = "Simulation";  // selected panel (at most 64 characters)
+  // x axis of the friction plot: "displacement" (hysteresis), "velocity" (frictional lag), or
+  // "auto" (velocity for a prescribed-velocity drive, else displacement)
+  std::string friction_against = "auto";
   bool operator==(const ViewSettings&) const = default;
 };
 

@@ -22,6 +22,7 @@ Session sample() {
   s.view.color_phases = false;
   s.view.slip_velocity = 3e-4;
   s.view.tab = "Figures";
+  s.view.friction_against = "velocity";
   return s;
 }
 
@@ -71,6 +72,9 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   const std::string m = expect_rejected(j);
   EXPECT_NE(m.find("(in 'scenario')"), std::string::npos) << m;
   EXPECT_NE(m.find("plant.mass"), std::string::npos) << m;
+  j = good;
+  j["view"]["friction_against"] = "time";
+  EXPECT_NE(expect_rejected(j).find("view.friction_against"), std::string::npos);
   j = good;
   j["view"]["color_phases"] = "yes";
   EXPECT_NE(expect_rejected(j).find("view.color_phases"), std::string::npos);

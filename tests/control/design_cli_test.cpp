@@ -71,6 +71,7 @@ TEST(DesignCli, UnreachableConstantListsRelocationsPerPathWithReasons) {
   ASSERT_EQ(j["relocations"].size(), 3u);
   const auto& kz = j["relocations"][0];
   EXPECT_EQ(kz["path"], "keep_zeta");
+  EXPECT_EQ(kz["name"], "keep_zeta");
   EXPECT_FALSE(kz["found"].get<bool>());
   EXPECT_NEAR(kz["peak_K"].get<double>(), 6.4, 1e-6);
   EXPECT_FALSE(kz["reason"].get<std::string>().empty());

@@ -170,3 +170,23 @@ TEST(LoopSimulationInput, BadConfigurationsAreRejected) {
   EXPECT_THROW(compensation_from_string("pid"), InputError);
   EXPECT_THROW(regime_from_string("stuck"), InputError);
 }
+
+TEST(LoopWithOtherFriction, LuGrePlantWithGmsFeedforwardBuiltFromItsStribeckCurve) {
+  // Any registry model drives the loop. LuGre's steady state is S(v) + sigma2 v, the same curve
+  // as the GMS compensator built from its Fs, Fc, Vs, delta, sigma2, so the ramp error vanishes.
+  Scenario s = fig4();
+  s.friction = model_info("lugre").defaults();
+  const ModelParams ff = feedforward_model(s.friction, {});
+  EXPECT_EQ(ff.model, "gms");
+  EXPECT_DOUBLE_EQ(ff.scalar("Fs"), s.friction.scalar("Fs"));
+  EXPECT_DOUBLE_EQ(ff.scalar("sigma2"), s.friction.scalar("sigma2"));
+  const LeadCompensator c = sliding_design(fig4());
+  const double k_dc = c.Kc * c.z / c.p;
+  const double v = 0.01;
+  const double Fss = build_model(s.friction)->steady_state(v);
+  const Signal ramp = Signal::ramp(0.0, v);
+  const LoopMetrics none = run(s, c, ramp, Compensation::None);
+  EXPECT_NEAR(none.steady_state_error, Fss / k_dc, 2e-3 * Fss / k_dc);
+  const LoopMetrics gms = run(s, c, ramp, Compensation::Gms);
+  EXPECT_LT(std::abs(gms.steady_state_error), 1e-3 * none.steady_state_error);
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/control/assignment.hpp"
@@ -73,14 +74,27 @@ TEST(Assignment, HungarianFindsTheOptimumThatGreedyMisses) {
   EXPECT_DOUBLE_EQ(got, best);
 }
 
+TEST(Assignment, NonFiniteCostsStillGiveAPermutation) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> cost = {nan, inf, 1.0, inf, nan, inf, 2.0, inf, nan};
+  auto col = solve_assignment(cost, 3);
+  EXPECT_EQ(col[0], 2);
+  EXPECT_EQ(col[2], 0);
+  EXPECT_EQ(col[1], 1);
+}
+
 TEST(Polynomial, RootsOfKnownFactorsAndConjugatePairs) {
   const std::vector<cplx> want = {{-1, 0}, {-2, 3}, {-2, -3}, {0, 0}, {0, 0}, {5, 0}};
   const Poly p = Poly::from_roots(want, 2.0);
   const auto got = p.roots();
   ASSERT_EQ(got.size(), want.size());
   for (const cplx& w : want) EXPECT_LT(nearest(got, w), 1e-10);
-  for (const cplx& g : got)
-    if (g.imag() != 0.0) EXPECT_LT(nearest(got, std::conj(g)), 1e-15);
+  for (const cplx& g : got) {
+    if (g.imag() != 0.0) {
+      EXPECT_LT(nearest(got, std::conj(g)), 1e-15);
+    }
+  }
   EXPECT_EQ(p.zeros_at_origin(), 2);
   EXPECT_NEAR(p(cplx(1.0, 1.0)).real(), (2.0 * (cplx(2, 1) * cplx(3, -2) * cplx(3, 4) *
                                                  cplx(1, 1) * cplx(1, 1) * cplx(-4, 1)))

@@ -203,3 +203,28 @@ TEST(LiveEdits, SameShapeEditKeepsFrictionState) {
 
 }  // namespace
 }  // namespace gmslab
+
+namespace gmslab {
+namespace {
+
+TEST(GmsStribeck, SaturatedShortcutIsBitIdenticalToTheFormula) {
+  // The step skips pow/exp where S(v) rounds to Fc; the force must equal the full formula's.
+  for (double delta : {0.5, 1.0, 2.0, 3.7}) {
+    GmsParams g = GmsParams::reference(false);
+    g.S.delta = delta;
+    const auto model = build_model(g.to_params());
+    for (double v = 1e-4; v < 10.0; v *= 1.05) {
+      std::vector<double> state(model->state_size(), 0.0);
+      // From zero state with a long step every element slips to alpha_i S: F = S + sigma2 v.
+      const double f = model->step(state, {v, 10.0});
+      const double s_formula = g.S.Fc + (g.S.Fs - g.S.Fc) * std::exp(-std::pow(v / g.S.Vs, delta));
+      double elastic = 0.0;
+      for (std::size_t i = 0; i < 4; ++i) elastic += state[i];
+      EXPECT_NEAR(elastic, s_formula, 1e-12) << "delta " << delta << " v " << v;
+      EXPECT_GT(f, 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gmslab

@@ -34,8 +34,11 @@ TEST(ScenarioIo, EveryShippedPresetRoundTrips) {
 }
 
 // Loads `text` as a preset and returns the error message (empty if it loaded).
+// Each test writes its own file: CTest runs tests in parallel processes.
 std::string load_error(const std::string& text) {
-  const std::string path = temp_path("bad.json");
+  const std::string path =
+      temp_path(std::string("bad_") +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".json");
   write_file_atomic(path, text);
   try {
     load_scenario(path);
@@ -91,7 +94,7 @@ TEST(ScenarioIo, WeightsNotSummingToOneAreRejected) {
 
 TEST(ScenarioIo, SyntaxErrorGivesLineAndColumn) {
   const auto msg = load_error("{\n  \"schema_version\": 1,\n  \"name\": oops\n}");
-  EXPECT_NE(msg.find("bad.json:3:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad_SyntaxErrorGivesLineAndColumn.json:3:"), std::string::npos) << msg;
 }
 
 TEST(ScenarioIo, UnknownModelListsKnownModels) {

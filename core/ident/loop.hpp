@@ -1,0 +1,90 @@
+// gmslab identification: the residual loop that finds what the base model lacks.
+//
+//   1. Fit the base model (several starts) on the training record.
+//   2. Each round: residual r on training; for every applicable catalog effect not yet in the
+//      model: evidence (evidence.hpp) and a screening fit (linear terms re-solved at the current
+//      shape) -> fraction of the residual variance it explains. The position_periodic wavelength
+//      is the peak of the residual's position spectrum (needs peak / median >= 4), the dwell
+//      decay length the best of a few multiples of the break-away displacement.
+//   3. Candidates in order of explained variance (at least min_explained) whose screening fit
+//      lowers the validation RMS at all: add the effect, refit
+//      everything (shape warm-started + linear terms), and keep it only when the validation RMS
+//      drops by at least min_gain (relative) - also against a control refit of the current model
+//      with the same budget, so that better optimisation is never credited to an effect. The
+//      first kept candidate ends the round; at most
+//      tries_per_round candidates are tried. No candidate kept: stop. The training error alone
+//      never decides.
+// Validation: a second record, or the hold-out of the training record (dataset.hpp).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/figures/figure.hpp"
+#include "core/ident/fit.hpp"
+#include "core/sim/scenario.hpp"
+
+namespace gmslab::ident {
+
+struct LoopOptions {
+  FitOptions base;              // the base fit
+  FitOptions refit;             // refits after adding an effect (warm start)
+  double min_gain = 0.03;       // relative validation RMS drop needed to keep an effect [-]
+  double min_explained = 0.002; // smallest explained training variance worth a refit [-]
+  int tries_per_round = 3;
+  int max_rounds = 9;
+  std::vector<Effect> candidates;  // empty = the whole catalog
+  LoopOptions();
+};
+
+struct Attempt {
+  Effect effect;
+  double rms_train = 0, rms_validation = 0;  // after the refit [N]
+  bool kept = false;
+  std::vector<LinearTerm> terms;             // the effect's fitted coefficients
+};
+
+struct Candidate {
+  Effect effect;
+  double explained = 0;           // fraction of training residual variance explained (screen)
+  double screen_rms_train = 0;    // [N]
+  double screen_rms_validation = 0;
+  nlohmann::json evidence;
+};
+
+struct Round {
+  double rms_train_before = 0, rms_validation_before = 0;
+  double rms_train_after = 0, rms_validation_after = 0;
+  std::vector<Candidate> candidates;  // sorted, most explaining first
+  std::vector<Attempt> attempts;
+  std::optional<Effect> added;
+};
+
+struct IdentReport {
+  std::string model;
+  std::size_t elements = 0;
+  std::string train_source, validation_source, force_unit = "N";
+  std::size_t train_samples = 0, validation_samples = 0;
+  EffectContext context;
+  std::vector<FitResult> stages;  // base fit, then the fit after each kept effect
+  double rms_before_train = 0, rms_before_validation = 0;
+  double rms_after_train = 0, rms_after_validation = 0;
+  std::vector<Effect> effects_added;
+  std::vector<Round> rounds;
+  const FitResult& final_fit() const { return stages.back(); }
+};
+
+IdentReport identify(const Dataset& train, const Dataset& validation, const FitSpec& base,
+                     const LoopOptions& o);
+
+nlohmann::json to_json(const IdentReport& r);
+// Data vs final fit (validation), and the residual of each stage over time (training).
+Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& validation);
+// A scenario that replays the training motion (displacement drive) through the identified
+// friction model; plant mass = the identified inertia when found (else 1 kg). Effects that a
+// scenario cannot hold (offset, ripple, ...) are listed in the description.
+Scenario identified_scenario(const IdentReport& r, const Dataset& train);
+
+}  // namespace gmslab::ident

@@ -1,0 +1,88 @@
+// The Design panel driven by scripted mouse input (an ImGui context without a renderer): dragging
+// the desired root moves s_d to the point under the mouse and the design follows; clicking a
+// branch reads its gain and the closed-loop poles there. Built only with the app (ImGui).
+#if __has_include(<imgui.h>)
+#include <gtest/gtest.h>
+#include <imgui.h>
+
+#include <cmath>
+
+#include "core/io/scenario_io.hpp"
+#include "ui/app.hpp"
+#include "ui/design_view.hpp"
+
+using namespace gmslab;
+using gmslab::control::cplx;
+
+namespace {
+struct Harness {
+  ui::AppState s;
+  Harness() {
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(1600, 1000);
+    io.IniFilename = nullptr;
+    unsigned char* px = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
+    ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
+    s.view.tab = "Design";
+    for (int i = 0; i < 3; ++i) frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+  }
+  ~Harness() { ImGui::DestroyContext(); }
+  void frame(ImVec2 mouse, bool down) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.DeltaTime = 1.0f / 60.0f;
+    io.MousePos = mouse;
+    io.MouseDown[0] = down;
+    ImGui::NewFrame();
+    ui::draw_frame(s);
+    ImGui::Render();
+  }
+  ui::DesignViewState& d() { return s.slot<ui::DesignViewState>("design"); }
+  ImVec2 px(cplx z) {
+    const auto& t = d().canvas;
+    return ImVec2(static_cast<float>(t.to_px_x(z.real())), static_cast<float>(t.to_px_y(z.imag())));
+  }
+};
+}  // namespace
+
+TEST(DesignViewInput, DraggingTheDesiredRootMovesSdAndTheDesignFollows) {
+  Harness h;
+  ASSERT_TRUE(h.d().out.error.empty()) << h.d().out.error;
+  const cplx start = h.d().in.root.s();  // zeta 0.7, wn 60
+  h.frame(h.px(start), true);            // press on the diamond
+  const cplx target(-30.0, 40.0);        // wn = 50, zeta = 0.6
+  h.frame(h.px(0.5 * (start + target)), true);
+  h.frame(h.px(target), true);
+  h.frame(h.px(target), false);          // release
+  h.frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+  const double tol_px = 1.5 * (h.d().canvas.x1 - h.d().canvas.x0) / (h.d().canvas.px1 - h.d().canvas.px0);
+  EXPECT_NEAR(h.d().in.root.wn, 50.0, 2 * tol_px);
+  EXPECT_NEAR(h.d().in.root.zeta, 0.6, 2 * tol_px / 50.0);
+  // The design was recomputed for the new root: it is a closed-loop pole of the drawn loop.
+  double best = 1e300;
+  for (const cplx& p : h.d().out.closed_loop_poles) best = std::min(best, std::abs(p - h.d().in.root.s()));
+  EXPECT_LT(best, 1e-6);
+}
+
+TEST(DesignViewInput, ClickingABranchReadsItsGainAndTheClosedLoopPolesThere) {
+  Harness h;
+  const auto& rl = h.d().out.locus;
+  // A branch sample well inside the canvas: the one closest to -20 + 20j.
+  cplx best_s;
+  double best = 1e300;
+  for (const auto& br : rl.branches)
+    for (const cplx& s : br)
+      if (!std::isnan(s.real()) && std::abs(s - cplx(-20, 20)) < best) best = std::abs(s - cplx(-20, 20)), best_s = s;
+  h.frame(h.px(best_s), true);
+  h.frame(h.px(best_s), false);
+  ASSERT_TRUE(h.d().picked);
+  EXPECT_LT(std::abs(h.d().picked_s - best_s), 0.02 * (h.d().canvas.x1 - h.d().canvas.x0));
+  // The picked gain puts a closed-loop pole at the picked point (den + k num = 0 there).
+  double d = 1e300;
+  for (const cplx& p : h.d().picked_poles) d = std::min(d, std::abs(p - h.d().picked_s));
+  EXPECT_LT(d, 1e-6 * (1 + std::abs(h.d().picked_s)));
+  EXPECT_GT(h.d().picked_k, 0.0);
+}
+#endif

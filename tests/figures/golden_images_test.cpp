@@ -1,0 +1,167 @@
+// Golden images: `gmslab-headless figures` renders the whole set and every PNG is compared with
+// the checked-in one in tests/golden/ (same size). The comparison tolerates what differs between
+// llvmpipe builds (anti-aliased edges: small per-pixel differences) but fails on a missing curve,
+// axis or panel:
+//   - pixels whose largest channel difference exceeds 64 levels: at most 0.05 % of the image;
+//   - 8x8 block means (a downscaled comparison): no block may differ by more than 24 levels.
+// The test also proves it can fail: erasing one curve or one axis from a golden image must trip it.
+// Regenerate after an intended change: GMSLAB_UPDATE_GOLDEN=1 ./build/gmslab_tests
+// --gtest_filter='GoldenImages*' (then look at every PNG before committing).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <map>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/figures/figure_set.hpp"
+
+#ifdef GMSLAB_HEADLESS_EXE
+#include <stb_image.h>
+#include <unistd.h>
+#endif
+
+namespace gmslab {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kWidth = 1000, kHeight = 560;
+
+struct Image {
+  int w = 0, h = 0;
+  std::vector<unsigned char> rgb;  // 3 bytes per pixel
+  int at(int x, int y, int c) const { return rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c]; }
+};
+
+struct Difference {
+  std::size_t strong_pixels = 0;  // largest channel difference > 64
+  double worst_block = 0.0;       // largest 8x8 block mean difference [levels]
+};
+
+Difference compare(const Image& a, const Image& b) {
+  Difference d;
+  const int B = 8;
+  for (int by = 0; by + B <= a.h; by += B)
+    for (int bx = 0; bx + B <= a.w; bx += B) {
+      double sum = 0.0;
+      for (int y = by; y < by + B; ++y)
+        for (int x = bx; x < bx + B; ++x) {
+          int worst = 0;
+          for (int c = 0; c < 3; ++c) {
+            const int diff = std::abs(a.at(x, y, c) - b.at(x, y, c));
+            worst = std::max(worst, diff);
+            sum += diff / 3.0;
+          }
+          d.strong_pixels += worst > 64;
+        }
+      d.worst_block = std::max(d.worst_block, sum / (B * B));
+    }
+  return d;
+}
+
+bool acceptable(const Difference& d, const Image& im) {
+  return d.strong_pixels <= static_cast<std::size_t>(0.0005 * im.w * im.h) && d.worst_block <= 24.0;
+}
+
+#ifdef GMSLAB_HEADLESS_EXE
+Image load(const std::string& path) {
+  Image im;
+  int n = 0;
+  unsigned char* p = stbi_load(path.c_str(), &im.w, &im.h, &n, 3);
+  if (p) {
+    im.rgb.assign(p, p + static_cast<std::size_t>(im.w) * im.h * 3);
+    stbi_image_free(p);
+  }
+  return im;
+}
+
+const std::string kGolden = std::string(GMSLAB_SOURCE_DIR) + "/tests/golden";
+
+// Renders the set once for all tests of this file.
+const std::string& rendered_dir() {
+  static const std::string dir = [] {
+    const fs::path d = fs::temp_directory_path() / ("gmslab_golden_" + std::to_string(getpid()));
+    fs::create_directories(d);
+    const std::string cmd = std::string(GMSLAB_HEADLESS_EXE) + " figures --out " + d.string() +
+                            " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +
+                            " 2>/dev/null";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return d.string();
+  }();
+  return dir;
+}
+
+TEST(GoldenImages, EveryFigureMatchesItsGoldenImage) {
+  const bool update = std::getenv("GMSLAB_UPDATE_GOLDEN") != nullptr;
+  for (const auto& id : figure_ids()) {
+    const std::string out = rendered_dir() + "/" + id + ".png", gold = kGolden + "/" + id + ".png";
+    if (update) fs::copy_file(out, gold, fs::copy_options::overwrite_existing);
+    const Image a = load(out), b = load(gold);
+    ASSERT_EQ(a.w, kWidth) << out;
+    ASSERT_EQ(b.w, kWidth) << gold << " (missing golden image? see the comment at the top)";
+    ASSERT_EQ(a.h, b.h) << id;
+    const Difference d = compare(a, b);
+    EXPECT_TRUE(acceptable(d, a)) << id << ": " << d.strong_pixels << " strongly different pixels, "
+                                  << "worst 8x8 block " << d.worst_block << " levels";
+  }
+}
+
+// Sensitivity: erase the most frequent saturated colour (a curve) of fig2b, or a 3-pixel band of
+// the left axis of fig2a; each must fail the comparison against the untouched golden image.
+TEST(GoldenImages, ComparisonCatchesAMissingCurveAndAMissingAxis) {
+  const Image lag = load(kGolden + "/fig2b_frictional_lag.png");
+  ASSERT_EQ(lag.w, kWidth);
+  std::map<int, std::size_t> colours;
+  for (int y = 0; y < lag.h; ++y)
+    for (int x = 0; x < lag.w; ++x) {
+      const int r = lag.at(x, y, 0), g = lag.at(x, y, 1), b = lag.at(x, y, 2);
+      if (std::max({r, g, b}) - std::min({r, g, b}) > 80) ++colours[(r << 16) | (g << 8) | b];
+    }
+  ASSERT_FALSE(colours.empty());
+  const int curve = std::max_element(colours.begin(), colours.end(), [](auto& a, auto& b) {
+                      return a.second < b.second;
+                    })->first;
+  Image no_curve = lag;
+  const int bg[3] = {lag.at(lag.w / 2, 2, 0), lag.at(lag.w / 2, 2, 1), lag.at(lag.w / 2, 2, 2)};
+  for (int y = 0; y < lag.h; ++y)
+    for (int x = 0; x < lag.w; ++x) {
+      const int r = lag.at(x, y, 0), g = lag.at(x, y, 1), b = lag.at(x, y, 2);
+      if (((r << 16) | (g << 8) | b) == curve)
+        for (int c = 0; c < 3; ++c) no_curve.rgb[(static_cast<std::size_t>(y) * lag.w + x) * 3 + c] = bg[c];
+    }
+  EXPECT_FALSE(acceptable(compare(no_curve, lag), lag)) << "a missing curve went unnoticed";
+
+  const Image pre = load(kGolden + "/fig2a_presliding.png");
+  ASSERT_EQ(pre.w, kWidth);
+  // The left axis: the column (left third) with the longest run of identical dark-grey pixels.
+  int axis_x = -1;
+  std::size_t best = 0;
+  for (int x = 0; x < pre.w / 3; ++x) {
+    std::size_t run = 0, longest = 0;
+    for (int y = 1; y < pre.h; ++y) {
+      const bool same = pre.at(x, y, 0) == pre.at(x, y - 1, 0) && pre.at(x, y, 0) < 200 &&
+                        pre.at(x, y, 0) == pre.at(x, y, 2);
+      run = same ? run + 1 : 0;
+      longest = std::max(longest, run);
+    }
+    if (longest > best) best = longest, axis_x = x;
+  }
+  ASSERT_GT(best, 100u);
+  Image no_axis = pre;
+  for (int y = 0; y < pre.h; ++y)
+    for (int x = std::max(0, axis_x - 1); x <= std::min(pre.w - 1, axis_x + 1); ++x)
+      for (int c = 0; c < 3; ++c)
+        no_axis.rgb[(static_cast<std::size_t>(y) * pre.w + x) * 3 + c] = pre.at(pre.w / 2, 2, c);
+  EXPECT_FALSE(acceptable(compare(no_axis, pre), pre)) << "a missing axis went unnoticed";
+}
+#else
+TEST(GoldenImages, EveryFigureMatchesItsGoldenImage) {
+  GTEST_SKIP() << "built without the app (GMSLAB_BUILD_APP=OFF): no headless renderer";
+}
+#endif
+
+}  // namespace
+}  // namespace gmslab

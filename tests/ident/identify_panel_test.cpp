@@ -1,0 +1,79 @@
+// The Identify panel's actions (ui/identify_panel.hpp) without drawing: a run on the worker thread
+// finishes with the report, the identified model reaches the plant through the pending-request
+// path, and Cancel stops a run.
+#include <gtest/gtest.h>
+
+#ifdef GMSLAB_EXE
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "tests/ident/synthetic.hpp"
+#include "ui/identify_panel.hpp"
+
+using namespace gmslab;
+
+namespace {
+std::string write_record(const synth::SynthOptions& so, const std::string& name) {
+  const auto r = synth::synthesize(so);
+  const auto path = (std::filesystem::temp_directory_path() /
+                     ("gmslab_ident_panel_" + std::to_string(::getpid()) + "_" + name))
+                        .string();
+  std::ofstream o(path);
+  o.precision(12);
+  o << "t_s,x_m,F_N\n";
+  for (std::size_t k = 0; k < r.size(); ++k) o << r.t[k] << ',' << r.x[k] << ',' << r.F[k] << '\n';
+  return path;
+}
+
+bool wait_done(ui::AppState& s, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (ui::identify_busy(s)) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
+}
+}  // namespace
+
+TEST(IdentPanel, WorkerRunFindsTheEffectAndSendsTheModelToThePlant) {
+  synth::SynthOptions so;
+  so.effect = ident::Effect::Offset;
+  so.moves = 8;
+  const auto csv = write_record(so, "offset.csv");
+  ui::AppState s;
+  ui::IdentifyInputs in;
+  in.data = csv;
+  ui::identify_start(s, in);
+  ASSERT_TRUE(wait_done(s, 300.0));
+  EXPECT_EQ(ui::identify_error(s), "");
+  const auto* rep = ui::identify_report(s);
+  ASSERT_NE(rep, nullptr);
+  ASSERT_FALSE(rep->effects_added.empty());
+  EXPECT_EQ(rep->effects_added.front(), ident::Effect::Offset);
+  ui::identify_send_to_plant(s);
+  ASSERT_TRUE(s.pending.scenario.has_value());
+  ui::apply_pending(s);
+  EXPECT_EQ(s.scenario.friction, rep->final_fit().friction);
+  ASSERT_NE(s.main.sim, nullptr);
+  std::filesystem::remove(csv);
+}
+
+TEST(IdentPanel, CancelStopsTheRun) {
+  synth::SynthOptions so;
+  so.moves = 16;
+  const auto csv = write_record(so, "cancel.csv");
+  ui::AppState s;
+  ui::IdentifyInputs in;
+  in.data = csv;
+  ui::identify_start(s, in);
+  ui::identify_cancel(s);
+  ASSERT_TRUE(wait_done(s, 60.0));
+  EXPECT_EQ(ui::identify_error(s), "cancelled");
+  EXPECT_EQ(ui::identify_report(s), nullptr);
+  std::filesystem::remove(csv);
+}
+#endif

@@ -1,0 +1,336 @@
+// gmslab ui: the root-locus canvas of the design view (see ui/design_view.hpp).
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "ui/design_view.hpp"
+#include "ui/plot.hpp"
+#include "ui/plot_transform.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+using control::cplx;
+constexpr double kPi = std::numbers::pi;
+
+const ImU32 kGrid = IM_COL32(200, 200, 205, 255);
+const ImU32 kAxis = IM_COL32(90, 90, 95, 255);
+const ImU32 kShade = IM_COL32(213, 94, 0, 40);
+const ImU32 kText = IM_COL32(60, 60, 65, 255);
+const ImU32 kGridText = IM_COL32(140, 140, 150, 255);
+const ImU32 kTarget = IM_COL32(204, 121, 167, 255);
+const ImU32 kComp = IM_COL32(0, 158, 115, 255);
+const ImU32 kPlant = IM_COL32(20, 20, 20, 255);
+const ImU32 kClosed = IM_COL32(213, 94, 0, 255);
+
+// Data box with the pixel rectangle's aspect (equal scales on both axes).
+PlotTransform fit(const control::ViewBox& v, ImVec2 p0, ImVec2 p1) {
+  PlotTransform t;
+  t.px0 = p0.x, t.py0 = p0.y, t.px1 = p1.x, t.py1 = p1.y;
+  const double w = v.width(), h = v.height();
+  const double aspect = (p1.x - p0.x) / std::max(1.0f, p1.y - p0.y);
+  const double cx = 0.5 * (v.re_min + v.re_max), cy = 0.5 * (v.im_min + v.im_max);
+  double hw = 0.5 * w, hh = 0.5 * h;
+  if (hw / hh < aspect) hw = hh * aspect;
+  else hh = hw / aspect;
+  t.x0 = cx - hw, t.x1 = cx + hw, t.y0 = cy - hh, t.y1 = cy + hh;
+  return t;
+}
+
+ImVec2 px(const PlotTransform& t, cplx s) {
+  return ImVec2(static_cast<float>(t.to_px_x(s.real())), static_cast<float>(t.to_px_y(s.imag())));
+}
+cplx data(const PlotTransform& t, ImVec2 p) { return {t.from_px_x(p.x), t.from_px_y(p.y)}; }
+
+double nice_step(double range) {
+  const double raw = range / 6.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0, 10.0})
+    if (m * mag >= raw) return m * mag;
+  return 10 * mag;
+}
+
+void draw_grid(ImDrawList* dl, const PlotTransform& t) {
+  const double R = std::hypot(std::max(std::abs(t.x0), std::abs(t.x1)), std::max(std::abs(t.y0), std::abs(t.y1)));
+  // wn circles (left half plane arcs) at nice radii
+  const double step = nice_step(std::min(t.x1 - t.x0, t.y1 - t.y0));
+  const ImVec2 o = px(t, 0.0);
+  const float scale = static_cast<float>((t.px1 - t.px0) / (t.x1 - t.x0));
+  char buf[48];
+  for (double r = step; r < R; r += step) {
+    dl->PathArcTo(o, static_cast<float>(r) * scale, static_cast<float>(kPi / 2), static_cast<float>(3 * kPi / 2), 64);
+    dl->PathStroke(kGrid, 0, 1.0f);
+    std::snprintf(buf, sizeof buf, "%g", r);
+    const ImVec2 lp = px(t, std::polar(r, 0.53 * kPi));
+    dl->AddText(ImVec2(lp.x - ImGui::CalcTextSize(buf).x - 2, lp.y), kGridText, buf);
+  }
+  // zeta rays
+  for (double z : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
+    const double b = std::acos(z);
+    for (double sgn : {1.0, -1.0}) {
+      const cplx end = std::polar(R, kPi - sgn * b);
+      dl->AddLine(o, px(t, end), kGrid, 1.0f);
+    }
+    const cplx lab = std::polar(0.9 * std::min(t.y1, -t.x0 > 0 ? -t.x0 : t.y1), kPi - b);
+    std::snprintf(buf, sizeof buf, "%.1f", z);
+    dl->AddText(px(t, lab), kGridText, buf);
+  }
+  // axes
+  dl->AddLine(ImVec2(static_cast<float>(t.px0), o.y), ImVec2(static_cast<float>(t.px1), o.y), kAxis, 1.2f);
+  dl->AddLine(ImVec2(o.x, static_cast<float>(t.py0)), ImVec2(o.x, static_cast<float>(t.py1)), kAxis, 1.2f);
+  // tick labels along the bottom and the left edge
+  const double xs = nice_step(t.x1 - t.x0);
+  for (double x = std::ceil(t.x0 / xs) * xs; x <= t.x1; x += xs) {
+    std::snprintf(buf, sizeof buf, "%g", std::abs(x) < 1e-12 * xs ? 0.0 : x);
+    dl->AddText(ImVec2(static_cast<float>(t.to_px_x(x)) + 2, static_cast<float>(t.py1) - ImGui::GetFontSize() - 2), kText, buf);
+  }
+  const double ys = nice_step(t.y1 - t.y0);
+  for (double y = std::ceil(t.y0 / ys) * ys; y <= t.y1; y += ys) {
+    if (std::abs(y) < 1e-12 * ys) continue;
+    std::snprintf(buf, sizeof buf, "%gj", y);
+    dl->AddText(ImVec2(static_cast<float>(t.px0) + 3, static_cast<float>(t.to_px_y(y)) - ImGui::GetFontSize()), kText, buf);
+  }
+}
+
+// Shade where the requirements fail: zeta < zeta_min (a sector around the imaginary axis and the
+// right half plane) and Re s > -sigma_min (a strip).
+void draw_requirements(ImDrawList* dl, const PlotTransform& t, double zeta_min, double sigma_min) {
+  const double R = 4 * std::hypot(t.x1 - t.x0, t.y1 - t.y0) + std::abs(t.x0) + std::abs(t.x1);
+  const double b = std::acos(zeta_min);
+  for (double sgn : {1.0, -1.0}) {
+    dl->PathLineTo(px(t, 0.0));
+    for (int i = 0; i <= 32; ++i) dl->PathLineTo(px(t, std::polar(R, sgn * (kPi - b) * i / 32.0)));
+    dl->PathFillConvex(kShade);
+  }
+  if (sigma_min > 0.0)
+    dl->AddRectFilled(px(t, cplx(-sigma_min, t.y1)), px(t, cplx(0.0, t.y0)), kShade);
+}
+
+void cross(ImDrawList* dl, ImVec2 p, float r, ImU32 c, float th) {
+  dl->AddLine(ImVec2(p.x - r, p.y - r), ImVec2(p.x + r, p.y + r), c, th);
+  dl->AddLine(ImVec2(p.x - r, p.y + r), ImVec2(p.x + r, p.y - r), c, th);
+}
+
+// A secondary locus (the other regime's, or the 0-degree one): thin branches in `col` and pole
+// crosses, no asymptotes.
+void draw_other_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl,
+                      ImU32 col = IM_COL32(150, 150, 160, 200)) {
+  const double far = 20 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
+  for (const auto& br : rl.branches)
+    for (std::size_t i = 1; i < br.size(); ++i) {
+      const cplx a = br[i - 1], c = br[i];
+      if (std::isnan(a.real()) || std::isnan(c.real()) || std::abs(a) > far || std::abs(c) > far) continue;
+      dl->AddLine(px(t, a), px(t, c), col, 1.2f);
+    }
+  for (const cplx& p : rl.poles) {
+    const ImVec2 q = px(t, p);
+    dl->AddLine(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), col, 1.5f);
+    dl->AddLine(ImVec2(q.x - 4, q.y + 4), ImVec2(q.x + 4, q.y - 4), col, 1.5f);
+  }
+}
+
+void draw_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl) {
+  // asymptotes
+  for (double a : rl.asymptote_angles) {
+    const cplx c(rl.centroid, 0.0);
+    const double R = 4 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
+    const ImVec2 p0 = px(t, c), p1 = px(t, c + std::polar(R, a));
+    const int n = 60;
+    for (int i = 0; i < n; i += 2)
+      dl->AddLine(ImVec2(p0.x + (p1.x - p0.x) * i / n, p0.y + (p1.y - p0.y) * i / n),
+                  ImVec2(p0.x + (p1.x - p0.x) * (i + 1) / n, p0.y + (p1.y - p0.y) * (i + 1) / n),
+                  IM_COL32(120, 120, 120, 200), 1.0f);
+  }
+  const double far = 20 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
+  for (std::size_t b = 0; b < rl.branches.size(); ++b) {
+    const ImU32 col = palette(static_cast<int>(b % 6));
+    const auto& br = rl.branches[b];
+    for (std::size_t i = 1; i < br.size(); ++i) {
+      const cplx a = br[i - 1], c = br[i];
+      if (std::isnan(a.real()) || std::isnan(c.real()) || std::abs(a) > far || std::abs(c) > far) continue;
+      dl->AddLine(px(t, a), px(t, c), col, 2.0f);
+    }
+  }
+  for (const auto& p : rl.breakaways) dl->AddCircleFilled(px(t, p.s), 3.0f, kAxis);
+  for (const auto& p : rl.crossings) {
+    dl->AddCircleFilled(px(t, p.s), 3.5f, kClosed);
+    dl->AddCircleFilled(px(t, std::conj(p.s)), 3.5f, kClosed);
+  }
+}
+
+bool near_px(ImVec2 a, ImVec2 b, float r) { return std::hypot(a.x - b.x, a.y - b.y) <= r; }
+
+void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
+  ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 m = io.MousePos;
+  const control::DesignOutputs& out = d.out;
+  const cplx sd = d.in.root.s();
+  const float grab = 9.0f;
+  if (hovered && ImGui::IsMouseClicked(0)) {
+    d.drag = DesignViewState::Drag::None;
+    if (near_px(m, px(t, sd), grab) || near_px(m, px(t, std::conj(sd)), grab)) d.drag = DesignViewState::Drag::Root;
+    else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->z, 0)), grab)) d.drag = DesignViewState::Drag::Zero;
+    else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->p, 0)), grab)) d.drag = DesignViewState::Drag::Pole;
+    if (d.drag != DesignViewState::Drag::None && !d.view) {
+      // Freeze the view while a handle is dragged, so the point under the mouse stays put.
+      d.view = control::ViewBox{t.x0, t.x1, t.y0, t.y1};
+      d.in.locus_view = d.view;
+    }
+    if (d.drag == DesignViewState::Drag::None) {
+      // Pick the nearest branch sample within 12 px.
+      double best = 12.0;
+      std::size_t bi = 0, si = 0;
+      bool found = false;
+      for (std::size_t b = 0; b < out.locus.branches.size(); ++b)
+        for (std::size_t i = 0; i < out.locus.branches[b].size(); ++i) {
+          const cplx s = out.locus.branches[b][i];
+          if (std::isnan(s.real())) continue;
+          const ImVec2 p = px(t, s);
+          const double dd = std::hypot(p.x - m.x, p.y - m.y);
+          if (dd < best) best = dd, bi = b, si = i, found = true;
+        }
+      d.picked = found;
+      if (found) {
+        d.picked_k = out.locus.gains[si];
+        d.picked_s = out.locus.branches[bi][si];
+        d.picked_poles = control::closed_loop_poles(out.loop, d.picked_k);
+      } else {
+        d.drag = DesignViewState::Drag::Pan;
+      }
+    }
+  }
+  if (!ImGui::IsMouseDown(0)) d.drag = DesignViewState::Drag::None;
+  const cplx s = data(t, m);
+  switch (d.drag) {
+    case DesignViewState::Drag::Root: {
+      const cplx u(std::min(s.real(), -1e-9), std::max(std::abs(s.imag()), 1e-9));
+      d.in.root.wn = std::abs(u);
+      d.in.root.zeta = std::clamp(-u.real() / std::abs(u), 0.01, 0.99);
+      d.dirty = true;
+      break;
+    }
+    case DesignViewState::Drag::Zero:
+    case DesignViewState::Drag::Pole: {
+      control::LeadCompensator c = *out.compensator;
+      const double v = std::max(-s.real(), 1e-6 * (t.x1 - t.x0));
+      (d.drag == DesignViewState::Drag::Zero ? c.z : c.p) = v;
+      d.in.manual = c;
+      d.dirty = true;
+      break;
+    }
+    case DesignViewState::Drag::Pan:
+      if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+        const PlotTransform n = t.panned(io.MouseDelta.x, io.MouseDelta.y);
+        d.view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+        d.in.locus_view = d.view;
+        d.dirty = true;
+      }
+      break;
+    case DesignViewState::Drag::None: break;
+  }
+  if (hovered && io.MouseWheel != 0.0f) {
+    const double f = std::pow(0.85, io.MouseWheel);
+    const PlotTransform n = t.zoomed(m.x, m.y, f, f);
+    d.view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+    d.in.locus_view = d.view;
+    d.dirty = true;
+  }
+  if (hovered && ImGui::IsMouseDoubleClicked(0)) {
+    d.view.reset();
+    d.in.locus_view.reset();
+    d.dirty = true;
+  }
+  if (hovered && d.drag == DesignViewState::Drag::None) {
+    const double wn = std::abs(s), z = wn > 0 ? -s.real() / wn : 0.0;
+    ImGui::SetTooltip("s = %.4g %+.4gj rad/s\nzeta = %.3f, wn = %.4g rad/s\n"
+                      "drag the diamond (s_d), the green o (zero) or x (pole); click a branch\n"
+                      "to read its gain; wheel zooms, drag pans, double-click fits",
+                      s.real(), s.imag(), z, wn);
+  }
+}
+}  // namespace
+
+double zeta_for_overshoot(double os) {
+  if (os <= 0.0) return 0.999;
+  const double l = std::log(os / 100.0);
+  return std::clamp(-l / std::sqrt(kPi * kPi + l * l), 0.0, 0.999);
+}
+
+void draw_design_locus(DesignViewState& d, ImVec2 size) {
+  const float y_before = ImGui::GetCursorPosY();
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextDisabled("Locus in Kc.  x pole  o zero  green: compensator  square: closed loop at Kc  "
+                      "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s%s",
+                      d.out.other_locus ? "  grey: other regime" : "",
+                      d.out.zero_degree_locus ? "  light blue: 0-degree (k < 0)" : "");
+  ImGui::PopTextWrapPos();
+  size.y -= ImGui::GetCursorPosY() - y_before;
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("##locus", size);
+  const bool hovered = ImGui::IsItemHovered();
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
+  const control::ViewBox v = d.view ? *d.view : d.out.locus.view;
+  const PlotTransform t = fit(v, p0, p1);
+  d.canvas = t;
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
+  dl->PushClipRect(p0, p1, true);
+  draw_requirements(dl, t, zeta_for_overshoot(d.max_overshoot), 4.0 / d.settling_time);
+  draw_grid(dl, t);
+  if (d.out.other_locus) draw_other_locus(dl, t, *d.out.other_locus);
+  if (d.out.zero_degree_locus) draw_other_locus(dl, t, *d.out.zero_degree_locus, IM_COL32(86, 180, 233, 170));
+  draw_locus(dl, t, d.out.locus);
+  const float r = 6.0f;
+  // plant poles (black x) and zeros (o); compensator zero/pole in green
+  const auto& rl = d.out.locus;
+  std::vector<cplx> comp;
+  if (d.out.compensator) comp = {cplx(-d.out.compensator->z, 0), cplx(-d.out.compensator->p, 0)};
+  auto is_comp = [&](cplx s) {
+    for (const cplx& c : comp)
+      if (std::abs(c - s) <= 1e-9 * (1 + std::abs(c))) return true;
+    return false;
+  };
+  for (const cplx& p : rl.poles) cross(dl, px(t, p), r, is_comp(p) ? kComp : kPlant, 2.2f);
+  // Poles and zeros beyond the left edge: a marker on the edge with their value.
+  float y_off = 0.0f;
+  auto offscreen = [&](cplx s, const char* kind, ImU32 col) {
+    if (s.real() >= t.x0 || std::abs(s.imag()) > t.y1) return;
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "<- %s %.4g", kind, s.real());
+    const ImVec2 q(static_cast<float>(t.px0) + 4, px(t, s).y + 4 + y_off);
+    dl->AddText(q, col, buf);
+    y_off += ImGui::GetFontSize();
+  };
+  for (const cplx& p : rl.poles) offscreen(p, "pole", is_comp(p) ? kComp : kPlant);
+  for (const cplx& z : rl.zeros) offscreen(z, "zero", is_comp(z) ? kComp : kPlant);
+  for (const cplx& p : d.out.closed_loop_poles)
+    if (p.imag() >= 0) offscreen(p, "closed-loop pole", kClosed);
+  for (const cplx& z : rl.zeros) dl->AddCircle(px(t, z), r, is_comp(z) ? kComp : kPlant, 20, 2.2f);
+  for (const cplx& p : d.out.closed_loop_poles) {
+    const ImVec2 q = px(t, p);
+    dl->AddRectFilled(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), kClosed);
+  }
+  // desired dominant roots: diamonds
+  for (const cplx& s : {d.in.root.s(), std::conj(d.in.root.s())}) {
+    const ImVec2 q = px(t, s);
+    const float a = 8.0f;
+    dl->AddQuad(ImVec2(q.x, q.y - a), ImVec2(q.x + a, q.y), ImVec2(q.x, q.y + a), ImVec2(q.x - a, q.y), kTarget, 2.5f);
+  }
+  if (d.picked) {
+    for (const cplx& p : d.picked_poles) dl->AddCircle(px(t, p), 7.0f, IM_COL32(86, 180, 233, 255), 16, 2.0f);
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "k = %.4g", d.picked_k);
+    const ImVec2 q = px(t, d.picked_s);
+    dl->AddText(ImVec2(q.x + 9, q.y - 18), kText, buf);
+  }
+  dl->PopClipRect();
+  dl->AddRect(p0, p1, kAxis);
+  const char* label = "Re s [rad/s] (horizontal), Im s [rad/s] (vertical)";
+  dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
+  handle_input(d, t, hovered);
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,242 @@
+// gmslab ui: the Design panel - phase-lead design on the root locus with the largest reachable
+// error constant (shared/reference/phase_lead_design.md), linked to the loop simulated with the
+// scenario's friction. Left: controls and results; right: the root-locus canvas
+// (ui/design_locus.cpp) above the linked responses (ui/design_responses.cpp).
+#include <imgui.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include "ui/design_view.hpp"
+#include "ui/panels.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+using control::cplx;
+const ImVec4 kErr(0.75f, 0.10f, 0.10f, 1.0f);
+const ImVec4 kOk(0.0f, 0.50f, 0.30f, 1.0f);
+const ImVec4 kDim(0.35f, 0.35f, 0.38f, 1.0f);
+
+void tip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
+bool input_double(const char* label, double* v, double lo, double hi, const char* fmt, const char* help,
+                  bool log = false) {
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  const bool ch = ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, fmt,
+                                      log ? ImGuiSliderFlags_Logarithmic : 0);
+  tip(help);
+  return ch;
+}
+
+std::string poles_text(const std::vector<cplx>& poles) {
+  std::string s;
+  char buf[64];
+  for (const cplx& p : poles) {
+    if (p.imag() < 0) continue;
+    if (p.imag() > 0) std::snprintf(buf, sizeof buf, "%.4g +- j%.4g\n", p.real(), p.imag());
+    else std::snprintf(buf, sizeof buf, "%.4g\n", p.real());
+    s += buf;
+  }
+  return s;
+}
+
+void sync(AppState& s, DesignViewState& d) {
+  if (d.generation != s.generation || !(d.in.scenario == s.scenario)) {
+    d.generation = s.generation;
+    d.in.scenario = s.scenario;
+    d.dirty = true;
+  }
+}
+
+void recompute(DesignViewState& d) {
+  if (!d.dirty) return;
+  d.in.K = d.use_K ? std::optional<double>(d.K) : std::nullopt;
+  d.in.reference = d.reference == 0   ? Signal::constant(d.amplitude)
+                   : d.reference == 1 ? Signal::ramp(0.0, d.slope)
+                                      : Signal::sine(0.0, d.amplitude, d.frequency);
+  const auto t0 = std::chrono::steady_clock::now();
+  d.out = control::compute_design(d.in);
+  d.compute_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (d.picked) d.picked_poles = control::closed_loop_poles(d.out.loop, d.picked_k);
+  d.dirty = false;
+}
+
+void plant_section(DesignViewState& d) {
+  ImGui::TextUnformatted("Plant: force -> position of the mass");
+  int regime = d.in.regime == control::Regime::Presliding ? 0 : 1;
+  bool ch = ImGui::RadioButton("presliding", &regime, 0);
+  tip("Friction elements stuck: they add their stiffness sum k_i and micro-damping");
+  ImGui::SameLine();
+  ch |= ImGui::RadioButton("gross sliding", &regime, 1);
+  tip("Sliding at v0: friction acts through the local Stribeck slope plus sigma2 (damping)");
+  if (ch) d.in.regime = regime == 0 ? control::Regime::Presliding : control::Regime::Sliding, d.dirty = true;
+  if (d.in.regime == control::Regime::Sliding) {
+    double v0 = d.in.velocity > 0 ? d.in.velocity : d.out.plant.velocity;
+    if (input_double("v0 [m/s]", &v0, 1e-5, 1.0, "%.3g", "Sliding operating velocity (default 10 Vs)", true))
+      d.in.velocity = v0, d.dirty = true;
+  }
+  d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &d.in.other_regime);
+  tip("Overlay the locus of the other regime's plant with the same compensator");
+  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &d.in.zero_degree);
+  tip("The complementary locus: negative gain / positive feedback");
+  const auto& p = d.out.plant;
+  ImGui::TextColored(kDim, "G(s) = 1 / (%.4g s^2 + %.4g s + %.4g)  [m/N]", p.mass, p.damping, p.stiffness);
+  tip("m [kg], c_eff [N s/m], k_eff [N/m]");
+}
+
+void root_section(DesignViewState& d) {
+  ImGui::Separator();
+  ImGui::TextUnformatted("Desired dominant roots s_d (drag the diamond)");
+  d.dirty |= input_double("zeta [-]", &d.in.root.zeta, 0.02, 0.98, "%.3f", "Damping ratio of s_d, in (0, 1)");
+  d.dirty |= input_double("wn [rad/s]", &d.in.root.wn, 0.01, 1e5, "%.4g", "Natural frequency of s_d", true);
+  d.dirty |= ImGui::Checkbox("target error constant K", &d.use_K);
+  tip("On: design for this K (relocate s_d when out of reach). Off: the usable maximum (p/z bound)");
+  if (d.use_K) d.dirty |= input_double("K", &d.K, 1e-3, 1e7, "%.4g", "Desired Kp / Kv / Ka (by plant type)", true);
+  d.dirty |= input_double("max p/z [-]", &d.in.options.max_ratio, 1.5, 100.0, "%.3g",
+                          "Bound on the lead ratio p/z for the usable maximum K", true);
+}
+
+void result_section(DesignViewState& d) {
+  ImGui::Separator();
+  const auto& o = d.out;
+  if (!o.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+    ImGui::TextWrapped("%s", o.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (!o.report) return;
+  const auto& r = *o.report;
+  const auto& L = r.limits;
+  const std::string kname = control::error_constant_name(r.type.n);
+  ImGui::TextColored(L.applicable ? kOk : kErr, "single lead %s", L.applicable ? "applicable" : "NOT applicable");
+  tip("A single lead places s_d iff 0 < phi < 180 deg - beta");
+  if (!L.applicable) ImGui::TextWrapped("%s", L.reason.c_str());
+  ImGui::Text("phi = %.2f deg (limit %.2f deg)", L.phi * 180 / std::numbers::pi, 180 - L.beta * 180 / std::numbers::pi);
+  ImGui::Text("type %d, K0 = %.4g", r.type.n, r.type.K0);
+  if (L.applicable) {
+    ImGui::Text("%s_max = %.5g (PD limit)", kname.c_str(), L.K_max);
+    tip("Supremum of the error constant at s_d: reached only as p -> infinity");
+    ImGui::Text("usable (p/z <= %.3g) = %.5g", d.in.options.max_ratio, r.K_max_usable);
+  }
+  if (o.compensator) {
+    const auto& c = *o.compensator;
+    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g)", c.Kc, c.z, c.p);
+    ImGui::TextColored(kDim, "%s, %s = %.5g, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
+                       c.Kc * c.z / c.p * r.type.K0, c.p / c.z);
+  }
+  if (o.step.t.size() > 4) {
+    // The linear step against the requirements (the zero and the extra poles move it off the
+    // second-order values of zeta and wn).
+    control::LoopTrace st;
+    st.t = o.step.t;
+    st.x = o.step.y;
+    st.r.assign(o.step.t.size(), o.step.y.back());
+    const control::LoopMetrics m = control::loop_metrics(st);
+    const bool os_ok = m.overshoot <= d.max_overshoot;
+    const bool ts_ok = std::isfinite(m.settling_time) && m.settling_time <= d.settling_time;
+    ImGui::TextColored(os_ok ? kOk : kErr, "linear step: overshoot %.3g %%", m.overshoot);
+    tip("Overshoot of the linear closed-loop step (requirement in Requirements below)");
+    ImGui::SameLine();
+    if (std::isfinite(m.settling_time))
+      ImGui::TextColored(ts_ok ? kOk : kErr, "settling %.3g s", m.settling_time);
+    else
+      ImGui::TextColored(kErr, "does not settle within %.3g s", o.horizon);
+  }
+  if (o.compensator)
+    for (const auto& n : o.dominance.notes) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+      ImGui::TextWrapped("! %s", n.c_str());
+      ImGui::PopStyleColor();
+    }
+  for (const auto& rel : r.relocations) {
+    ImGui::PushID(rel.path.c_str());
+    if (rel.found) {
+      ImGui::Text("%s: zeta %.3f, wn %.4g", rel.path.c_str(), rel.root.zeta, rel.root.wn);
+      ImGui::SameLine();
+      if (ImGui::SmallButton("use")) d.in.root = rel.root, d.dirty = true;
+      tip("Move s_d to this point of the path (K_max = K (1 + margin) there)");
+    } else {
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextColored(kDim, "%s: %s", rel.path.c_str(), rel.reason.c_str());
+      ImGui::PopTextWrapPos();
+    }
+    ImGui::PopID();
+  }
+  if (!o.closed_loop_poles.empty())
+    ImGui::TextColored(kDim, "closed-loop poles:\n%s", poles_text(o.closed_loop_poles).c_str());
+}
+
+void compensator_section(DesignViewState& d) {
+  if (!d.out.compensator) return;
+  ImGui::Separator();
+  control::LeadCompensator c = *d.out.compensator;
+  ImGui::TextUnformatted(d.in.manual ? "Compensator: manual (dragged)" : "Compensator: from the design");
+  bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
+  ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
+  ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
+  if (ch) d.in.manual = c, d.dirty = true;
+  if (d.in.manual) {
+    if (ImGui::Button("back to the design")) d.in.manual.reset(), d.dirty = true;
+    tip("Drop the manual compensator and use the computed lead again");
+  }
+  if (d.picked) {
+    const double wn = std::abs(d.picked_s);
+    ImGui::TextColored(kDim, "picked: k = %.5g, zeta = %.3f, wn = %.4g\nall closed-loop poles:\n%s", d.picked_k,
+                       wn > 0 ? -d.picked_s.real() / wn : 0.0, wn, poles_text(d.picked_poles).c_str());
+    if (ImGui::SmallButton("set Kc = k")) c.Kc = d.picked_k, d.in.manual = c, d.dirty = true;
+  }
+}
+
+void simulation_section(DesignViewState& d) {
+  ImGui::Separator();
+  ImGui::TextUnformatted("Requirements (shaded where they fail)");
+  input_double("max overshoot [%]", &d.max_overshoot, 0.1, 90.0, "%.3g", "-> minimum damping ratio");
+  input_double("settling time [s]", &d.settling_time, 1e-3, 100.0, "%.3g", "2 % band: Re s < -4 / Ts", true);
+  ImGui::Separator();
+  ImGui::TextUnformatted("Loop with the scenario's friction");
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  d.dirty |= ImGui::Combo("reference", &d.reference, "step\0ramp\0sine\0");
+  if (d.reference != 1) d.dirty |= input_double("amplitude [m]", &d.amplitude, 1e-6, 1.0, "%.3g", "Step height / sine amplitude", true);
+  if (d.reference == 1) d.dirty |= input_double("slope [m/s]", &d.slope, 1e-6, 1.0, "%.3g", "Ramp velocity", true);
+  if (d.reference == 2) d.dirty |= input_double("frequency [Hz]", &d.frequency, 0.01, 100.0, "%.3g", "Sine frequency", true);
+  int comp = d.in.compensation == control::Compensation::Coulomb ? 0 : 1;
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  if (ImGui::Combo("compensation", &comp, "Coulomb feedforward\0GMS feedforward\0"))
+    d.in.compensation = comp == 0 ? control::Compensation::Coulomb : control::Compensation::Gms, d.dirty = true;
+  tip("Coulomb: Fc sgn(v_ref). GMS: a GMS model driven by the reference inside the controller");
+  d.dirty |= input_double("model force x [-]", &d.in.mismatch.force, 0.2, 2.0, "%.2f", "Compensator's Fs, Fc / plant's");
+  d.dirty |= input_double("model stiffness x [-]", &d.in.mismatch.stiffness, 0.1, 10.0, "%.2f", "Compensator's k_i / plant's", true);
+  d.dirty |= input_double("sample time [s]", &d.in.sample_time, 0.0, 0.01, "%.2g", "0: continuous; else Tustin at T with hold");
+  ImGui::TextColored(kDim, "recomputed in %.1f ms (locus, design, step, 2 loops)", d.compute_ms);
+}
+}  // namespace
+
+void draw_design_panel(AppState& s) {
+  DesignViewState& d = s.slot<DesignViewState>("design");
+  sync(s, d);
+  recompute(d);
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float left = std::min(ImGui::GetFontSize() * 24.0f, 0.34f * avail.x);
+  ImGui::BeginChild("##design_controls", ImVec2(left, avail.y), true);
+  plant_section(d);
+  root_section(d);
+  result_section(d);
+  compensator_section(d);
+  simulation_section(d);
+  ImGui::EndChild();
+  ImGui::SameLine();
+  ImGui::BeginChild("##design_plots", ImVec2(0, avail.y), false);
+  const ImVec2 r = ImGui::GetContentRegionAvail();
+  const float top = 0.6f * r.y;
+  draw_design_locus(d, ImVec2(r.x, top));
+  draw_design_responses(d, ImVec2(r.x, r.y - top - ImGui::GetStyle().ItemSpacing.y));
+  ImGui::EndChild();
+  recompute(d);  // drags this frame show next frame; recompute now so the state is never stale
+}
+
+}  // namespace gmslab::ui

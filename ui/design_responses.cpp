@@ -1,0 +1,79 @@
+// gmslab ui: the design view's linked responses (see ui/design_view.hpp): the linear closed-loop
+// step response and the loop simulated with the scenario's friction, without and with
+// compensation, against the reference.
+#include <imgui.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "ui/design_view.hpp"
+#include "ui/plot.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+void metrics_table(const DesignViewState& d) {
+  const auto& a = d.out.metrics_plain;
+  const auto& b = d.out.metrics_compensated;
+  ImGui::TextUnformatted("Loop metrics");
+  if (!ImGui::BeginTable("##metrics", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) return;
+  ImGui::TableSetupColumn("metric");
+  ImGui::TableSetupColumn("none");
+  ImGui::TableSetupColumn(control::to_string(d.in.compensation));
+  ImGui::TableHeadersRow();
+  auto row = [](const char* name, double x, double y, double scale, const char* unit, const char* help) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::Text("%s [%s]", name, unit);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+    for (double v : {x, y}) {
+      ImGui::TableNextColumn();
+      if (std::isfinite(v)) ImGui::Text("%.3g", v * scale);
+      else ImGui::TextUnformatted("-");
+    }
+  };
+  row("e_ss", a.steady_state_error, b.steady_state_error, 1e3, "mm", "mean error over the last 20 % of the run");
+  row("RMS e", a.rms_error, b.rms_error, 1e3, "mm", "root-mean-square tracking error over the run");
+  row("overshoot", a.overshoot, b.overshoot, 1.0, "%", "step references only");
+  row("settling", a.settling_time, b.settling_time, 1e3, "ms", "2 % band around the final value (step only)");
+  row("cycle ampl.", a.cycle_amplitude, b.cycle_amplitude, 1e3, "mm", "limit cycle (hunting) half peak-to-peak");
+  row("cycle period", a.cycle_period, b.cycle_period, 1e3, "ms", "limit cycle period");
+  ImGui::EndTable();
+}
+}  // namespace
+
+void draw_design_responses(const DesignViewState& d, ImVec2 size) {
+  const control::DesignOutputs& o = d.out;
+  const float table_w = ImGui::GetFontSize() * 17.0f;
+  const float w = 0.5f * (size.x - table_w - 2 * ImGui::GetStyle().ItemSpacing.x);
+  PlotOptions lin;
+  lin.title = "Linear closed loop: unit step response";
+  if (BeginPlot("##design_step", ImVec2(w, size.y), lin)) {
+    SetupAxesSI("t", "s", "y / r", "-");
+    if (!o.step.t.empty()) SetupFitRangeX(0.0, o.step.t.back());
+    PlotLine("linear loop", o.step.t.data(), o.step.y.data(), o.step.t.size(), {.color = 0, .x_sorted = true});
+    EndPlot();
+  }
+  ImGui::SameLine();
+  static char title[160];
+  std::snprintf(title, sizeof title, "With friction (%s): position vs reference",
+                d.in.scenario.friction.model.c_str());
+  PlotOptions nl;
+  nl.title = title;
+  if (BeginPlot("##design_nonlinear", ImVec2(w, size.y), nl)) {
+    SetupAxesSI("t", "s", "x", "m");
+    const auto& a = o.loop_plain;
+    const auto& b = o.loop_compensated;
+    PlotLine("reference", a.t.data(), a.r.data(), a.t.size(), {.color = 6, .line = LineStyle::Dashed, .x_sorted = true});
+    PlotLine("no compensation", a.t.data(), a.x.data(), a.t.size(), {.color = 1, .x_sorted = true});
+    const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
+    PlotLine(comp.c_str(), b.t.data(), b.x.data(), b.t.size(), {.color = 2, .x_sorted = true});
+    EndPlot();
+  }
+  ImGui::SameLine();
+  ImGui::BeginChild("##design_metrics", ImVec2(0, size.y), false);
+  metrics_table(d);
+  ImGui::EndChild();
+}
+
+}  // namespace gmslab::ui

@@ -1,0 +1,37 @@
+// gmslab ui: the Identify panel. Load a measured CSV (and optionally a validation CSV), pick the
+// base model and element count, run the fit and the residual loop on a worker thread (progress bar,
+// cancel), see the fit over the data and the residual round by round (the report figure) and the
+// rounds table, and send the identified model to the plant of the Simulation panel.
+#pragma once
+
+#include <string>
+
+#include "core/ident/loop.hpp"
+#include "ui/app.hpp"
+
+namespace gmslab::ui {
+
+void draw_identify_panel(AppState& s);
+
+// What the panel's fields hold.
+struct IdentifyInputs {
+  std::string data;      // training CSV
+  std::string validate;  // validation CSV; empty = hold out a quarter of the training record
+  std::string columns;   // explicit column map, e.g. "t=t_s,x=x_m,F=F_N"; empty = by name
+  std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE_s:AFTER_s
+  std::string model = "gms";
+  int elements = 4;
+};
+
+// The panel's actions without drawing (scripted use and tests): start a run on the worker
+// thread; busy() also collects a finished run; the report of the last finished run (nullptr if
+// none); the last run's error ("cancelled" after cancel()); send the identified model to the plant
+// (a pending scenario request, applied by apply_pending like any UI edit).
+void identify_start(AppState& s, const IdentifyInputs& in);
+bool identify_busy(AppState& s);
+void identify_cancel(AppState& s);
+const ident::IdentReport* identify_report(AppState& s);
+std::string identify_error(AppState& s);
+void identify_send_to_plant(AppState& s);
+
+}  // namespace gmslab::ui
