@@ -252,6 +252,10 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
         throw InputError(where(file, line_no) + ": column '" + col + "': '" + std::string(f) +
                          "' is not a finite number");
       vals[r] = d * chosen[r].scale;
+      if (!std::isfinite(vals[r]))  // finite in the file's unit, not in SI (e.g. 1e306 kN)
+        throw InputError(where(file, line_no) + ": column '" + col + "': '" + std::string(f) +
+                         "' overflows when converted to SI units (scale " +
+                         std::to_string(chosen[r].scale) + ")");
     }
     if (!rec.t.empty() && !(vals[0] > rec.t.back()))
       throw InputError(where(file, line_no) + ": column '" +

@@ -353,3 +353,25 @@ TEST(BadInputCsv, MissingColumnNamesWhatIsAccepted) {
 
 }  // namespace
 }  // namespace gmslab::hardening
+
+namespace gmslab {
+namespace {
+
+TEST(BadInputCsv, ValueThatOverflowsInSiUnitsIsRejected) {
+  // Regression (fuzzer rule, tests/fuzz/regressions/csv_unit_overflow.csv): 1e306 kN is finite in
+  // the file but +inf in N.
+  std::string text = "t_s,x_m,F_kN\n";
+  for (int i = 0; i < 12; ++i)
+    text += std::to_string(0.001 * i) + ",0.0," + (i == 5 ? "1e306" : "0.001") + "\n";
+  try {
+    parse_measured_csv(text, "overflow.csv");
+    FAIL() << "accepted a force of 1e306 kN";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("overflow.csv:7: column 'F_kN'"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("SI"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace gmslab
