@@ -88,6 +88,14 @@ long long JsonReader::integer(const std::string& key, long long lo, long long hi
   return x;
 }
 
+void JsonReader::schema_version(int supported) {
+  const auto version = integer("schema_version", 1, 1000);
+  if (version != supported)
+    fail("schema_version", "version " + std::to_string(version) +
+                               " is not supported; this gmslab reads version " +
+                               std::to_string(supported));
+}
+
 std::string JsonReader::string(const std::string& key) {
   const auto& v = get(key, "a string");
   if (!v.is_string()) fail(key, "expected a string, got " + type_name(v));

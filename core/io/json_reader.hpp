@@ -29,6 +29,8 @@ class JsonReader {
   std::optional<double> opt_number(const std::string& key, double lo, double hi,
                                    const std::string& unit = "", bool lo_open = false);
   long long integer(const std::string& key, long long lo, long long hi);
+  // Reads "schema_version" and throws unless it equals `supported` (names both versions).
+  void schema_version(int supported);
   std::string string(const std::string& key);
   std::string opt_string(const std::string& key, const std::string& fallback);
   std::string choice(const std::string& key, const std::vector<std::string>& allowed);

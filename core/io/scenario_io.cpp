@@ -205,11 +205,7 @@ json to_json(const Scenario& s) {
 
 Scenario scenario_from_json(const json& j, const std::string& file) {
   JsonReader r(j, file);
-  const auto version = r.integer("schema_version", 1, 1000);
-  if (version != kScenarioSchemaVersion)
-    r.fail("schema_version", "version " + std::to_string(version) +
-                                 " is not supported; this gmslab reads version " +
-                                 std::to_string(kScenarioSchemaVersion));
+  r.schema_version(kScenarioSchemaVersion);
   Scenario s;
   s.name = r.string("name");
   s.description = r.opt_string("description", "");

@@ -38,11 +38,7 @@ ViewSettings view_from_json(JsonReader& r) {
 
 Session session_from_json(const json& j, const std::string& file) {
   JsonReader r(j, file);
-  const auto version = r.integer("schema_version", 1, 1000);
-  if (version != kSessionSchemaVersion)
-    r.fail("schema_version", "version " + std::to_string(version) +
-                                 " is not supported; this gmslab reads version " +
-                                 std::to_string(kSessionSchemaVersion));
+  r.schema_version(kSessionSchemaVersion);
   Session s;
   s.scenario_path = r.string("scenario_path");
   s.scenario = scenario_from_json(r.raw("scenario"), file + " (in 'scenario')");
