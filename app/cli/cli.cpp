@@ -56,8 +56,23 @@ Cli::Cli(Host host)
   register_identify(app_, action_);
 }
 
+namespace {
+// CLI11 2.1.2's App::clear() (called by every parse after the first) keeps parse_order(), so each
+// parse of a reused app appends to it for ever: 8 bytes per parsed option and call, ~1 GB over
+// the 10^7 inputs of a fuzz run (CLIUtils/CLI11#1216, fixed upstream by #1218 in clear()). This
+// does what that fix does, for the app and every subcommand. parse_order_ is protected: a member
+// pointer named through a derived class reaches it on any App.
+struct ParseOrder : CLI::App {
+  static void clear(CLI::App& app) {
+    (app.*(&ParseOrder::parse_order_)).clear();
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) clear(*sub);
+  }
+};
+}  // namespace
+
 int Cli::run(int argc, char** argv) {
   action_ = nullptr;
+  ParseOrder::clear(app_);
   try {
     app_.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -59,6 +59,8 @@ class Cli {
   // error (file, line or key, what is accepted) and returns 2; never throws.
   int run(int argc, char** argv);
 
+  const CLI::App& app() const { return app_; }  // for tests
+
  private:
   Host host_;
   CLI::App app_;
