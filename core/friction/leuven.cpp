@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <string>
 
+#include "core/error.hpp"
 #include "core/friction/param_specs.hpp"
 
 namespace gmslab {
@@ -52,8 +55,8 @@ LeuvenModel::LeuvenModel(const ModelParams& p)
       sigma2_(p.scalar("sigma2")),
       k_(p.column("k")),
       W_(p.column("W")) {
-  k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
   n_int_ = (n_exp_ == std::floor(n_exp_) && n_exp_ >= 1.0) ? static_cast<int>(n_exp_) : 0;
+  n_eff_ = std::max(n_exp_, 1.0);
 }
 
 const ModelInfo& LeuvenModel::info() const { return model_info("leuven"); }
@@ -70,18 +73,71 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
   return sum;
 }
 
+LeuvenModel::HysteresisAt LeuvenModel::hysteresis_at(const double* F, double dz, double dir) const {
+  HysteresisAt a{0.0, 0.0, 0.0};
+  for (std::size_t i = 0; i < k_.size(); ++i) {
+    const double f = std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]);
+    a.fh += f;
+    a.magnitude += std::abs(f);
+    if (dir * f < W_[i]) a.k_free += k_[i];  // not pressed against its limit in direction dir
+  }
+  return a;
+}
+
+double LeuvenModel::power(double a) const {  // a^n for a >= 0
+  if (n_int_ == 0) return std::pow(a, n_exp_);
+  double p = 1.0, b = a;  // integer exponent by squaring (pow costs as much as a whole step)
+  for (int e = n_int_; e > 0; e >>= 1, b *= b)
+    if (e & 1) p *= b;
+  return p;
+}
+
 double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
   const double r = hysteresis(F, dz) / S;  // S carries the sign of v
-  const double a = std::abs(r);
-  double p = 1.0;
-  if (n_int_ > 0) {  // integer exponent: by squaring (pow is the cost of a whole step otherwise)
-    double b = a;
-    for (int e = n_int_; e > 0; e >>= 1, b *= b)
-      if (e & 1) p *= b;
-  } else {
-    p = std::pow(a, n_exp_);
+  return v * (1.0 - std::copysign(power(std::abs(r)), r));
+}
+
+// F_h(dz) - s is non-decreasing in dz: bisection between a (below or at the root) and b.
+double LeuvenModel::fixed_point(const double* F, double a, double b, double s) const {
+  for (int i = 0; i < 200; ++i) {
+    const double m = 0.5 * (a + b);
+    if (m == a || m == b) break;
+    ((hysteresis(F, m) - s) * (b - a) < 0.0 ? a : b) = m;
   }
-  return v * (1.0 - std::copysign(p, r));
+  return b;
+}
+
+double LeuvenModel::state_increment(const double* F, double v, double s, double h) const {
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  constexpr int max_substeps = 1000000;
+  const double av = std::abs(v), as = std::abs(s);
+  const HysteresisAt a0 = hysteresis_at(F, 0.0, 0.0);
+  if (std::abs(a0.fh - s) <= 4.0 * eps * (a0.magnitude + as)) return 0.0;  // on the fixed point
+  const double u0 = a0.fh / s;
+  const double dir = sgn(v) * (std::copysign(power(std::abs(u0)), u0) < 1.0 ? 1.0 : -1.0);
+  double dz = 0.0, dz_prev = 0.0, left = h;
+  for (int it = 0; left > 0.0; ++it) {
+    if (it == max_substeps)
+      throw SimulationError("Leuven step: the state equation did not settle within " +
+                            std::to_string(max_substeps) + " sub-steps (v = " + std::to_string(v) +
+                            " m/s, h = " + std::to_string(h) + " s)");
+    const HysteresisAt a = hysteresis_at(F, dz, dir);
+    if (std::abs(a.fh - s) <= 4.0 * eps * (a.magnitude + as)) break;  // on the fixed point
+    const double u = a.fh / s, p = power(std::abs(u));
+    const double k1 = v * (1.0 - std::copysign(p, u));
+    if (k1 * dir <= 0.0) return fixed_point(F, dz_prev, dz, s);  // stepped past it (rounding)
+    // Relaxation rate of the state equation here, the largest on the rest of the monotone path.
+    const double growth = std::abs(u) > 1.0 ? std::max(p / std::abs(u), 1.0) : 1.0;
+    const double lambda = a.k_free * av * n_eff_ * growth / as;
+    const double hs = lambda * left <= 0.25 ? left : 0.25 / lambda;
+    const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
+    const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);
+    const double k4 = rate(F, dz + hs * k3, v, s);
+    dz_prev = dz;
+    dz += hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    left = hs == left ? 0.0 : left - hs;
+  }
+  return dz;
 }
 
 double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const {
@@ -93,18 +149,8 @@ double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const
     std::fill(d, d + nel, 0.0);
     return hysteresis(F, 0.0);
   }
-  const double S = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
-  const double lambda_h = k_total_ * std::abs(v) * std::max(n_exp_, 1.0) / std::abs(S) * in.h;
-  const int n = static_cast<int>(std::clamp(std::ceil(4.0 * lambda_h), 1.0, 4096.0));
-  const double hs = in.h / n;
-  double dz = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double k1 = rate(F, dz, v, S);
-    const double k2 = rate(F, dz + 0.5 * hs * k1, v, S);
-    const double k3 = rate(F, dz + 0.5 * hs * k2, v, S);
-    const double k4 = rate(F, dz + hs * k3, v, S);
-    dz += hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-  }
+  const double s = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
+  const double dz = state_increment(F, v, s, in.h);
   double fh = 0.0;
   const double sz = sgn(dz);
   for (std::size_t i = 0; i < nel; ++i) {
