@@ -73,13 +73,14 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
   return sum;
 }
 
-LeuvenModel::HysteresisAt LeuvenModel::hysteresis_at(const double* F, double dz, double dir) const {
-  HysteresisAt a{0.0, 0.0, 0.0};
+LeuvenModel::HysteresisAt LeuvenModel::hysteresis_at(const double* F, double dz) const {
+  HysteresisAt a{0.0, 0.0, 0.0, 0.0};
   for (std::size_t i = 0; i < k_.size(); ++i) {
     const double f = std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]);
     a.fh += f;
     a.magnitude += std::abs(f);
-    if (dir * f < W_[i]) a.k_free += k_[i];  // not pressed against its limit in direction dir
+    a.k_up += f < W_[i] ? k_[i] : 0.0;     // can still load upwards
+    a.k_down += f > -W_[i] ? k_[i] : 0.0;  // can still load downwards
   }
   return a;
 }
@@ -111,24 +112,21 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
   constexpr double eps = std::numeric_limits<double>::epsilon();
   constexpr int max_substeps = 1000000;
   const double av = std::abs(v), as = std::abs(s);
-  const HysteresisAt a0 = hysteresis_at(F, 0.0, 0.0);
-  if (std::abs(a0.fh - s) <= 4.0 * eps * (a0.magnitude + as)) return 0.0;  // on the fixed point
-  const double u0 = a0.fh / s;
-  const double dir = sgn(v) * (std::copysign(power(std::abs(u0)), u0) < 1.0 ? 1.0 : -1.0);
-  double dz = 0.0, dz_prev = 0.0, left = h;
+  double dz = 0.0, dz_prev = 0.0, left = h, dir = 0.0;  // dir: sign of dz/dt at the step start
   for (int it = 0; left > 0.0; ++it) {
     if (it == max_substeps)
       throw SimulationError("Leuven step: the state equation did not settle within " +
                             std::to_string(max_substeps) + " sub-steps (v = " + std::to_string(v) +
                             " m/s, h = " + std::to_string(h) + " s)");
-    const HysteresisAt a = hysteresis_at(F, dz, dir);
+    const HysteresisAt a = hysteresis_at(F, dz);
     if (std::abs(a.fh - s) <= 4.0 * eps * (a.magnitude + as)) break;  // on the fixed point
     const double u = a.fh / s, p = power(std::abs(u));
     const double k1 = v * (1.0 - std::copysign(p, u));
+    if (it == 0) dir = sgn(k1);
     if (k1 * dir <= 0.0) return fixed_point(F, dz_prev, dz, s);  // stepped past it (rounding)
     // Relaxation rate of the state equation here, the largest on the rest of the monotone path.
     const double growth = std::abs(u) > 1.0 ? std::max(p / std::abs(u), 1.0) : 1.0;
-    const double lambda = a.k_free * av * n_eff_ * growth / as;
+    const double lambda = (dir > 0.0 ? a.k_up : a.k_down) * av * n_eff_ * growth / as;
     const double hs = lambda * left <= 0.25 ? left : 0.25 / lambda;
     const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
     const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);

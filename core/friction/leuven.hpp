@@ -72,10 +72,11 @@ class LeuvenModel final : public FrictionModel {
   struct HysteresisAt {
     double fh;         // F_h [N]
     double magnitude;  // sum |F_i| [N] (the rounding scale of F_h)
-    double k_free;     // sum of k_i of the elements not at their limit in the direction [N/m]
+    double k_up;       // sum of k_i of the elements below their upper limit +W_i [N/m]
+    double k_down;     // sum of k_i of the elements above their lower limit -W_i [N/m]
   };
   double hysteresis(const double* F, double dz) const;  // F_h after a state increment dz [N]
-  HysteresisAt hysteresis_at(const double* F, double dz, double dir) const;
+  HysteresisAt hysteresis_at(const double* F, double dz) const;
   double power(double a) const;                                       // a^n, a >= 0
   double rate(const double* F, double dz, double v, double S) const;  // dz/dt [m/s]
   double fixed_point(const double* F, double a, double b, double s) const;  // F_h(dz) = s
