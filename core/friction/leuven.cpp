@@ -98,21 +98,11 @@ double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
   return v * (1.0 - std::copysign(power(std::abs(r)), r));
 }
 
-// F_h(dz) - s is non-decreasing in dz: bisection between a (below or at the root) and b.
-double LeuvenModel::fixed_point(const double* F, double a, double b, double s) const {
-  for (int i = 0; i < 200; ++i) {
-    const double m = 0.5 * (a + b);
-    if (m == a || m == b) break;
-    ((hysteresis(F, m) - s) * (b - a) < 0.0 ? a : b) = m;
-  }
-  return b;
-}
-
 double LeuvenModel::state_increment(const double* F, double v, double s, double h) const {
   constexpr double eps = std::numeric_limits<double>::epsilon();
   constexpr int max_substeps = 1000000;
   const double av = std::abs(v), as = std::abs(s);
-  double dz = 0.0, dz_prev = 0.0, left = h, dir = 0.0;  // dir: sign of dz/dt at the step start
+  double dz = 0.0, left = h, dir = 0.0;  // dir: sign of dz/dt at the step start
   for (int it = 0; left > 0.0; ++it) {
     if (it == max_substeps)
       throw SimulationError("Leuven step: the state equation did not settle within " +
@@ -123,16 +113,20 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
     const double u = a.fh / s, p = power(std::abs(u));
     const double k1 = v * (1.0 - std::copysign(p, u));
     if (it == 0) dir = sgn(k1);
-    if (k1 * dir <= 0.0) return fixed_point(F, dz_prev, dz, s);  // stepped past it (rounding)
-    // Relaxation rate of the state equation here, the largest on the rest of the monotone path.
-    const double growth = std::abs(u) > 1.0 ? std::max(p / std::abs(u), 1.0) : 1.0;
-    const double lambda = (dir > 0.0 ? a.k_up : a.k_down) * av * n_eff_ * growth / as;
-    const double hs = lambda * left <= 0.25 ? left : 0.25 / lambda;
+    if (k1 * dir <= 0.0) break;  // on the fixed point to rounding (RK4 cannot step past it)
+    // Sub-step: 1/4 of the inverse relaxation rate K |v| phi'(u) / S (phi = sgn(u)|u|^n), taken
+    // as its largest value on the rest of the path when n >= 1, and short enough that no RK4 stage
+    // reaches the fixed point dz* (|dz* - dz| >= |F_h - s| / K, |dz/dt| <= |k1| on the way).
+    const double k_free = dir > 0.0 ? a.k_up : a.k_down;
+    const double slope = std::abs(u) > 1.0 ? n_exp_ * p / std::abs(u) : n_eff_;
+    double hs = std::min(left, 0.25 * as / (k_free * av * slope));
+    hs = std::min(hs, 0.5 * std::abs(a.fh - s) / (k_free * std::abs(k1)));
     const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
     const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);
     const double k4 = rate(F, dz + hs * k3, v, s);
-    dz_prev = dz;
-    dz += hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    const double next = dz + hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    if (next == dz) break;  // the increment is below rounding: z is on its fixed point
+    dz = next;
     left = hs == left ? 0.0 : left - hs;
   }
   return dz;
