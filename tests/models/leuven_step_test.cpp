@@ -131,6 +131,18 @@ TEST(LeuvenStep, OneLongStepLandsOnTheSlidingFixedPoint) {
   }
 }
 
+// An element loaded to 500 N that must unload to the fixed point F_h = -0.004 N: F_i + k_i dz can
+// only resolve F_h to ulp(500 N) = 1.1e-13 N, far coarser than the level 0.004 N itself. The step
+// must settle there (an earlier stop rule asked for F_h within 4 eps |s| and ran into its 1e6
+// sub-step guard).
+TEST(LeuvenStep, SettlesOnTheFixedPointToTheRoundingOfItsElementForces) {
+  const ModelParams p{"leuven", {0.004, 0.004, 1e-3, 2.0, 8.0, 0.0, 0.0}, {{1e6, 1000.0}}};
+  ASSERT_TRUE(validate(p).empty());
+  const auto m = build_model(p);
+  std::vector<double> state{500.0, 0.0};
+  EXPECT_NEAR(m->step(state, {-0.8, 1e-2}), m->steady_state(-0.8), 1e-12);
+}
+
 double log_uniform(std::mt19937& rng, double lo, double hi) {
   return std::exp(std::uniform_real_distribution<double>(std::log(lo), std::log(hi))(rng));
 }
