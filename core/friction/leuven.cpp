@@ -57,6 +57,7 @@ LeuvenModel::LeuvenModel(const ModelParams& p)
       W_(p.column("W")) {
   n_int_ = (n_exp_ == std::floor(n_exp_) && n_exp_ >= 1.0) ? static_cast<int>(n_exp_) : 0;
   n_eff_ = std::max(n_exp_, 1.0);
+  k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
 }
 
 const ModelInfo& LeuvenModel::info() const { return model_info("leuven"); }
@@ -74,15 +75,20 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
 }
 
 LeuvenModel::HysteresisAt LeuvenModel::hysteresis_at(const double* F, double dz) const {
-  HysteresisAt a{0.0, 0.0, 0.0, 0.0};
+  HysteresisAt a{0.0, 0.0};
   for (std::size_t i = 0; i < k_.size(); ++i) {
     const double f = std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]);
     a.fh += f;
     a.magnitude += std::abs(f);
-    a.k_up += f < W_[i] ? k_[i] : 0.0;     // can still load upwards
-    a.k_down += f > -W_[i] ? k_[i] : 0.0;  // can still load downwards
   }
   return a;
+}
+
+double LeuvenModel::free_stiffness(const double* F, double dz, double dir) const {
+  double k = 0.0;
+  for (std::size_t i = 0; i < k_.size(); ++i)
+    k += dir * std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]) < W_[i] ? k_[i] : 0.0;
+  return k;
 }
 
 double LeuvenModel::power(double a) const {  // a^n for a >= 0
@@ -117,10 +123,12 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
     // Sub-step: 1/4 of the inverse relaxation rate K |v| phi'(u) / S (phi = sgn(u)|u|^n), taken
     // as its largest value on the rest of the path when n >= 1, and short enough that no RK4 stage
     // reaches the fixed point dz* (|dz* - dz| >= |F_h - s| / K, |dz/dt| <= |k1| on the way).
-    const double k_free = dir > 0.0 ? a.k_up : a.k_down;
     const double slope = std::abs(u) > 1.0 ? n_exp_ * p / std::abs(u) : n_eff_;
-    double hs = std::min(left, 0.25 * as / (k_free * av * slope));
-    hs = std::min(hs, 0.5 * std::abs(a.fh - s) / (k_free * std::abs(k1)));
+    const auto substep = [&](double K) {
+      return std::min({left, 0.25 * as / (K * av * slope), 0.5 * std::abs(a.fh - s) / (K * std::abs(k1))});
+    };
+    double hs = substep(k_total_);  // all elements free: the bound is then only shorter
+    if (hs < left) hs = substep(free_stiffness(F, dz, dir));
     const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
     const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);
     const double k4 = rate(F, dz + hs * k3, v, s);

@@ -75,18 +75,18 @@ class LeuvenModel final : public FrictionModel {
   struct HysteresisAt {
     double fh;         // F_h [N]
     double magnitude;  // sum |F_i| [N] (the rounding scale of F_h)
-    double k_up;       // sum of k_i of the elements below their upper limit +W_i [N/m]
-    double k_down;     // sum of k_i of the elements above their lower limit -W_i [N/m]
   };
   double hysteresis(const double* F, double dz) const;  // F_h after a state increment dz [N]
   HysteresisAt hysteresis_at(const double* F, double dz) const;
+  // sum of k_i of the elements not at their limit in direction dir after the increment dz [N/m]
+  double free_stiffness(const double* F, double dz, double dir) const;
   double power(double a) const;                                       // a^n, a >= 0
   double rate(const double* F, double dz, double v, double S) const;  // dz/dt [m/s]
   double state_increment(const double* F, double v, double s, double h) const;  // dz [m]
 
   ModelParams params_;
   Stribeck S_;
-  double n_exp_, n_eff_ = 1.0, sigma1_, sigma2_;
+  double n_exp_, n_eff_ = 1.0, sigma1_, sigma2_, k_total_ = 0.0;
   int n_int_ = 0;  // n when it is a whole number (fast power), else 0
   std::vector<double> k_, W_;
 };
