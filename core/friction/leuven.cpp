@@ -124,8 +124,9 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
     // as its largest value on the rest of the path when n >= 1, and short enough that no RK4 stage
     // reaches the fixed point dz* (|dz* - dz| >= |F_h - s| / K, |dz/dt| <= |k1| on the way).
     const double slope = std::abs(u) > 1.0 ? n_exp_ * p / std::abs(u) : n_eff_;
-    const auto substep = [&](double K) {
-      return std::min({left, 0.25 * as / (K * av * slope), 0.5 * std::abs(a.fh - s) / (K * std::abs(k1))});
+    const auto substep = [&](double K) {  // K = 0 (nothing can load further): the whole rest
+      return std::min({left, 0.25 * as / (K * av * slope),
+                       0.5 * std::abs(a.fh - s) / (K * std::abs(k1))});
     };
     double hs = substep(k_total_);  // all elements free: the bound is then only shorter
     if (hs < left) hs = substep(free_stiffness(F, dz, dir));
