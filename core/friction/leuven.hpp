@@ -19,9 +19,10 @@
 // as n grows; both are the model's, the same at a tenth of the time step). The default n = 8 keeps
 // presliding Maxwell-slip-like: the Fig. 2A inner loop misses closing by 0.139 / 0.016 / 0.001 N
 // and the 2D protocol creeps 14 / 0.23 / 0.002 um in 6 s for n = 2 / 8 / 16, but a larger n also
-// narrows the frictional-lag loop (Fig. 2B x100 at 1 mm/s: 0.112 / 0.051 / 0.026 N). sigma1 defaults to 0: in sliding dz/dt follows (dS/dt) / (stiffness of the sticking
-// elements), so a large sigma1 inverts the frictional lag (with sigma1 = 183 N s/m, the GMS
-// reference's total micro-damping, the Fig. 2B loop runs the wrong way round).
+// narrows the frictional-lag loop (Fig. 2B x100 at 1 mm/s: 0.112 / 0.051 / 0.026 N). sigma1
+// defaults to 0: in sliding dz/dt follows (dS/dt) / (stiffness of the sticking elements), so a
+// large sigma1 inverts the frictional lag (with sigma1 = 183 N s/m, the GMS reference's total
+// micro-damping, the Fig. 2B loop runs the wrong way round).
 //
 // Step with v frozen: z moves monotonically towards the fixed point F_h = sgn(v) S(v) and never
 // crosses it, so the element forces after a state increment dz are exactly

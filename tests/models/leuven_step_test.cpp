@@ -96,7 +96,8 @@ double fine_euler_work(const ModelParams& p, const std::vector<Leg>& legs, int m
       for (double f : F) fh += f;
       const double u = fh / s, dz = v * (1.0 - std::copysign(std::pow(std::abs(u), n), u)) * h;
       fh = 0.0;
-      for (std::size_t j = 0; j < F.size(); ++j) fh += F[j] = std::clamp(F[j] + k[j] * dz, -W[j], W[j]);
+      for (std::size_t j = 0; j < F.size(); ++j)
+        fh += F[j] = std::clamp(F[j] + k[j] * dz, -W[j], W[j]);
       work += (fh + sigma2 * v) * v * h;
     }
     x = leg.target;
@@ -172,7 +173,8 @@ TEST(LeuvenStep, ClosedCyclesWithRandomSpeedJumpsNeverCreateEnergy) {
       }
     } while (!validate(p).empty());
     if (set % 2 == 1)
-      p.set_scalar("sigma1", std::uniform_real_distribution<double>(0.0, 10.0)(rng) * p.scalar("Fc"));
+      p.set_scalar("sigma1",
+                   std::uniform_real_distribution<double>(0.0, 10.0)(rng) * p.scalar("Fc"));
     const double amp = log_uniform(rng, 1e-7, 1e-3);
     std::vector<Leg> legs;
     for (int k = 0, n = 2 + static_cast<int>(rng() % 6); k <= n; ++k)
@@ -186,8 +188,8 @@ TEST(LeuvenStep, ClosedCyclesWithRandomSpeedJumpsNeverCreateEnergy) {
     for (const auto& row : p.elements) o << " [" << row[0] << ' ' << row[1] << ']';
     o << " | legs";
     for (const Leg& l : legs) o << ' ' << l.target << '@' << l.speed;
-    ASSERT_GE(r.work, -1e-9 * r.scale) << "set " << set << ": the friction gave out " << -r.work
-                                       << " J;" << o.str();
+    ASSERT_GE(r.work, -1e-9 * r.scale)
+        << "set " << set << ": the friction gave out " << -r.work << " J;" << o.str();
   }
 }
 
