@@ -112,10 +112,12 @@ TEST(FrictionProperty, ForceStaysBoundedByBreakAwayPlusViscousAndDampingParts) {
         const double f = m->step(state, {v, h, 0.0, 0.0});
         ASSERT_TRUE(std::isfinite(f));
         worst = std::max(worst, std::abs(f) / force_bound(*m, p, v));
-        for (std::size_t i = 0; i < m->element_count(); ++i)
-          if (info.column_index("alpha") >= 0)
+        for (std::size_t i = 0; i < m->element_count(); ++i) {
+          if (info.column_index("alpha") >= 0) {
             ASSERT_LE(std::abs(m->element(state, i).force),
                       p.elements[i][info.column_index("alpha")] * m->break_away() * (1 + 1e-12));
+          }
+        }
       }
       ASSERT_LE(worst, 1.0 + 1e-12) << "set " << set << ", vmax " << vmax << " m/s, h " << h
                                     << " s, " << describe(p);
