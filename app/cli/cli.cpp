@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "core/error.hpp"
 
@@ -32,41 +33,58 @@ void parse_size(const std::string& text, int& w, int& h) {
                      "': expected WIDTHxHEIGHT with each side from 64 to 8192 pixels, e.g. 1600x1000");
 }
 
-int run(int argc, char** argv, const Host& host) {
-  CLI::App app{
-      "gmslab: friction simulation and compensation around the Generalized Maxwell-Slip model.\n"
-      "With no command, opens the window (or, with no display, renders the figure set)."};
-  app.set_version_flag("--version", "gmslab 0.1.0");
-  app.require_subcommand(0, 1);
-  Action action;
+Cli::Cli(Host host)
+    : host_(std::move(host)),
+      app_("gmslab: friction simulation and compensation around the Generalized Maxwell-Slip model.\n"
+           "With no command, opens the window (or, with no display, renders the figure set).") {
+  app_.set_version_flag("--version", "gmslab 0.1.0");
+  app_.require_subcommand(0, 1);
 
-  register_simulate(app, action);
+  register_simulate(app_, action_);
 
-  RenderOptions render;
-  auto* r = app.add_subcommand("render", "Render the app's view of a scenario to PNG (headless)");
-  add_render_options(*r, render);
-  r->callback([&] { action = [&] { return host.render(render); }; });
+  auto* r = app_.add_subcommand("render", "Render the app's view of a scenario to PNG (headless)");
+  add_render_options(*r, render_);
+  r->preparse_callback([this](std::size_t) { render_ = RenderOptions{}; });
+  r->callback([this] { action_ = [this] { return host_.render(render_); }; });
 
-  FiguresOptions figures;
-  auto* f = app.add_subcommand("figures", "Render the paper's figure set to PNG + CSV (headless)");
-  add_figures_options(*f, figures);
-  f->callback([&] { action = [&] { return host.figures(figures); }; });
+  auto* f = app_.add_subcommand("figures", "Render the paper's figure set to PNG + CSV (headless)");
+  add_figures_options(*f, figures_);
+  f->preparse_callback([this](std::size_t) { figures_ = FiguresOptions{}; });
+  f->callback([this] { action_ = [this] { return host_.figures(figures_); }; });
 
-  register_design(app, action);
-  register_identify(app, action);
+  register_design(app_, action_);
+  register_identify(app_, action_);
+}
 
+namespace {
+// CLI11 2.1.2's App::clear() (called by every parse after the first) keeps parse_order(), so each
+// parse of a reused app appends to it for ever: 8 bytes per parsed option and call, ~1 GB over
+// the 10^7 inputs of a fuzz run (CLIUtils/CLI11#1216, fixed upstream by #1218 in clear()). This
+// does what that fix does, for the app and every subcommand. parse_order_ is protected: a member
+// pointer named through a derived class reaches it on any App.
+struct ParseOrder : CLI::App {
+  static void clear(CLI::App& app) {
+    (app.*(&ParseOrder::parse_order_)).clear();
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) clear(*sub);
+  }
+};
+}  // namespace
+
+int Cli::run(int argc, char** argv) {
+  action_ = nullptr;
+  ParseOrder::clear(app_);
   try {
-    app.parse(argc, argv);
+    app_.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app_.exit(e);
   }
   try {
-    if (!action) {
-      if (host.window) return host.window();
-      std::cerr << app.help();
+    if (!action_) {
+      if (host_.window) return host_.window();
+      std::cerr << app_.help();
       return 2;
     }
-    return action();
+    return action_();
   } catch (const InputError& e) {
     std::cerr << "gmslab: error: " << e.what() << '\n';
     return 2;
@@ -77,6 +95,11 @@ int run(int argc, char** argv, const Host& host) {
     std::cerr << "gmslab: error: " << e.what() << '\n';
     return 1;
   }
+}
+
+int run(int argc, char** argv, const Host& host) {
+  Cli cli(host);
+  return cli.run(argc, argv);
 }
 
 }  // namespace gmslab::cli

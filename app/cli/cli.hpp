@@ -35,15 +35,41 @@ struct Host {
   std::function<int()> window;  // no command given
 };
 
-// The action a command registers; run() calls it after a successful parse.
+// The action a command registers; run() calls it after a successful parse. A command keeps its
+// option values in storage its callbacks own and resets them in its preparse_callback.
 using Action = std::function<int()>;
 
 void register_simulate(CLI::App& app, Action& action);
 void register_design(CLI::App& app, Action& action);
 void register_identify(CLI::App& app, Action& action);
 
-// Parses argv, runs the command; returns the process exit code. Bad input prints one clear error
-// (file, line or key, what is accepted) and returns 2; never throws.
+// The command line, built once: every command and option registered on one CLI11 app. run() may
+// be called many times (the fuzz harness reparses one Cli per input instead of rebuilding ~60
+// options): CLI11 clears its parse results at each parse, and every command resets its option
+// values to their defaults when it is parsed (preparse_callback), so no call sees another's
+// values. Each command's options live in the app (held by its callbacks), so two Cli objects are
+// independent.
+class Cli {
+ public:
+  explicit Cli(Host host);
+  Cli(const Cli&) = delete;  // the app's callbacks point into this object
+  Cli& operator=(const Cli&) = delete;
+
+  // Parses argv, runs the command; returns the process exit code. Bad input prints one clear
+  // error (file, line or key, what is accepted) and returns 2; never throws.
+  int run(int argc, char** argv);
+
+  const CLI::App& app() const { return app_; }  // for tests
+
+ private:
+  Host host_;
+  CLI::App app_;
+  Action action_;
+  RenderOptions render_;
+  FiguresOptions figures_;
+};
+
+// One-shot form of Cli::run (what the executables call).
 int run(int argc, char** argv, const Host& host);
 
 }  // namespace gmslab::cli

@@ -7,6 +7,7 @@
 // OUT may be '-' (stdout). Without --K the design is the usable maximum (p/z = --max-ratio).
 #include <cmath>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -179,34 +180,36 @@ int run_design(const Opts& o) {
 }  // namespace
 
 void register_design(CLI::App& app, Action& action) {
-  static Opts o;
-  o = Opts{};
+  // Owned by the app (its callbacks hold it): each Cli has its own options.
+  auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand(
       "design", "Phase-lead design on the root locus with the largest reachable error constant");
-  sub->add_option("--num", o.num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
-  sub->add_option("--den", o.den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
-  sub->add_option("--preset", o.preset, "Design for this scenario's plant (force -> position)");
-  sub->add_option("--regime", o.regime, "Scenario plant regime: presliding or sliding")->capture_default_str();
-  sub->add_option("--velocity", o.velocity, "Sliding operating velocity v0 [m/s] (default 10 Vs)");
-  sub->add_option("--zeta", o.zeta, "Damping ratio of the desired dominant roots, in (0, 1)")->required();
-  sub->add_option("--wn", o.wn, "Natural frequency of the desired dominant roots [rad/s], > 0")->required();
-  sub->add_option("--K", o.K, "Desired error constant (Kp, Kv or Ka by plant type), > 0");
-  sub->add_option("--max-ratio", o.max_ratio, "Bound on p/z for the usable maximum, > 1")->capture_default_str();
-  sub->add_option("--margin", o.margin, "Relocation target K (1 + margin), > 0")->capture_default_str();
-  sub->add_option("--json", o.json, "Write the design as JSON to this file ('-' = stdout)");
-  sub->add_flag("--simulate", o.simulate, "Simulate the loop with the scenario's friction");
-  sub->add_option("--reference", o.reference, "Reference: step, ramp or sine")->capture_default_str();
-  sub->add_option("--amplitude", o.amplitude, "Step height / sine amplitude [m]")->capture_default_str();
-  sub->add_option("--slope", o.slope, "Ramp velocity [m/s]")->capture_default_str();
-  sub->add_option("--frequency", o.frequency, "Sine frequency [Hz]")->capture_default_str();
-  sub->add_option("--duration", o.duration, "Simulated time [s]")->capture_default_str();
-  sub->add_option("--dt", o.dt, "Integration step [s] (default: the scenario's run.dt)");
-  sub->add_option("--sample-time", o.T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
-  sub->add_option("--compensation", o.compensation, "none, coulomb, gms or all")->capture_default_str();
-  sub->add_option("--mismatch-force", o.mm_force, "Compensator's Fs, Fc / plant's [-]")->capture_default_str();
-  sub->add_option("--mismatch-stiffness", o.mm_stiffness, "Compensator's k_i, sigma_i / plant's [-]")->capture_default_str();
-  sub->add_option("--mismatch-velocity", o.mm_velocity, "Compensator's Vs / plant's [-]")->capture_default_str();
-  sub->callback([&action] { action = [] { return run_design(o); }; });
+  sub->add_option("--num", o->num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
+  sub->add_option("--den", o->den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
+  sub->add_option("--preset", o->preset, "Design for this scenario's plant (force -> position)");
+  sub->add_option("--regime", o->regime, "Scenario plant regime: presliding or sliding")->capture_default_str();
+  sub->add_option("--velocity", o->velocity, "Sliding operating velocity v0 [m/s] (default 10 Vs)");
+  sub->add_option("--zeta", o->zeta, "Damping ratio of the desired dominant roots, in (0, 1)")->required();
+  sub->add_option("--wn", o->wn, "Natural frequency of the desired dominant roots [rad/s], > 0")->required();
+  sub->add_option("--K", o->K, "Desired error constant (Kp, Kv or Ka by plant type), > 0");
+  sub->add_option("--max-ratio", o->max_ratio, "Bound on p/z for the usable maximum, > 1")->capture_default_str();
+  sub->add_option("--margin", o->margin, "Relocation target K (1 + margin), > 0")->capture_default_str();
+  sub->add_option("--json", o->json, "Write the design as JSON to this file ('-' = stdout)");
+  sub->add_flag("--simulate", o->simulate, "Simulate the loop with the scenario's friction");
+  sub->add_option("--reference", o->reference, "Reference: step, ramp or sine")->capture_default_str();
+  sub->add_option("--amplitude", o->amplitude, "Step height / sine amplitude [m]")->capture_default_str();
+  sub->add_option("--slope", o->slope, "Ramp velocity [m/s]")->capture_default_str();
+  sub->add_option("--frequency", o->frequency, "Sine frequency [Hz]")->capture_default_str();
+  sub->add_option("--duration", o->duration, "Simulated time [s]")->capture_default_str();
+  sub->add_option("--dt", o->dt, "Integration step [s] (default: the scenario's run.dt)");
+  sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
+  sub->add_option("--compensation", o->compensation, "none, coulomb, gms or all")->capture_default_str();
+  sub->add_option("--mismatch-force", o->mm_force, "Compensator's Fs, Fc / plant's [-]")->capture_default_str();
+  sub->add_option("--mismatch-stiffness", o->mm_stiffness, "Compensator's k_i, sigma_i / plant's [-]")->capture_default_str();
+  sub->add_option("--mismatch-velocity", o->mm_velocity, "Compensator's Vs / plant's [-]")->capture_default_str();
+  // Defaults again at every parse of this command (a Cli may be run many times).
+  sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
+  sub->callback([&action, o] { action = [o] { return run_design(*o); }; });
 }
 
 }  // namespace gmslab::cli

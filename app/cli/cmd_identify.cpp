@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "app/cli/cli.hpp"
 #include "core/error.hpp"
@@ -171,45 +172,48 @@ int run_identify(const IdentifyOptions& o) {
 }  // namespace
 
 void register_identify(CLI::App& app, Action& action) {
-  static IdentifyOptions o;
+  // Owned by the app (its callbacks hold it): each Cli has its own options.
+  auto o = std::make_shared<IdentifyOptions>();
   auto* sub = app.add_subcommand(
       "identify",
       "Fit a friction model to measured data, then find the effects it lacks (residual loop)");
-  sub->add_option("--data", o.data, "Training record (CSV: t, x, F [, v, Fn], units in the header)")
+  sub->add_option("--data", o->data, "Training record (CSV: t, x, F [, v, Fn], units in the header)")
       ->required();
-  sub->add_option("--validate", o.validate,
+  sub->add_option("--validate", o->validate,
                   "Validation record (CSV); default: a hold-out part of --data");
-  sub->add_option("--columns", o.columns, "Explicit column names, e.g. t=t_s,x=x_m,F=F_N");
-  sub->add_option("--model", o.model, "Base friction model (registry tag)")->capture_default_str();
-  sub->add_option("--elements", o.elements, "Element count of multi-element models")
+  sub->add_option("--columns", o->columns, "Explicit column names, e.g. t=t_s,x=x_m,F=F_N");
+  sub->add_option("--model", o->model, "Base friction model (registry tag)")->capture_default_str();
+  sub->add_option("--elements", o->elements, "Element count of multi-element models")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
-  sub->add_option("--mask", o.mask, "Time windows of --data to ignore, t0:t1,... [s]");
-  sub->add_option("--validate-mask", o.validate_mask, "Time windows of --validate to ignore [s]");
-  sub->add_option("--mask-edges", o.mask_edges,
+  sub->add_option("--mask", o->mask, "Time windows of --data to ignore, t0:t1,... [s]");
+  sub->add_option("--validate-mask", o->validate_mask, "Time windows of --validate to ignore [s]");
+  sub->add_option("--mask-edges", o->mask_edges,
                   "COLUMN:BEFORE:AFTER [s]: ignore windows around every change of COLUMN "
                   "(e.g. pulse_code:0.005:0.060)");
-  sub->add_option("--holdout", o.holdout, "Fraction held out for validation without --validate")
+  sub->add_option("--holdout", o->holdout, "Fraction held out for validation without --validate")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 0.5));
-  sub->add_option("--method", o.method, "Optimiser: bobyqa, sbplx or neldermead")
+  sub->add_option("--method", o->method, "Optimiser: bobyqa, sbplx or neldermead")
       ->capture_default_str()
       ->check(CLI::IsMember({"bobyqa", "sbplx", "neldermead"}));
-  sub->add_option("--starts", o.starts, "Starts of the base fit")->capture_default_str()->check(CLI::Range(1, 50));
-  sub->add_option("--max-evals", o.max_evals, "Cost evaluations per start")
+  sub->add_option("--starts", o->starts, "Starts of the base fit")->capture_default_str()->check(CLI::Range(1, 50));
+  sub->add_option("--max-evals", o->max_evals, "Cost evaluations per start")
       ->capture_default_str()
       ->check(CLI::Range(20, 100000));
-  sub->add_option("--min-gain", o.min_gain,
+  sub->add_option("--min-gain", o->min_gain,
                   "Relative validation RMS drop needed to keep an effect [-]")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.9));
-  sub->add_option("--effects", o.effects, "Candidate effects (comma-separated; default: all)");
-  sub->add_option("--report", o.report, "Report JSON to write")->required();
-  sub->add_option("--scenario", o.scenario,
+  sub->add_option("--effects", o->effects, "Candidate effects (comma-separated; default: all)");
+  sub->add_option("--report", o->report, "Report JSON to write")->required();
+  sub->add_option("--scenario", o->scenario,
                   "Scenario preset of the identified model (default: REPORT stem + .scenario.json)");
-  sub->add_option("--plot", o.plot, "Report figure PNG (drawn by gmslab-headless)");
-  sub->add_option("--size", o.size, "PNG size WIDTHxHEIGHT")->capture_default_str();
-  sub->callback([&action] { action = [] { return run_identify(o); }; });
+  sub->add_option("--plot", o->plot, "Report figure PNG (drawn by gmslab-headless)");
+  sub->add_option("--size", o->size, "PNG size WIDTHxHEIGHT")->capture_default_str();
+  // Defaults again at every parse of this command (a Cli may be run many times).
+  sub->preparse_callback([o](std::size_t) { *o = IdentifyOptions{}; });
+  sub->callback([&action, o] { action = [o] { return run_identify(*o); }; });
 }
 
 }  // namespace gmslab::cli

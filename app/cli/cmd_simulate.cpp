@@ -1,5 +1,6 @@
 // gmslab simulate PRESET.json --out trace.csv
 #include <iostream>
+#include <memory>
 
 #include "app/cli/cli.hpp"
 #include "core/io/scenario_io.hpp"
@@ -12,22 +13,25 @@ void register_simulate(CLI::App& app, Action& action) {
   struct Opts {
     std::string preset, out;
   };
-  static Opts o;
+  // Owned by the app (its callbacks hold it): each Cli has its own options.
+  auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("simulate", "Simulate a scenario preset and write its trace as CSV");
-  sub->add_option("preset", o.preset, "Scenario preset (JSON)")->required();
-  sub->add_option("--out,-o", o.out,
+  sub->add_option("preset", o->preset, "Scenario preset (JSON)")->required();
+  sub->add_option("--out,-o", o->out,
                   "CSV file to write (t_s, x_m, v_mps, F_friction_N, F_applied_N, per-element "
                   "force and slip state); '-' for stdout")
       ->required();
-  sub->callback([&action] {
-    action = [] {
-      const Scenario sc = load_scenario(o.preset);
+  // Defaults again at every parse of this command (a Cli may be run many times).
+  sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
+  sub->callback([&action, o] {
+    action = [o] {
+      const Scenario sc = load_scenario(o->preset);
       const Trace tr = simulate(sc);
-      if (o.out == "-") {
+      if (o->out == "-") {
         write_trace_csv(tr, std::cout);
       } else {
-        save_trace_csv(tr, o.out);
-        std::cerr << "wrote " << tr.size() << " samples to " << o.out << '\n';
+        save_trace_csv(tr, o->out);
+        std::cerr << "wrote " << tr.size() << " samples to " << o->out << '\n';
       }
       return 0;
     };
