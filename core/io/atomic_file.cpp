@@ -103,6 +103,15 @@ void write_file_atomic(const std::string& path, std::string_view contents) {
   }
 }
 
+std::string set_aside(const std::string& path) {
+  std::string to = path + ".unreadable";
+  for (int i = 2; fs::exists(to); ++i) to = path + ".unreadable-" + std::to_string(i);
+  if (::rename(path.c_str(), to.c_str()) != 0)
+    throw std::runtime_error("cannot move '" + path + "' aside to '" + to +
+                             "': " + std::strerror(errno));
+  return to;
+}
+
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file (" + std::strerror(errno) + ")");

@@ -16,6 +16,10 @@ void write_file_atomic(const std::string& path, std::string_view contents);
 // Removes the temporary files beside `path` whose writing process no longer exists (a save that
 // was killed); files of live writers, including this process, are kept. Returns how many it removed.
 std::size_t remove_stale_temporaries(const std::string& path);
+// Moves a file that could not be read aside, to PATH.unreadable (or PATH.unreadable-2, -3, ... if
+// taken), so that a later save to PATH does not overwrite what the user had. Returns the new path;
+// throws std::runtime_error naming both paths when the rename fails.
+std::string set_aside(const std::string& path);
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string read_file(const std::string& path);
 

@@ -125,5 +125,26 @@ TEST(AtomicSave, StaleTemporariesOfDeadWritersAreRemovedAndLiveOnesKept) {
   EXPECT_TRUE(std::filesystem::exists(other));       // belongs to another file
 }
 
+// A session the window cannot read is moved aside before the window's exit save could overwrite it.
+TEST(AtomicSave, UnreadableFileIsSetAsideNotOverwritten) {
+  const std::string path = temp_file("session.json");
+  write_file_atomic(path, "{ \"schema_version\": 99 }");
+  EXPECT_THROW(load_scenario(path), InputError);
+  const std::string kept = set_aside(path);
+  EXPECT_EQ(kept, path + ".unreadable");
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_EQ(read_file(kept), "{ \"schema_version\": 99 }");
+  write_file_atomic(path, "second");
+  EXPECT_EQ(set_aside(path), path + ".unreadable-2");  // the first one is not overwritten either
+  EXPECT_EQ(read_file(kept), "{ \"schema_version\": 99 }");
+  EXPECT_EQ(read_file(path + ".unreadable-2"), "second");
+  try {
+    set_aside(path);  // gone now
+    ADD_FAILURE() << "moved a missing file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace gmslab::hardening
