@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "core/io/scenario_io.hpp"
+#include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/app.hpp"
 #include "ui/style.hpp"
@@ -52,6 +53,12 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
       return;
     } catch (const std::exception& e) {
       s.status = std::string("session not restored: ") + e.what();
+      // Keep the user's file: the session saved on exit would otherwise overwrite it.
+      try {
+        s.status += "\nthe file was kept as " + set_aside(session_path);
+      } catch (const std::exception& e2) {
+        s.status += std::string("\n") + e2.what();
+      }
     }
   }
   const std::string preset = ui::presets_dir() + "/fig4_stick_slip.json";

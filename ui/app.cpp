@@ -1,5 +1,7 @@
 #include "ui/app.hpp"
 
+#include "ui/design_view.hpp"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -116,13 +118,16 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 }
 
 Session make_session(const AppState& s) {
-  return {s.scenario_path, s.scenario, s.compare, s.view};
+  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}};
+  if (const auto* d = s.find_slot<DesignViewState>("design")) out.design = design_settings(*d);
+  return out;
 }
 
 void restore_session(AppState& s, const Session& session) {
   if (session.compare) build_model(*session.compare);  // validate before changing anything
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
+  apply_design_settings(s.slot<DesignViewState>("design"), session.design);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
 }

@@ -68,6 +68,12 @@ struct AppState {
     if (!p) p = std::shared_ptr<void>(new T(), [](void* q) { delete static_cast<T*>(q); });
     return *static_cast<T*>(p.get());
   }
+  // The slot if a panel has created it, else nullptr.
+  template <class T>
+  const T* find_slot(const std::string& key) const {
+    const auto it = slots_.find(key);
+    return it == slots_.end() ? nullptr : static_cast<const T*>(it->second.get());
+  }
 
  private:
   std::unordered_map<std::string, std::shared_ptr<void>> slots_;

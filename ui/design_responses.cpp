@@ -16,6 +16,14 @@ void metrics_table(const DesignViewState& d) {
   const auto& a = d.out.metrics_plain;
   const auto& b = d.out.metrics_compensated;
   ImGui::TextUnformatted("Loop metrics");
+  if (d.out.loop_plain.t.empty() && d.out.loop_compensated.t.empty()) {
+    // Nothing was simulated (no compensator, or the loops are switched off): no numbers to show.
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("no loop simulated: %s",
+                        d.out.compensator ? "loops are off" : "no compensator (see the design)");
+    ImGui::PopTextWrapPos();
+    return;
+  }
   if (!ImGui::BeginTable("##metrics", 3, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) return;
   ImGui::TableSetupColumn("metric");
   ImGui::TableSetupColumn("none");

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/control/design_session.hpp"
+#include "core/io/session_io.hpp"
 #include "ui/app.hpp"
 #include "ui/plot_transform.hpp"
 
@@ -45,6 +46,11 @@ struct DesignViewState {
   std::vector<control::cplx> picked_poles;
   PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
 };
+
+// The view's settings as saved in a session, and back (marks the design dirty). Defaults agree:
+// design_settings(DesignViewState{}) == DesignSettings{}.
+DesignSettings design_settings(const DesignViewState& d);
+void apply_design_settings(DesignViewState& d, const DesignSettings& s);
 
 // zeta_min of an overshoot requirement [%]: OS = exp(-pi zeta / sqrt(1 - zeta^2)).
 double zeta_for_overshoot(double overshoot_percent);

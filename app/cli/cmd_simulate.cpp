@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "app/cli/cli.hpp"
+#include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
 #include "core/sim/simulation.hpp"
@@ -26,7 +27,12 @@ void register_simulate(CLI::App& app, Action& action) {
   sub->callback([&action, o] {
     action = [o] {
       const Scenario sc = load_scenario(o->preset);
-      const Trace tr = simulate(sc);
+      Trace tr;
+      try {
+        tr = simulate(sc);
+      } catch (const InputError& e) {  // e.g. a step too large for this plant: name the file
+        throw InputError(o->preset + ": " + e.what());
+      }
       if (o->out == "-") {
         write_trace_csv(tr, std::cout);
       } else {

@@ -25,13 +25,11 @@ ModelInfo dahl_model_info() {
 }
 
 DahlModel::DahlModel(const ModelParams& p)
-    : params_(p),
+    : SingleStateModel(p),
       sigma0_(p.scalar("sigma0")),
       Fc_(p.scalar("Fc")),
       a_(p.scalar("a")),
       sigma2_(p.scalar("sigma2")) {}
-
-const ModelInfo& DahlModel::info() const { return model_info("dahl"); }
 
 double DahlModel::steady_state(double v) const { return sgn(v) * Fc_ + sigma2_ * v; }
 

@@ -16,19 +16,14 @@
 
 namespace gmslab {
 
-class DahlModel final : public FrictionModel {
+class DahlModel final : public SingleStateModel {
  public:
   explicit DahlModel(const ModelParams& p);
-  const ModelInfo& info() const override;
-  const ModelParams& params() const override { return params_; }
-  std::size_t state_size() const override { return 1; }
-  void reset(std::span<double> state) const override { state[0] = 0.0; }
   double step(std::span<double> state, const FrictionInput& in) const override;
   double steady_state(double v) const override;
   double break_away() const override { return Fc_; }
 
  private:
-  ModelParams params_;
   double sigma0_, Fc_, a_, sigma2_;
 };
 

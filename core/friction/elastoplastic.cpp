@@ -39,14 +39,12 @@ ModelInfo elastoplastic_model_info() {
 }
 
 ElastoPlasticModel::ElastoPlasticModel(const ModelParams& p)
-    : params_(p),
+    : SingleStateModel(p),
       S_(specs::stribeck_from(p)),
       sigma0_(p.scalar("sigma0")),
       sigma1_(p.scalar("sigma1")),
       sigma2_(p.scalar("sigma2")),
       z_ba_(p.scalar("z_ba")) {}
-
-const ModelInfo& ElastoPlasticModel::info() const { return model_info("elastoplastic"); }
 
 double ElastoPlasticModel::steady_state(double v) const { return sgn(v) * S_(v) + sigma2_ * v; }
 

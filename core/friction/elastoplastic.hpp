@@ -24,13 +24,9 @@
 
 namespace gmslab {
 
-class ElastoPlasticModel final : public FrictionModel {
+class ElastoPlasticModel final : public SingleStateModel {
  public:
   explicit ElastoPlasticModel(const ModelParams& p);
-  const ModelInfo& info() const override;
-  const ModelParams& params() const override { return params_; }
-  std::size_t state_size() const override { return 1; }
-  void reset(std::span<double> state) const override { state[0] = 0.0; }
   double step(std::span<double> state, const FrictionInput& in) const override;
   double steady_state(double v) const override;
   double break_away() const override { return S_.Fs; }
@@ -41,7 +37,6 @@ class ElastoPlasticModel final : public FrictionModel {
  private:
   double ramp_rate(double w, double u, double w_max) const;  // dw/dt inside the ramp
 
-  ModelParams params_;
   Stribeck S_;
   double sigma0_, sigma1_, sigma2_, z_ba_;
 };

@@ -130,6 +130,45 @@ __attribute__((target_clones("avx2", "default"))) Sums gms_elements_step(
   }
   return {sum_f, sum_damp};
 }
+
+// Few elements (the common case: N = 4 in the reference set): a scalar loop with branches. The
+// whole run is then bound by the latency of one step (v -> force -> v), and a predicted branch cuts
+// that chain where a select would not: while every element sticks, the force follows from
+// F_i + k_i v h alone, and S(v) only feeds the (predicted) break-away test; while sliding fast,
+// S = Fc and the relaxation E depend on h only. The arithmetic of each element is that of
+// gms_elements_step, so both paths give the same element forces.
+Sums gms_elements_step_scalar(std::size_t n, double* __restrict F, double* __restrict d,
+                              const double* __restrict alpha, const double* __restrict k,
+                              const double* __restrict sk, double s, double S, double Ch,
+                              double vh) {
+  double sum_f = 0.0;
+  double sum_damp = 0.0;
+  double E = -1.0;  // exp(-C h / S), computed at the first slipping element
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f0 = F[i];
+    const double lim = alpha[i] * S;
+    double f1;
+    if (d[i] * s > 0.0 || s * f0 >= lim) {  // keeps slipping, or over the limit already
+      if (E < 0.0) E = exp_neg(Ch / S);
+      const double target = s * lim;
+      f1 = target + (f0 - target) * E;
+      d[i] = s;
+    } else {
+      const double f_stick = f0 + k[i] * vh;
+      if (s * f_stick >= lim) {  // breaks away inside the step: ends it at the target
+        f1 = s * lim;
+        d[i] = s;
+      } else {
+        f1 = f_stick;
+        d[i] = 0.0;
+      }
+    }
+    sum_damp += sk[i] * (f1 - f0);
+    F[i] = f1;
+    sum_f += f1;
+  }
+  return {sum_f, sum_damp};
+}
 }  // namespace
 
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
@@ -138,12 +177,21 @@ double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   const double inv_h = 1.0 / h;  // independent of v: off the step's critical path
   const double s = sgn(v);
   const double r = std::abs(v) * inv_vs_;
-  const double S = r > r_sat_ ? p_.S.Fc : p_.S.at_scaled(r);
-  const double E = exp_neg(p_.C * h / S);  // slip relaxation over the step, common to all
+  double S;
+  if (r > r_sat_)
+    S = p_.S.Fc;  // a branch, not a select: S is then a constant, off the critical path
+  else
+    S = p_.S.at_scaled(r);
+  const double Ch = p_.C * h;
   const double vh = v * h;
+  double* F = state.data();
+  double* d = state.data() + n_;
   const auto [sum_f, sum_damp] =
-      gms_elements_step(n_, state.data(), state.data() + n_, p_.alpha.data(), p_.k.data(),
-                        sigma_over_k_.data(), s, S, E, vh);
+      n_ <= kScalarElements
+          ? gms_elements_step_scalar(n_, F, d, p_.alpha.data(), p_.k.data(),
+                                     sigma_over_k_.data(), s, S, Ch, vh)
+          : gms_elements_step(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s,
+                              S, exp_neg(Ch / S), vh);
   return sum_f + sum_damp * inv_h + p_.sigma2 * v;
 }
 

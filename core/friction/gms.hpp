@@ -52,6 +52,10 @@ class GmsModel final : public FrictionModel {
   std::size_t element_count() const override { return n_; }
   ElementState element(std::span<const double> state, std::size_t i) const override;
 
+  // Up to this many elements a step uses a scalar loop with branches (latency-bound: a short
+  // v -> force chain); beyond, a branch-free vectorised loop (throughput-bound).
+  static constexpr std::size_t kScalarElements = 8;
+
  private:
   ModelParams params_;
   GmsParams p_;

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <string>
 
+#include "core/error.hpp"
 #include "core/friction/param_specs.hpp"
 
 namespace gmslab {
@@ -52,8 +55,9 @@ LeuvenModel::LeuvenModel(const ModelParams& p)
       sigma2_(p.scalar("sigma2")),
       k_(p.column("k")),
       W_(p.column("W")) {
-  k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
   n_int_ = (n_exp_ == std::floor(n_exp_) && n_exp_ >= 1.0) ? static_cast<int>(n_exp_) : 0;
+  n_eff_ = std::max(n_exp_, 1.0);
+  k_total_ = std::accumulate(k_.begin(), k_.end(), 0.0);
 }
 
 const ModelInfo& LeuvenModel::info() const { return model_info("leuven"); }
@@ -70,18 +74,71 @@ double LeuvenModel::hysteresis(const double* F, double dz) const {
   return sum;
 }
 
+LeuvenModel::HysteresisAt LeuvenModel::hysteresis_at(const double* F, double dz) const {
+  HysteresisAt a{0.0, 0.0};
+  for (std::size_t i = 0; i < k_.size(); ++i) {
+    const double f = std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]);
+    a.fh += f;
+    a.magnitude += std::abs(f);
+  }
+  return a;
+}
+
+double LeuvenModel::free_stiffness(const double* F, double dz, double dir) const {
+  double k = 0.0;
+  for (std::size_t i = 0; i < k_.size(); ++i)
+    k += dir * std::clamp(F[i] + k_[i] * dz, -W_[i], W_[i]) < W_[i] ? k_[i] : 0.0;
+  return k;
+}
+
+double LeuvenModel::power(double a) const {  // a^n for a >= 0
+  if (n_int_ == 0) return std::pow(a, n_exp_);
+  double p = 1.0, b = a;  // integer exponent by squaring (pow costs as much as a whole step)
+  for (int e = n_int_; e > 0; e >>= 1, b *= b)
+    if (e & 1) p *= b;
+  return p;
+}
+
 double LeuvenModel::rate(const double* F, double dz, double v, double S) const {
   const double r = hysteresis(F, dz) / S;  // S carries the sign of v
-  const double a = std::abs(r);
-  double p = 1.0;
-  if (n_int_ > 0) {  // integer exponent: by squaring (pow is the cost of a whole step otherwise)
-    double b = a;
-    for (int e = n_int_; e > 0; e >>= 1, b *= b)
-      if (e & 1) p *= b;
-  } else {
-    p = std::pow(a, n_exp_);
+  return v * (1.0 - std::copysign(power(std::abs(r)), r));
+}
+
+double LeuvenModel::state_increment(const double* F, double v, double s, double h) const {
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  constexpr int max_substeps = 1000000;
+  const double av = std::abs(v), as = std::abs(s);
+  double dz = 0.0, left = h, dir = 0.0;  // dir: sign of dz/dt at the step start
+  for (int it = 0; left > 0.0; ++it) {
+    if (it == max_substeps)
+      throw SimulationError("Leuven step: the state equation did not settle within " +
+                            std::to_string(max_substeps) + " sub-steps (v = " + std::to_string(v) +
+                            " m/s, h = " + std::to_string(h) + " s)");
+    const HysteresisAt a = hysteresis_at(F, dz);
+    if (std::abs(a.fh - s) <= 4.0 * eps * (a.magnitude + as)) break;  // on the fixed point
+    const double u = a.fh / s, p = power(std::abs(u));
+    const double k1 = v * (1.0 - std::copysign(p, u));
+    if (it == 0) dir = sgn(k1);
+    if (k1 * dir <= 0.0) break;  // on the fixed point to rounding (RK4 cannot step past it)
+    // Sub-step: 1/4 of the inverse relaxation rate K |v| phi'(u) / S (phi = sgn(u)|u|^n), taken
+    // as its largest value on the rest of the path when n >= 1, and short enough that no RK4 stage
+    // reaches the fixed point dz* (|dz* - dz| >= |F_h - s| / K, |dz/dt| <= |k1| on the way).
+    const double slope = std::abs(u) > 1.0 ? n_exp_ * p / std::abs(u) : n_eff_;
+    const auto substep = [&](double K) {  // K = 0 (nothing can load further): the whole rest
+      return std::min({left, 0.25 * as / (K * av * slope),
+                       0.5 * std::abs(a.fh - s) / (K * std::abs(k1))});
+    };
+    double hs = substep(k_total_);  // all elements free: the bound is then only shorter
+    if (hs < left) hs = substep(free_stiffness(F, dz, dir));
+    const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
+    const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);
+    const double k4 = rate(F, dz + hs * k3, v, s);
+    const double next = dz + hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+    if (next == dz) break;  // the increment is below rounding: z is on its fixed point
+    dz = next;
+    left = hs == left ? 0.0 : left - hs;
   }
-  return v * (1.0 - std::copysign(p, r));
+  return dz;
 }
 
 double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const {
@@ -93,18 +150,8 @@ double LeuvenModel::step(std::span<double> state, const FrictionInput& in) const
     std::fill(d, d + nel, 0.0);
     return hysteresis(F, 0.0);
   }
-  const double S = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
-  const double lambda_h = k_total_ * std::abs(v) * std::max(n_exp_, 1.0) / std::abs(S) * in.h;
-  const int n = static_cast<int>(std::clamp(std::ceil(4.0 * lambda_h), 1.0, 4096.0));
-  const double hs = in.h / n;
-  double dz = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double k1 = rate(F, dz, v, S);
-    const double k2 = rate(F, dz + 0.5 * hs * k1, v, S);
-    const double k3 = rate(F, dz + 0.5 * hs * k2, v, S);
-    const double k4 = rate(F, dz + hs * k3, v, S);
-    dz += hs * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
-  }
+  const double s = sgn(v) * S_(v);  // signed level: the fixed point F_h = sgn(v) S(v) is stable
+  const double dz = state_increment(F, v, s, in.h);
   double fh = 0.0;
   const double sz = sgn(dz);
   for (std::size_t i = 0; i < nel; ++i) {

@@ -16,17 +16,37 @@
 // Memory: F_h has exact nonlocal memory in z, but z follows x only as far as
 // dz/dx = 1 - sgn(F_h/s)|F_h/s|^n is close to 1. Presliding loops in x therefore close only
 // approximately, and a sub-break-away oscillating force makes the body creep slowly (both vanish
-// as n grows). The default n = 8 keeps presliding Maxwell-slip-like (with n = 2 the Fig. 2A inner
-// loop misses closing by 0.14 N and the 2D protocol drifts 14 um in 6 s; with n = 8: 0.016 N and
-// 0.2 um). sigma1 defaults to 0: in sliding dz/dt follows (dS/dt) / (stiffness of the sticking
-// elements), so a large sigma1 inverts the frictional lag (with sigma1 = 183 N s/m, the GMS
-// reference's total micro-damping, the Fig. 2B loop runs the wrong way round).
+// as n grows; both are the model's, the same at a tenth of the time step). The default n = 8 keeps
+// presliding Maxwell-slip-like: the Fig. 2A inner loop misses closing by 0.139 / 0.016 / 0.001 N
+// and the 2D protocol creeps 14 / 0.23 / 0.002 um in 6 s for n = 2 / 8 / 16, but a larger n also
+// narrows the frictional-lag loop (Fig. 2B x100 at 1 mm/s: 0.112 / 0.051 / 0.026 N). sigma1
+// defaults to 0: in sliding dz/dt follows (dS/dt) / (stiffness of the sticking elements), so a
+// large sigma1 inverts the frictional lag (with sigma1 = 183 N s/m, the GMS reference's total
+// micro-damping, the Fig. 2B loop runs the wrong way round).
 //
-// Step with v frozen: z moves monotonically towards the fixed point F_h = sgn(v) S(v), so the
-// element forces after a state increment dz are exactly F_i(dz) = clamp(F_i + k_i dz, -W_i, W_i)
-// (one monotone move from the step start). dz over the step is integrated by classical RK4 on
-// sub-steps chosen so that the linearised relaxation rate  (sum k_i) |v| n / S  times the sub-step
-// is <= 1/4 (at most 4096 sub-steps). dz/dt in F is the step average. At v = 0 the state is held.
+// Step with v frozen: z moves monotonically towards the fixed point F_h = sgn(v) S(v) and never
+// crosses it, so the element forces after a state increment dz are exactly
+// F_i(dz) = clamp(F_i + k_i dz, -W_i, W_i) (one monotone move from the step start). dz over the
+// step is integrated by classical RK4 on adaptive sub-steps. Each is at most 1/4 of the inverse
+// relaxation rate of the state equation, K |v| phi'(u) / S(v) with u = F_h / s, phi = sgn(u)|u|^n
+// and K the stiffness of the elements not yet at their limit in the direction of motion, taken as
+// its largest value on the rest of the path (n >= 1: n max(1, |u|^(n-1)); K only falls), and short
+// enough that no RK4 stage reaches the fixed point (|dz* - dz| >= |F_h - s| / K). The update then
+// stays between dz and dz*: the path of z is monotone and the one-move element update exact.
+// After a velocity jump |u| can be well above 1 (F_h near Fs after slow sliding, S near Fc at
+// speed) and the state equation is then n |u|^(n-1) times stiffer than at the fixed point; a step
+// size from u = 1 alone (the former scheme, at most 4096 equal sub-steps) made RK4 unstable there:
+// dz of the wrong sign, every element stuck at its limit against the motion, energy given out over
+// closed cycles. The sub-steps stop once F_h is on the fixed point to rounding, so a step in steady
+// sliding costs one pass; settling from far off costs about 4 n ln|u| + 4 ln(1/eps) sub-steps
+// (measured at most ~1000 over the whole parameter ranges). dz/dt in F is the step average. At
+// v = 0 the state is held. Throws SimulationError if a step needs more than 1e6 sub-steps.
+//
+// Passivity (sigma1 = 0): F_h (v - dz/dt) = |F_h| |v| |u|^n >= 0 and the Maxwell-slip elements
+// dissipate in z, so a closed displacement cycle takes energy; the step keeps this because the
+// path of z is monotone and F_h is taken at the end of the step. sigma1 dz/dt v = sigma1 v^2 (1 -
+// sgn(u)|u|^n) is negative while |u| > 1, so with sigma1 > 0 the model itself can give out energy
+// after a velocity jump (sufficient for passivity: sigma1 |v| <= Fc).
 //
 // State layout: [F_0 .. F_{N-1} | d_0 .. d_{N-1}], d_i = +-1 while element i is pushed against its
 // slip limit (slipping), 0 while it sticks.
@@ -53,12 +73,21 @@ class LeuvenModel final : public FrictionModel {
   ElementState element(std::span<const double> state, std::size_t i) const override;
 
  private:
-  double hysteresis(const double* F, double dz) const;       // F_h after a state increment dz
-  double rate(const double* F, double dz, double v, double S) const;  // dz/dt
+  struct HysteresisAt {
+    double fh;         // F_h [N]
+    double magnitude;  // sum |F_i| [N] (the rounding scale of F_h)
+  };
+  double hysteresis(const double* F, double dz) const;  // F_h after a state increment dz [N]
+  HysteresisAt hysteresis_at(const double* F, double dz) const;
+  // sum of k_i of the elements not at their limit in direction dir after the increment dz [N/m]
+  double free_stiffness(const double* F, double dz, double dir) const;
+  double power(double a) const;                                       // a^n, a >= 0
+  double rate(const double* F, double dz, double v, double S) const;  // dz/dt [m/s]
+  double state_increment(const double* F, double v, double s, double h) const;  // dz [m]
 
   ModelParams params_;
   Stribeck S_;
-  double n_exp_, sigma1_, sigma2_, k_total_;
+  double n_exp_, n_eff_ = 1.0, sigma1_, sigma2_, k_total_ = 0.0;
   int n_int_ = 0;  // n when it is a whole number (fast power), else 0
   std::vector<double> k_, W_;
 };

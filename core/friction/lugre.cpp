@@ -25,13 +25,11 @@ ModelInfo lugre_model_info() {
 }
 
 LuGreModel::LuGreModel(const ModelParams& p)
-    : params_(p),
+    : SingleStateModel(p),
       S_(specs::stribeck_from(p)),
       sigma0_(p.scalar("sigma0")),
       sigma1_(p.scalar("sigma1")),
       sigma2_(p.scalar("sigma2")) {}
-
-const ModelInfo& LuGreModel::info() const { return model_info("lugre"); }
 
 double LuGreModel::steady_state(double v) const { return sgn(v) * S_(v) + sigma2_ * v; }
 

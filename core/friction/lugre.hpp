@@ -17,19 +17,14 @@
 
 namespace gmslab {
 
-class LuGreModel final : public FrictionModel {
+class LuGreModel final : public SingleStateModel {
  public:
   explicit LuGreModel(const ModelParams& p);
-  const ModelInfo& info() const override;
-  const ModelParams& params() const override { return params_; }
-  std::size_t state_size() const override { return 1; }
-  void reset(std::span<double> state) const override { state[0] = 0.0; }
   double step(std::span<double> state, const FrictionInput& in) const override;
   double steady_state(double v) const override;
   double break_away() const override { return S_.Fs; }
 
  private:
-  ModelParams params_;
   Stribeck S_;
   double sigma0_, sigma1_, sigma2_;
 };

@@ -112,6 +112,21 @@ class ModelInfo {
 const std::vector<ModelInfo>& model_registry();
 // Throws InputError naming the known tags when tag is unknown.
 const ModelInfo& model_info(std::string_view tag);
+
+// Common base of the models whose state is one number (a bristle or spring deflection z [m]), zero
+// in the virgin state (Dahl, LuGre, elasto-plastic): keeps the parameters and finds the registry
+// entry by the parameters' model tag.
+class SingleStateModel : public FrictionModel {
+ public:
+  const ModelInfo& info() const override { return model_info(params_.model); }
+  const ModelParams& params() const override { return params_; }
+  std::size_t state_size() const override { return 1; }
+  void reset(std::span<double> state) const override { state[0] = 0.0; }
+
+ protected:
+  explicit SingleStateModel(const ModelParams& p) : params_(p) {}
+  ModelParams params_;
+};
 // Every problem of p (shape, ranges, cross-field), each naming the parameter and allowed range;
 // empty when p is valid. `where` prefixes each message (e.g. "friction").
 std::vector<std::string> validate(const ModelParams& p, std::string_view where = "friction");

@@ -1,6 +1,7 @@
 #include "core/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,11 +17,52 @@
 
 namespace gmslab {
 
-void write_file_atomic(const std::string& path, std::string_view contents) {
-  namespace fs = std::filesystem;
+namespace {
+
+namespace fs = std::filesystem;
+
+// ".NAME.tmp-" : every temporary file of a save of NAME starts with this; the writer's process id
+// follows, then mkstemp's six random characters.
+std::string temp_prefix(const fs::path& target) {
+  return "." + target.filename().string() + ".tmp-";
+}
+
+// True when `rest` ("<pid>-XXXXXX") names a process that no longer exists.
+bool writer_is_gone(const std::string& rest) {
+  const auto dash = rest.find('-');
+  if (dash == std::string::npos || dash == 0 || dash > 10) return false;
+  long pid = 0;
+  for (std::size_t i = 0; i < dash; ++i) {
+    if (rest[i] < '0' || rest[i] > '9') return false;
+    pid = pid * 10 + (rest[i] - '0');
+  }
+  if (pid <= 0 || pid == static_cast<long>(::getpid())) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+}  // namespace
+
+std::size_t remove_stale_temporaries(const std::string& path) {
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string tmpl = (dir / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
+  const std::string prefix = temp_prefix(target);
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || !writer_is_gone(name.substr(prefix.size()))) continue;
+    std::error_code rm;
+    if (fs::remove(it->path(), rm)) ++removed;
+  }
+  return removed;
+}
+
+void write_file_atomic(const std::string& path, std::string_view contents) {
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  remove_stale_temporaries(path);
+  std::string tmpl =
+      (dir / (temp_prefix(target) + std::to_string(::getpid()) + "-XXXXXX")).string();
   const int fd = ::mkstemp(tmpl.data());
   if (fd < 0)
     throw std::runtime_error("cannot create a temporary file beside '" + path +
@@ -59,6 +101,15 @@ void write_file_atomic(const std::string& path, std::string_view contents) {
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+std::string set_aside(const std::string& path) {
+  std::string to = path + ".unreadable";
+  for (int i = 2; fs::exists(to); ++i) to = path + ".unreadable-" + std::to_string(i);
+  if (::rename(path.c_str(), to.c_str()) != 0)
+    throw std::runtime_error("cannot move '" + path + "' aside to '" + to +
+                             "': " + std::strerror(errno));
+  return to;
 }
 
 std::string read_file(const std::string& path) {

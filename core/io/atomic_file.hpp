@@ -1,8 +1,11 @@
 // gmslab core: atomic file writes. The text goes to a temporary file in the same folder, is
 // flushed to disk (fsync), then renamed over the target: a reader sees the old file or the new
-// one, never half of one, even when the writer is killed.
+// one, never half of one, even when the writer is killed. The temporary file is named
+// ".NAME.tmp-<pid>-XXXXXX"; one left behind by a writer that was killed mid-save is removed by the
+// next save of NAME once that process no longer exists.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -10,6 +13,13 @@ namespace gmslab {
 
 // Throws std::runtime_error naming the path and the system error on failure.
 void write_file_atomic(const std::string& path, std::string_view contents);
+// Removes the temporary files beside `path` whose writing process no longer exists (a save that
+// was killed); files of live writers, including this process, are kept. Returns how many it removed.
+std::size_t remove_stale_temporaries(const std::string& path);
+// Moves a file that could not be read aside, to PATH.unreadable (or PATH.unreadable-2, -3, ... if
+// taken), so that a later save to PATH does not overwrite what the user had. Returns the new path;
+// throws std::runtime_error naming both paths when the rename fails.
+std::string set_aside(const std::string& path);
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string read_file(const std::string& path);
 

@@ -88,12 +88,15 @@ long long JsonReader::integer(const std::string& key, long long lo, long long hi
   return x;
 }
 
-void JsonReader::schema_version(int supported) {
+int JsonReader::schema_version(int newest, int oldest) {
+  if (oldest <= 0) oldest = newest;
   const auto version = integer("schema_version", 1, 1000);
-  if (version != supported)
-    fail("schema_version", "version " + std::to_string(version) +
-                               " is not supported; this gmslab reads version " +
-                               std::to_string(supported));
+  if (version < oldest || version > newest)
+    fail("schema_version",
+         "version " + std::to_string(version) + " is not supported; this gmslab reads version " +
+             (oldest == newest ? std::to_string(newest)
+                               : std::to_string(oldest) + " to " + std::to_string(newest)));
+  return static_cast<int>(version);
 }
 
 std::string JsonReader::string(const std::string& key) {

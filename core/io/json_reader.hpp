@@ -29,8 +29,9 @@ class JsonReader {
   std::optional<double> opt_number(const std::string& key, double lo, double hi,
                                    const std::string& unit = "", bool lo_open = false);
   long long integer(const std::string& key, long long lo, long long hi);
-  // Reads "schema_version" and throws unless it equals `supported` (names both versions).
-  void schema_version(int supported);
+  // Reads "schema_version" and returns it; throws unless it lies in [oldest, newest] (the message
+  // names the version found and the ones this gmslab reads). oldest = 0 means newest only.
+  int schema_version(int newest, int oldest = 0);
   std::string string(const std::string& key);
   std::string opt_string(const std::string& key, const std::string& fallback);
   std::string choice(const std::string& key, const std::vector<std::string>& allowed);

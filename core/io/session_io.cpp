@@ -19,6 +19,26 @@ json to_json(const Session& s) {
                {"slip_velocity", s.view.slip_velocity},
                {"tab", s.view.tab},
                {"friction_against", s.view.friction_against}};
+  const DesignSettings& d = s.design;
+  j["design"] = {{"regime", d.regime},
+                 {"velocity", d.velocity},
+                 {"zeta", d.zeta},
+                 {"wn", d.wn},
+                 {"use_K", d.use_K},
+                 {"K", d.K},
+                 {"max_ratio", d.max_ratio},
+                 {"reference", d.reference},
+                 {"amplitude", d.amplitude},
+                 {"slope", d.slope},
+                 {"frequency", d.frequency},
+                 {"compensation", d.compensation},
+                 {"mismatch_force", d.mismatch_force},
+                 {"mismatch_stiffness", d.mismatch_stiffness},
+                 {"sample_time", d.sample_time},
+                 {"max_overshoot", d.max_overshoot},
+                 {"settling_time", d.settling_time},
+                 {"other_regime", d.other_regime},
+                 {"zero_degree", d.zero_degree}};
   return j;
 }
 
@@ -34,11 +54,36 @@ ViewSettings view_from_json(JsonReader& r) {
   r.finish();
   return v;
 }
+
+DesignSettings design_from_json(JsonReader& r) {
+  DesignSettings d;
+  d.regime = r.choice("regime", {"presliding", "sliding"});
+  d.velocity = r.number("velocity", 0, 1e3, "m/s");
+  d.zeta = r.number("zeta", 0.02, 0.98);
+  d.wn = r.number("wn", 0, 1e5, "rad/s", true);
+  d.use_K = r.boolean("use_K");
+  d.K = r.number("K", 0, 1e7, "", true);
+  d.max_ratio = r.number("max_ratio", 1.5, 100);
+  d.reference = r.choice("reference", {"step", "ramp", "sine"});
+  d.amplitude = r.number("amplitude", 0, 1, "m", true);
+  d.slope = r.number("slope", 0, 1, "m/s", true);
+  d.frequency = r.number("frequency", 0, 100, "Hz", true);
+  d.compensation = r.choice("compensation", {"coulomb", "gms"});
+  d.mismatch_force = r.number("mismatch_force", 0.2, 2);
+  d.mismatch_stiffness = r.number("mismatch_stiffness", 0.1, 10);
+  d.sample_time = r.number("sample_time", 0, 0.01, "s");
+  d.max_overshoot = r.number("max_overshoot", 0.1, 90, "%");
+  d.settling_time = r.number("settling_time", 0, 100, "s", true);
+  d.other_regime = r.boolean("other_regime");
+  d.zero_degree = r.boolean("zero_degree");
+  r.finish();
+  return d;
+}
 }  // namespace
 
 Session session_from_json(const json& j, const std::string& file) {
   JsonReader r(j, file);
-  r.schema_version(kSessionSchemaVersion);
+  const int version = r.schema_version(kSessionSchemaVersion, kOldestSessionSchemaVersion);
   Session s;
   s.scenario_path = r.string("scenario_path");
   s.scenario = scenario_from_json(r.raw("scenario"), file + " (in 'scenario')");
@@ -49,6 +94,10 @@ Session session_from_json(const json& j, const std::string& file) {
   }
   auto view = r.object("view");
   s.view = view_from_json(view);
+  if (version >= 2) {
+    auto design = r.object("design");
+    s.design = design_from_json(design);
+  }
   r.finish();
   return s;
 }

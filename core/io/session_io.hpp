@@ -1,15 +1,21 @@
-// gmslab core: the window's session as JSON (schema_version 1): what the window saves on exit to
+// gmslab core: the window's session as JSON (schema_version 2): what the window saves on exit to
 // restore itself. Pure data and strict loading, like scenario_io.
 //
 // {
-//   "schema_version": 1,
+//   "schema_version": 2,
 //   "scenario_path": "presets/fig4_stick_slip.json",   where the scenario came from ("" if none)
 //   "scenario": { ...a full scenario, schema_version 1 (core/io/scenario_io.hpp)... },
 //   "compare": {"model": "lugre", ...} | null,          overlay model on the same input
 //   "view": {"speed": 1.0, "color_phases": true, "slip_velocity": 1e-4, "tab": "Simulation",
-//            "friction_against": "auto"}                 auto | displacement | velocity
+//            "friction_against": "auto"},                auto | displacement | velocity
+//   "design": {"regime": "sliding", "velocity": 0, "zeta": 0.7, "wn": 60, "use_K": false,
+//              "K": 1000, "max_ratio": 20, "reference": "sine", "amplitude": 0.01,
+//              "slope": 0.01, "frequency": 2, "compensation": "gms", "mismatch_force": 1,
+//              "mismatch_stiffness": 1, "sample_time": 0, "max_overshoot": 10,
+//              "settling_time": 0.15, "other_regime": false, "zero_degree": false}
 // }
-// Every key is required. Unknown keys, wrong types, non-finite or out-of-range values are
+// Every key is required. Version 1 (no "design") is still read; its design settings are the
+// defaults below, as a version-1 gmslab had no way to save them. Unknown keys, wrong types, non-finite or out-of-range values are
 // InputErrors naming the file and the key path ("view.speed") with the allowed range; errors in
 // the embedded scenario name the file as "FILE (in 'scenario')".
 #pragma once
@@ -22,7 +28,8 @@
 
 namespace gmslab {
 
-inline constexpr int kSessionSchemaVersion = 1;
+inline constexpr int kSessionSchemaVersion = 2;
+inline constexpr int kOldestSessionSchemaVersion = 1;
 
 // What the user chose to see (the window's view settings).
 struct ViewSettings {
@@ -36,11 +43,36 @@ struct ViewSettings {
   bool operator==(const ViewSettings&) const = default;
 };
 
+// The root-locus design view's settings (the Design tab); ranges are those of its fields.
+struct DesignSettings {
+  std::string regime = "sliding";   // plant regime: "presliding" | "sliding"
+  double velocity = 0.0;            // sliding operating velocity v0 [m/s], [0, 1e3]; 0: automatic
+  double zeta = 0.7;                // desired dominant damping ratio [-], [0.02, 0.98]
+  double wn = 60.0;                 // desired dominant natural frequency [rad/s], (0, 1e5]
+  bool use_K = false;               // target `K` (else the usable maximum)
+  double K = 1000.0;                // desired error constant (Kp / Kv / Ka by plant type), (0, 1e7]
+  double max_ratio = 20.0;          // bound on the lead's p / z [-], [1.5, 100]
+  std::string reference = "sine";   // loop reference: "step" | "ramp" | "sine"
+  double amplitude = 0.01;          // step height / sine amplitude [m], (0, 1]
+  double slope = 0.01;              // ramp velocity [m/s], (0, 1]
+  double frequency = 2.0;           // sine frequency [Hz], (0, 100]
+  std::string compensation = "gms";  // friction compensation of the second loop: "coulomb" | "gms"
+  double mismatch_force = 1.0;      // compensator's Fs, Fc / plant's [-], [0.2, 2]
+  double mismatch_stiffness = 1.0;  // compensator's k_i / plant's [-], [0.1, 10]
+  double sample_time = 0.0;         // controller sample time [s], [0, 0.01]; 0: continuous
+  double max_overshoot = 10.0;      // requirement [%], [0.1, 90]
+  double settling_time = 0.15;      // requirement, 2 % band [s], (0, 100]
+  bool other_regime = false;        // also draw the other regime's locus
+  bool zero_degree = false;         // also draw the 0-degree locus
+  bool operator==(const DesignSettings&) const = default;
+};
+
 struct Session {
   std::string scenario_path;           // where the scenario was loaded from, "" if unknown
   Scenario scenario;                   // the scenario as edited
   std::optional<ModelParams> compare;  // overlay model, none if absent
   ViewSettings view;
+  DesignSettings design;
   bool operator==(const Session&) const = default;
 };
 

@@ -23,6 +23,16 @@ Session sample() {
   s.view.slip_velocity = 3e-4;
   s.view.tab = "Figures";
   s.view.friction_against = "velocity";
+  s.design.regime = "presliding";
+  s.design.zeta = 0.45;
+  s.design.wn = 250.0;
+  s.design.use_K = true;
+  s.design.K = 3.5e4;
+  s.design.reference = "ramp";
+  s.design.compensation = "coulomb";
+  s.design.mismatch_stiffness = 0.5;
+  s.design.sample_time = 1e-3;
+  s.design.zero_degree = true;
   return s;
 }
 
@@ -62,8 +72,24 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["view"].erase("tab");
   EXPECT_NE(expect_rejected(j).find("view.tab"), std::string::npos);
   j = good;
-  j["schema_version"] = 2;
-  EXPECT_NE(expect_rejected(j).find("schema_version"), std::string::npos);
+  j["schema_version"] = 3;
+  EXPECT_NE(expect_rejected(j).find("version 3 is not supported; this gmslab reads version 1 to 2"),
+            std::string::npos);
+  j = good;
+  j["design"]["zeta"] = 1.0;
+  EXPECT_NE(expect_rejected(j).find("design.zeta"), std::string::npos);
+  j = good;
+  j["design"]["compensation"] = "none";
+  EXPECT_NE(expect_rejected(j).find("design.compensation"), std::string::npos);
+  j = good;
+  j["design"]["wn"] = 0;
+  EXPECT_NE(expect_rejected(j).find("design.wn"), std::string::npos);
+  j = good;
+  j["design"].erase("max_ratio");
+  EXPECT_NE(expect_rejected(j).find("design.max_ratio"), std::string::npos);
+  j = good;
+  j.erase("design");  // required in version 2
+  EXPECT_NE(expect_rejected(j).find("design"), std::string::npos);
   j = good;
   j["compare"]["model"] = "no_such_model";
   EXPECT_NE(expect_rejected(j).find("compare.model"), std::string::npos);
@@ -79,4 +105,18 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["view"]["color_phases"] = "yes";
   EXPECT_NE(expect_rejected(j).find("view.color_phases"), std::string::npos);
   EXPECT_THROW(session_from_json(nlohmann::json::array(), "s.json"), InputError);
+}
+
+// A version-1 file (saved before the design settings existed) still loads, with the design view's
+// defaults; a version-1 file that has a "design" key is malformed (unknown key).
+TEST(SessionIo, VersionOneSessionsLoadWithDefaultDesignSettings) {
+  nlohmann::json j = to_json(sample());
+  j["schema_version"] = 1;
+  j.erase("design");
+  const Session s = session_from_json(j, "old.json");
+  EXPECT_EQ(s.design, DesignSettings{});
+  EXPECT_EQ(s.view, sample().view);
+  EXPECT_EQ(s.scenario, sample().scenario);
+  j["design"] = to_json(sample())["design"];
+  EXPECT_NE(expect_rejected(j).find("design"), std::string::npos);
 }

@@ -1,5 +1,6 @@
 // `gmslab simulate PRESET --out trace.csv` through the command-line layer.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -50,6 +51,27 @@ TEST(CliSimulate, MissingPresetIsAClearErrorNotACrash) {
   const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_EQ(rc, 2);
   EXPECT_NE(err.find("/nonexistent/preset.json"), std::string::npos) << err;
+}
+
+// A preset that loads but cannot be simulated (a step too large for the stiffest mode: the check
+// runs when the simulation is built) still names the file it came from, and the limit.
+TEST(CliSimulate, StepTooLargeNamesThePresetFileAndTheLimit) {
+  std::string text = read_file(test_util::preset_path("fig4_stick_slip.json"));
+  const std::string from = "\"dt\": 1e-5";
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, from.size(), "\"dt\": 0.01");
+  const std::string preset =
+      (std::filesystem::temp_directory_path() / ("gmslab_dt_" + std::to_string(::getpid()) + ".json"))
+          .string();
+  write_file_atomic(preset, text);
+  ::testing::internal::CaptureStderr();
+  const int rc = run_cli({"simulate", preset, "--out", "-"});
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  std::filesystem::remove(preset);
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(err.find("gmslab: error: " + preset + ": invalid scenario"), std::string::npos) << err;
+  EXPECT_NE(err.find("run.dt: 0.01 s is too large for the stiffest mode"), std::string::npos) << err;
 }
 
 TEST(CliSimulate, UnknownOptionIsRejected) {

@@ -25,7 +25,6 @@ TEST(IdentReport, HoldOutRunWritesRequiredKeysAndALoadableScenario) {
   EXPECT_EQ(both, 0u);
   EXPECT_NEAR(static_cast<double>(val.used()) / (train.used() + val.used()), 0.25, 0.03);
   LoopOptions o;
-  o.base.starts = 1;
   o.candidates = {Effect::Inertia, Effect::Offset};
   const auto rep = identify(train, val, FitSpec{}, o);
   const auto j = to_json(rep);

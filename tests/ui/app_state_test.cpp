@@ -7,6 +7,7 @@
 
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
+#include "ui/design_view.hpp"
 
 using namespace gmslab;
 
@@ -118,4 +119,35 @@ TEST(AppState, SessionRestoresScenarioOverlayAndView) {
   ASSERT_TRUE(b.overlay.sim);
   EXPECT_EQ(b.view, a.view);
   EXPECT_EQ(b.scenario_path, "presets/fig4_stick_slip.json");
+}
+
+// The Design tab's settings (desired roots, K, references, compensation) are saved in the session
+// and come back; the view's own defaults agree with the session's.
+TEST(AppState, SessionRestoresTheDesignSettings) {
+  EXPECT_EQ(ui::design_settings(ui::DesignViewState{}), DesignSettings{});
+  ui::AppState a;
+  ui::load_scenario_into(a, stick_slip(), "");
+  EXPECT_EQ(ui::make_session(a).design, DesignSettings{});  // design tab never opened
+  auto& d = a.slot<ui::DesignViewState>("design");
+  d.in.root = {0.35, 140.0};
+  d.in.regime = control::Regime::Presliding;
+  d.use_K = true;
+  d.K = 2.5e4;
+  d.reference = 1;
+  d.slope = 0.02;
+  d.in.compensation = control::Compensation::Coulomb;
+  d.in.mismatch.force = 0.8;
+  d.in.sample_time = 5e-4;
+  d.in.other_regime = true;
+  const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
+  EXPECT_EQ(sess.design.zeta, 0.35);
+  EXPECT_EQ(sess.design.reference, "ramp");
+  ui::AppState b;
+  ui::restore_session(b, sess);
+  const auto& e = b.slot<ui::DesignViewState>("design");
+  EXPECT_EQ(ui::design_settings(e), ui::design_settings(d));
+  EXPECT_EQ(e.in.root.wn, 140.0);
+  EXPECT_EQ(e.in.regime, control::Regime::Presliding);
+  EXPECT_EQ(e.in.compensation, control::Compensation::Coulomb);
+  EXPECT_TRUE(e.dirty);
 }
