@@ -136,6 +136,18 @@ const std::vector<unsigned char>& Offscreen::render(const std::function<void()>&
   return out_;
 }
 
+void draw_figure_window(const Figure& f) {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(vp->Pos);
+  ImGui::SetNextWindowSize(vp->Size);
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(255, 255, 255, 255));
+  ImGui::Begin("figure", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
+  ui::draw_figure(f, false);
+  ImGui::End();
+  ImGui::PopStyleColor();
+}
+
 std::string encode_png(int width, int height, const std::vector<unsigned char>& rgba) {
   std::string bytes;
   auto sink = [](void* ctx, void* data, int size) {
@@ -153,18 +165,6 @@ void write_png(const std::string& path, int width, int height, const std::vector
 namespace {
 // The main window of the app for a full-size frame.
 void draw_app(ui::AppState& s) { ui::draw_frame(s); }
-
-void draw_figure_window(const Figure& f) {
-  const ImGuiViewport* vp = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(vp->Pos);
-  ImGui::SetNextWindowSize(vp->Size);
-  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(255, 255, 255, 255));
-  ImGui::Begin("figure", nullptr,
-               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
-  ui::draw_figure(f, false);
-  ImGui::End();
-  ImGui::PopStyleColor();
-}
 
 std::vector<std::string> split_ids(const std::string& only) {
   std::vector<std::string> ids;

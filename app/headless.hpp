@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/cli/cli.hpp"
+#include "core/figures/figure.hpp"
 
 namespace gmslab::app {
 
@@ -40,6 +41,9 @@ class Offscreen {
 std::string encode_png(int width, int height, const std::vector<unsigned char>& rgba);
 // Writes the PNG atomically (write_file_atomic).
 void write_png(const std::string& path, int width, int height, const std::vector<unsigned char>& rgba);
+
+// Draws a Figure filling the whole frame on white, as in the paper (inside Offscreen::render).
+void draw_figure_window(const Figure& f);
 
 // `gmslab render`: load the preset, simulate to --time (or the end), draw the app's view, write PNG.
 int render_command(const cli::RenderOptions& o);

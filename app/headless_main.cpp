@@ -2,8 +2,6 @@
 // `gmslab render ...` and `gmslab figures ...` forward here; every other command works too.
 // Hidden: `gmslab-headless plot-figure FIGURE.json --out PNG [--size WxH]` draws any Figure saved
 // as JSON (core/ident/figure_json.hpp); `gmslab identify --plot` uses it.
-#include <imgui.h>
-
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -12,7 +10,6 @@
 #include "app/headless.hpp"
 #include "core/error.hpp"
 #include "core/ident/figure_json.hpp"
-#include "ui/figure_view.hpp"
 
 namespace {
 
@@ -31,17 +28,7 @@ int plot_figure(int argc, char** argv) {
     gmslab::cli::parse_size(size, w, h);
     const gmslab::Figure f = gmslab::load_figure_json(json);
     gmslab::app::Offscreen off(w, h);
-    const auto& rgba = off.render([&] {
-      const ImGuiViewport* vp = ImGui::GetMainViewport();
-      ImGui::SetNextWindowPos(vp->Pos);
-      ImGui::SetNextWindowSize(vp->Size);
-      ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(255, 255, 255, 255));
-      ImGui::Begin("figure", nullptr,
-                   ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove);
-      gmslab::ui::draw_figure(f, false);
-      ImGui::End();
-      ImGui::PopStyleColor();
-    });
+    const auto& rgba = off.render([&] { gmslab::app::draw_figure_window(f); });
     gmslab::app::write_png(out, w, h, rgba);
     return 0;
   } catch (const std::exception& e) {

@@ -1,7 +1,5 @@
 #include "ui/app.hpp"
 
-#include "ui/design_view.hpp"
-
 #include <imgui.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
+#include "ui/design_view.hpp"
 #include "ui/panels.hpp"
 
 namespace gmslab::ui {

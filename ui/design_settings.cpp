@@ -16,7 +16,7 @@ DesignSettings design_settings(const DesignViewState& d) {
   s.amplitude = d.amplitude;
   s.slope = d.slope;
   s.frequency = d.frequency;
-  s.compensation = d.in.compensation == control::Compensation::Coulomb ? "coulomb" : "gms";
+  s.compensation = control::to_string(d.in.compensation);
   s.mismatch_force = d.in.mismatch.force;
   s.mismatch_stiffness = d.in.mismatch.stiffness;
   s.sample_time = d.in.sample_time;

@@ -15,9 +15,10 @@
 //              "settling_time": 0.15, "other_regime": false, "zero_degree": false}
 // }
 // Every key is required. Version 1 (no "design") is still read; its design settings are the
-// defaults below, as a version-1 gmslab had no way to save them. Unknown keys, wrong types, non-finite or out-of-range values are
-// InputErrors naming the file and the key path ("view.speed") with the allowed range; errors in
-// the embedded scenario name the file as "FILE (in 'scenario')".
+// defaults below, as a version-1 gmslab had no way to save them. Unknown keys, wrong types,
+// non-finite or out-of-range values are InputErrors naming the file and the key path
+// ("view.speed") with the allowed range; errors in the embedded scenario name the file as
+// "FILE (in 'scenario')".
 #pragma once
 
 #include <nlohmann/json.hpp>
