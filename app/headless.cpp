@@ -7,19 +7,23 @@
 
 #include <algorithm>
 #include <cfloat>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "core/error.hpp"
 #include "core/figures/figure_set.hpp"
+#include "core/ident/dataset.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/figure_view.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
 #include "ui/style.hpp"
 
@@ -185,10 +189,30 @@ int render_command(const cli::RenderOptions& o) {
     for (const auto& e : ui::panels()) names += std::string(names.empty() ? "" : ", ") + e.name;
     throw InputError("--view '" + o.view + "': unknown view (available: auto, " + names + ")");
   }
+  if (!o.data.empty() && std::string(panel->name) != "Identify" && o.view != "auto")
+    throw InputError("--data: only the identify view runs an identification (use --view identify)");
+  if (!o.data.empty()) panel = ui::find_panel("identify");
   ui::AppState s;
   ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
   s.view.tab = panel->name;
   ui::run_until(s, o.time);
+  if (!o.data.empty()) {
+    // Bad records are an error of this command (file, line, column), not only a red line in the view.
+    ident::load_dataset({o.data, "", "", o.mask_edges});
+    if (!o.validate.empty()) ident::load_dataset({o.validate, "", "", o.mask_edges});
+    ui::IdentifyInputs in;
+    in.data = o.data;
+    in.validate = o.validate;
+    in.mask_edges = o.mask_edges;
+    if (o.no_run) {
+      ui::identify_set_inputs(s, in);
+    } else {
+      ui::identify_start(s, in);
+      std::cerr << "identifying " << o.data << " ...\n";
+      while (ui::identify_busy(s)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!ui::identify_error(s).empty()) throw InputError("identification failed: " + ui::identify_error(s));
+  }
   Offscreen off(w, h);
   const auto& rgba = off.render([&] { draw_app(s); }, 4);
   write_png(o.out, w, h, rgba);

@@ -232,7 +232,7 @@ void draw_design_panel(AppState& s) {
   ImGui::SameLine();
   ImGui::BeginChild("##design_plots", ImVec2(0, avail.y), false);
   const ImVec2 r = ImGui::GetContentRegionAvail();
-  const float top = 0.6f * r.y;
+  const float top = 0.52f * r.y;
   draw_design_locus(d, ImVec2(r.x, top));
   draw_design_responses(d, ImVec2(r.x, r.y - top - ImGui::GetStyle().ItemSpacing.y));
   ImGui::EndChild();

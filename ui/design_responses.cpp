@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "ui/design_view.hpp"
 #include "ui/plot.hpp"
@@ -41,11 +42,17 @@ void metrics_table(const DesignViewState& d) {
     }
   };
   row("e_ss", a.steady_state_error, b.steady_state_error, 1e3, "mm", "mean error over the last 20 % of the run");
+  row("max |e| tail", a.tail_max_error, b.tail_max_error, 1e3, "mm",
+      "largest |r - x| over the last 20 % of the run (for ramps and sines: the error at reversals)");
   row("RMS e", a.rms_error, b.rms_error, 1e3, "mm", "root-mean-square tracking error over the run");
   row("overshoot", a.overshoot, b.overshoot, 1.0, "%", "step references only");
   row("settling", a.settling_time, b.settling_time, 1e3, "ms", "2 % band around the final value (step only)");
-  row("cycle ampl.", a.cycle_amplitude, b.cycle_amplitude, 1e3, "mm", "limit cycle (hunting) half peak-to-peak");
-  row("cycle period", a.cycle_period, b.cycle_period, 1e3, "ms", "limit cycle period");
+  // A limit cycle's numbers only mean something when the loop hunts: "-" otherwise.
+  const auto if_hunting = [](const control::LoopMetrics& m, double v) { return m.hunting ? v : NAN; };
+  row("cycle ampl.", if_hunting(a, a.cycle_amplitude), if_hunting(b, b.cycle_amplitude), 1e3, "mm",
+      "limit cycle (hunting) half peak-to-peak; '-': the loop does not hunt");
+  row("cycle period", if_hunting(a, a.cycle_period), if_hunting(b, b.cycle_period), 1e3, "ms",
+      "limit cycle period; '-': the loop does not hunt");
   ImGui::EndTable();
 }
 }  // namespace
@@ -68,16 +75,35 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
                 d.in.scenario.friction.model.c_str());
   PlotOptions nl;
   nl.title = title;
-  if (BeginPlot("##design_nonlinear", ImVec2(w, size.y), nl)) {
+  const float gap = ImGui::GetStyle().ItemSpacing.y;
+  const float h_pos = std::floor(0.55f * (size.y - gap));
+  const auto& a = o.loop_plain;
+  const auto& b = o.loop_compensated;
+  const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
+  ImGui::BeginGroup();
+  if (BeginPlot("##design_nonlinear", ImVec2(w, h_pos), nl)) {
     SetupAxesSI("t", "s", "x", "m");
-    const auto& a = o.loop_plain;
-    const auto& b = o.loop_compensated;
     PlotLine("reference", a.t.data(), a.r.data(), a.t.size(), {.color = 6, .line = LineStyle::Dashed, .x_sorted = true});
     PlotLine("no compensation", a.t.data(), a.x.data(), a.t.size(), {.color = 1, .x_sorted = true});
-    const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
     PlotLine(comp.c_str(), b.t.data(), b.x.data(), b.t.size(), {.color = 2, .x_sorted = true});
     EndPlot();
   }
+  // The tracking error tells the compensations apart where the positions overlap.
+  static std::vector<double> ea, eb;
+  ea.resize(a.t.size());
+  eb.resize(b.t.size());
+  for (std::size_t i = 0; i < a.t.size(); ++i) ea[i] = a.r[i] - a.x[i];
+  for (std::size_t i = 0; i < b.t.size(); ++i) eb[i] = b.r[i] - b.x[i];
+  PlotOptions ne;
+  ne.title = "Tracking error e = r - x";
+  ne.legend = false;
+  if (BeginPlot("##design_error", ImVec2(w, size.y - h_pos - gap), ne)) {
+    SetupAxesSI("t", "s", "e", "m");
+    PlotLine("no compensation", a.t.data(), ea.data(), a.t.size(), {.color = 1, .x_sorted = true});
+    PlotLine(comp.c_str(), b.t.data(), eb.data(), b.t.size(), {.color = 2, .x_sorted = true});
+    EndPlot();
+  }
+  ImGui::EndGroup();
   ImGui::SameLine();
   ImGui::BeginChild("##design_metrics", ImVec2(0, size.y), false);
   metrics_table(d);

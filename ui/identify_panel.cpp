@@ -5,12 +5,16 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
+#include "core/ident/dataset.hpp"
 #include "core/ident/loop.hpp"
-#include "core/io/csv.hpp"
 #include "ui/figure_view.hpp"
+#include "ui/plot.hpp"
 
 namespace gmslab::ui {
 
@@ -27,11 +31,10 @@ struct Job {
   std::atomic<bool> cancel{false};
   std::atomic<bool> done{false};
   std::mutex m;
-  std::string stage;             // guarded by m
-  int evaluations = 0;           // guarded by m
-  double best_rms = 0;           // guarded by m
-  std::string error;             // guarded by m
+  ident::FitProgress progress;     // guarded by m
+  std::string error;               // guarded by m
   std::unique_ptr<Result> result;  // guarded by m
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   std::thread thread;
   ~Job() {
     cancel = true;
@@ -41,23 +44,59 @@ struct Job {
 
 using Config = IdentifyInputs;
 
+// The records as loaded for the preview (before a run), or why they could not be loaded.
+struct Preview {
+  std::string key;  // the inputs it was loaded from
+  ident::Dataset train, val;
+  std::vector<std::uint8_t> train_masked, val_masked;  // 1 = ignored (plot class)
+  std::string error;
+  std::vector<std::string> notes;
+};
+
 struct IdentifyState : Config {
   std::unique_ptr<Job> job;
   std::unique_ptr<Result> result;
+  Preview preview;
   std::string error, status;
 };
 
-ident::Dataset load(const std::string& path, const CsvColumns& cols, const std::string& edges) {
-  const auto rec = load_measured_csv(path, cols);
-  std::vector<ident::TimeWindow> w;
-  const auto c1 = edges.find(':');
-  if (!edges.empty() && c1 != std::string::npos) {
-    const auto c2 = edges.find(':', c1 + 1);
-    if (const auto* col = rec.extra_column(edges.substr(0, c1)); col && c2 != std::string::npos)
-      w = ident::edge_windows(rec.t, *col, std::stod(edges.substr(c1 + 1, c2 - c1 - 1)),
-                              std::stod(edges.substr(c2 + 1)));
+ident::RecordSpec train_spec(const Config& c) {
+  return {c.data, c.columns, c.mask, c.mask_edges, "training mask", "mask edges"};
+}
+ident::RecordSpec validation_spec(const Config& c) {
+  return {c.validate, c.columns, c.validate_mask, c.mask_edges, "validation mask", "mask edges"};
+}
+
+std::string preview_key(const Config& c) {
+  return c.data + '\n' + c.validate + '\n' + c.columns + '\n' + c.mask + '\n' + c.validate_mask + '\n' +
+         c.mask_edges;
+}
+
+// Loads the records named by the inputs (only when they changed and nobody is typing).
+void refresh_preview(IdentifyState& st) {
+  const std::string key = preview_key(st);
+  if (key == st.preview.key || ImGui::IsAnyItemActive()) return;
+  Preview p;
+  p.key = key;
+  if (!st.data.empty()) {
+    try {
+      std::string note;
+      p.train = ident::load_dataset(train_spec(st), &note);
+      if (!note.empty()) p.notes.push_back(note);
+      if (!st.validate.empty()) {
+        note.clear();
+        p.val = ident::load_dataset(validation_spec(st), &note);
+        if (!note.empty()) p.notes.push_back(note);
+      }
+    } catch (const std::exception& e) {
+      p.error = e.what();
+    }
+    for (auto [d, m] : {std::pair{&p.train, &p.train_masked}, std::pair{&p.val, &p.val_masked}}) {
+      m->resize(d->size());
+      for (std::size_t k = 0; k < d->size(); ++k) (*m)[k] = d->use[k] ? 0 : 1;
+    }
   }
-  return ident::prepare_dataset(rec, w);
+  st.preview = std::move(p);
 }
 
 void start(IdentifyState& st) {
@@ -68,22 +107,19 @@ void start(IdentifyState& st) {
   const Config cfg = st;
   j->thread = std::thread([j, cfg] {
     try {
-      const CsvColumns cols = cfg.columns.empty() ? CsvColumns{} : parse_column_map(cfg.columns);
       auto r = std::make_unique<Result>();
-      r->train = load(cfg.data, cols, cfg.mask_edges);
+      r->train = ident::load_dataset(train_spec(cfg));
       if (cfg.validate.empty()) {
         auto split = ident::split_holdout(r->train);
         r->train = std::move(split.first);
         r->val = std::move(split.second);
       } else {
-        r->val = load(cfg.validate, cols, cfg.mask_edges);
+        r->val = ident::load_dataset(validation_spec(cfg));
       }
       ident::LoopOptions lo;
       auto progress = [j](const ident::FitProgress& p) {
         std::lock_guard<std::mutex> lock(j->m);
-        j->stage = p.stage;
-        j->evaluations = p.evaluations;
-        j->best_rms = p.best_rms;
+        j->progress = p;
       };
       lo.base.progress = lo.refit.progress = progress;
       lo.base.cancel = lo.refit.cancel = &j->cancel;
@@ -106,53 +142,178 @@ void start(IdentifyState& st) {
   st.job = std::move(job);
 }
 
+void tooltip(const char* text) {
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+}
+
 void inputs(IdentifyState& st, bool busy) {
   const float w = ImGui::GetFontSize() * 28.0f;
   ImGui::BeginDisabled(busy);
   ImGui::SetNextItemWidth(w);
-  ImGui::InputTextWithHint("training CSV", "t_s, x_m, F_N [, v_mps, Fn_N] ...", &st.data);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("Measured record: header row, columns t [s], x [m], F [N], optional v [m/s], Fn [N]");
+  ImGui::InputTextWithHint("training CSV", "path: header t_s, x_m, F_N [, v_mps, Fn_N] ...", &st.data);
+  tooltip("Measured record: a header row, then t [s], x [m], F [N], optional v [m/s] and Fn [N].\n"
+          "Columns are found by name, with or without a unit suffix (t_ms, x_mm, F_kN, ...).");
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("validation CSV", "(empty: hold out a quarter of the training record)", &st.validate);
+  tooltip("Record the fit never sees: an effect is kept only when it lowers the error here");
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("columns", "t=t_s,x=x_m,F=F_N (empty: found by name)", &st.columns);
+  tooltip("Map roles to header names when the names are not t, x, F, v, Fn");
+  ImGui::SetNextItemWidth(w * 0.5f - ImGui::GetStyle().ItemInnerSpacing.x);
+  ImGui::InputTextWithHint("##mask", "training: t0:t1,... [s]", &st.mask);
+  tooltip("Time windows of the training record to ignore, t0:t1,... [s] (still simulated, not fitted)");
+  ImGui::SameLine(0, ImGui::GetStyle().ItemInnerSpacing.x);
+  ImGui::SetNextItemWidth(w * 0.5f);
+  ImGui::InputTextWithHint("masks", "validation: t0:t1,... [s]", &st.validate_mask);
+  tooltip("Time windows of the validation record to ignore, t0:t1,... [s]");
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("mask edges", "COLUMN:BEFORE_s:AFTER_s", &st.mask_edges);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("Ignore windows [s] around every change of this column (e.g. the EMPS pulse_code)");
+  tooltip("Ignore [-BEFORE, +AFTER] s around every change of this column (e.g. the EMPS pulse_code)");
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 14.0f);
   if (ImGui::BeginCombo("base model", st.model.c_str())) {
     for (const auto& m : model_registry())
       if (ImGui::Selectable(std::string(m.name).c_str(), st.model == m.tag)) st.model = std::string(m.tag);
     ImGui::EndCombo();
   }
+  tooltip("The friction model the loop starts from; effects are added to it");
   ImGui::SameLine();
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6.0f);
   ImGui::InputInt("elements", &st.elements);
   st.elements = std::clamp(st.elements, 1, 64);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element)");
+  tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64)");
   ImGui::EndDisabled();
 }
 
+// "F_N" etc.: the record summary for the preview text.
+std::string summary(const char* what, const ident::Dataset& d) {
+  if (d.size() < 2) return "";
+  const double T = d.t.back() - d.t.front();
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%s: %s, %zu samples over %.4g s (mean step %.3g ms), %zu used%s", what,
+                std::filesystem::path(d.source).filename().c_str(), d.size(), T,
+                1e3 * T / static_cast<double>(d.size() - 1), d.used(), d.has_Fn ? ", normal force" : "");
+  return buf;
+}
+
+void preview_plots(const IdentifyState& st, float height) {
+  const Preview& p = st.preview;
+  if (p.train.size() < 2) return;
+  static const ImU32 masked_colors[2] = {palette(0), IM_COL32(170, 170, 170, 255)};
+  const int n_plots = p.val.size() >= 2 ? 3 : 2;
+  const float w = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x * (n_plots - 1)) / n_plots;
+  auto plot = [&](const char* id, const char* title, const ident::Dataset& d, const std::vector<std::uint8_t>& m,
+                  const std::vector<double>& y, const char* name, const char* unit) {
+    PlotOptions o;
+    o.title = title;
+    o.legend = false;
+    if (BeginPlot(id, ImVec2(w, height), o)) {
+      SetupAxesSI("t", "s", name, unit);
+      SeriesStyle s;
+      s.x_sorted = true;
+      s.thickness = 1.0f;
+      s.classes = m.data();
+      s.class_colors = masked_colors;
+      s.n_classes = 2;
+      PlotLine(name, d.t.data(), y.data(), d.size(), s);
+      EndPlot();
+    }
+  };
+  plot("##train_F", "training record: force (grey: masked)", p.train, p.train_masked, p.train.F, "F", "N");
+  ImGui::SameLine();
+  plot("##train_x", "training record: position", p.train, p.train_masked, p.train.x, "x", "m");
+  if (n_plots == 3) {
+    ImGui::SameLine();
+    plot("##val_F", "validation record: force (grey: masked)", p.val, p.val_masked, p.val.F, "F", "N");
+  }
+}
+
+// One line per candidate of a round: name, explained share, screening validation RMS.
+std::string candidates_line(const ident::Round& rd, std::size_t max) {
+  std::string out;
+  char buf[120];
+  for (std::size_t i = 0; i < rd.candidates.size() && i < max; ++i) {
+    const auto& c = rd.candidates[i];
+    std::snprintf(buf, sizeof buf, "%s%s %.1f %%", out.empty() ? "" : ", ",
+                  std::string(ident::effect_name(c.effect)).c_str(), 100.0 * c.explained);
+    out += buf;
+  }
+  return out;
+}
+
+// The evidence of every candidate of a round, scalar entries only (the spectra and velocity bins
+// are plotted in the report figure).
+std::string evidence_text(const ident::Round& rd) {
+  std::string out;
+  char buf[200];
+  for (const auto& c : rd.candidates) {
+    std::snprintf(buf, sizeof buf, "%s: explains %.1f %% of the residual variance; screening RMS train %.4g N, "
+                  "validation %.4g N\n", std::string(ident::effect_name(c.effect)).c_str(), 100.0 * c.explained,
+                  c.screen_rms_train, c.screen_rms_validation);
+    out += buf;
+    std::string ev;
+    for (const auto& [k, v] : c.evidence.items())
+      if (v.is_number()) {
+        std::snprintf(buf, sizeof buf, "%s%s = %.4g", ev.empty() ? "    " : ", ", k.c_str(), v.get<double>());
+        ev += buf;
+      }
+    if (!ev.empty()) out += ev + "\n";
+  }
+  for (const auto& a : rd.attempts) {
+    std::snprintf(buf, sizeof buf, "tried %s: validation RMS %.4g N -> %s\n",
+                  std::string(ident::effect_name(a.effect)).c_str(), a.rms_validation, a.kept ? "kept" : "rejected");
+    out += buf;
+  }
+  return out;
+}
+
 void rounds_table(const ident::IdentReport& r) {
-  if (!ImGui::BeginTable("rounds", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) return;
-  for (const char* h : {"stage", "RMS train before [N]", "after [N]", "RMS validation before [N]", "after [N]"})
-    ImGui::TableSetupColumn(h);
+  const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
+  if (!ImGui::BeginTable("rounds", 6, flags)) return;
+  ImGui::TableSetupColumn("stage");
+  ImGui::TableSetupColumn("RMS train [N]");
+  ImGui::TableSetupColumn("RMS validation [N]");
+  ImGui::TableSetupColumn("validation change");
+  ImGui::TableSetupColumn("effect parameters");
+  ImGui::TableSetupColumn("candidates (share of the residual variance each explains; hover: evidence)");
   ImGui::TableHeadersRow();
+  ImGui::TableNextRow();
+  ImGui::TableNextColumn();
+  ImGui::Text("base %s", r.model.c_str());
+  ImGui::TableNextColumn();
+  ImGui::Text("%.4g", r.rms_before_train);
+  ImGui::TableNextColumn();
+  ImGui::Text("%.4g", r.rms_before_validation);
+  for (int i = 0; i < 3; ++i) ImGui::TableNextColumn();
   for (std::size_t i = 0; i < r.rounds.size(); ++i) {
     const auto& rd = r.rounds[i];
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
-    ImGui::Text("round %zu: %s", i + 1, rd.added ? std::string(ident::effect_name(*rd.added)).c_str() : "nothing kept");
+    if (rd.added)
+      ImGui::Text("round %zu: + %s", i + 1, std::string(ident::effect_name(*rd.added)).c_str());
+    else
+      ImGui::TextDisabled("round %zu: nothing kept (stop)", i + 1);
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g", rd.rms_train_before);
+    ImGui::Text("%.4g -> %.4g", rd.rms_train_before, rd.rms_train_after);
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g", rd.rms_train_after);
+    ImGui::Text("%.4g -> %.4g", rd.rms_validation_before, rd.rms_validation_after);
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g", rd.rms_validation_before);
+    if (rd.rms_validation_before > 0)
+      ImGui::Text("%+.1f %%", 100.0 * (rd.rms_validation_after / rd.rms_validation_before - 1.0));
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g", rd.rms_validation_after);
+    std::string params;
+    for (const auto& a : rd.attempts)
+      if (a.kept)
+        for (const auto& t : a.terms) {
+          char buf[96];
+          std::snprintf(buf, sizeof buf, "%s%s = %.4g %s", params.empty() ? "" : ", ", t.name.c_str(), t.value,
+                        t.unit.c_str());
+          params += buf;
+        }
+    if (params.size() > 60) params = params.substr(0, 57) + "...";
+    ImGui::TextUnformatted(params.c_str());
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(candidates_line(rd, 4).c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", evidence_text(rd).c_str());
   }
   ImGui::EndTable();
 }
@@ -170,7 +331,46 @@ bool collect(IdentifyState& st) {
   return false;
 }
 
+void progress_line(Job& j) {
+  ident::FitProgress p;
+  {
+    std::lock_guard<std::mutex> lock(j.m);
+    p = j.progress;
+  }
+  if (ImGui::Button("Cancel")) j.cancel = true;
+  tooltip("Stop the run (the last finished report stays)");
+  ImGui::SameLine();
+  // The loop's round count is not known in advance: the bar shows the current fit's share of its
+  // evaluation budget, the text which fit it is.
+  const float frac = p.budget > 0 ? std::min(1.0f, static_cast<float>(p.evaluations) / p.budget) : 0.0f;
+  char overlay[64];
+  std::snprintf(overlay, sizeof overlay, "%d / %d evaluations", p.evaluations, p.budget);
+  ImGui::ProgressBar(frac, ImVec2(ImGui::GetFontSize() * 18.0f, 0), p.budget > 0 ? overlay : "loading");
+  ImGui::SameLine();
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - j.started).count();
+  ImGui::Text("%s, best RMS %.4g N  (%.0f s)", p.stage.c_str(), p.best_rms, secs);
+}
+
 }  // namespace
+
+std::optional<IdentifyInputs> emps_example() {
+  const char* env = std::getenv("GMSLAB_SHARED");
+  const std::filesystem::path dir =
+      std::filesystem::path(env && *env ? env : GMSLAB_SOURCE_DIR "/../shared") / "data" / "emps";
+  std::error_code ec;
+  if (!std::filesystem::exists(dir / "DATA_EMPS.csv", ec) || !std::filesystem::exists(dir / "DATA_EMPS_PULSES.csv", ec))
+    return std::nullopt;
+  IdentifyInputs in;
+  in.data = (dir / "DATA_EMPS.csv").lexically_normal().string();
+  in.validate = (dir / "DATA_EMPS_PULSES.csv").lexically_normal().string();
+  in.mask_edges = "pulse_code:0.005:0.060";
+  return in;
+}
+
+void identify_set_inputs(AppState& s, const IdentifyInputs& in) {
+  auto& st = s.slot<IdentifyState>("identify");
+  if (!collect(st)) static_cast<Config&>(st) = in;
+}
 
 void identify_start(AppState& s, const IdentifyInputs& in) {
   auto& st = s.slot<IdentifyState>("identify");
@@ -197,50 +397,90 @@ void identify_send_to_plant(AppState& s) {
   auto& st = s.slot<IdentifyState>("identify");
   if (!st.result) return;
   s.pending.scenario = ident::identified_scenario(st.result->report, st.result->train);
-  st.status = "sent to the Simulation panel";
+  st.status = "sent to the Simulation tab";
 }
 
 void draw_identify_panel(AppState& s) {
   auto& st = s.slot<IdentifyState>("identify");
   const bool busy = st.job != nullptr;
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float input_w = ImGui::GetFontSize() * 36.0f;
+  const float top_h = ImGui::GetFrameHeightWithSpacing() * 7.0f + style.WindowPadding.y;
+  ImGui::BeginChild("##ident_inputs", ImVec2(input_w, top_h), false);
   inputs(st, busy);
   if (!busy) {
-    ImGui::BeginDisabled(st.data.empty());
+    const bool can_run = !st.data.empty() && st.preview.error.empty();
+    ImGui::BeginDisabled(!can_run);
     if (ImGui::Button("Identify")) start(st);
     ImGui::EndDisabled();
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Fit the base model, then run the residual loop");
-  } else {
-    Job& j = *st.job;
-    std::string stage;
-    int evals = 0;
-    double rms = 0;
-    {
-      std::lock_guard<std::mutex> lock(j.m);
-      stage = j.stage;
-      evals = j.evaluations;
-      rms = j.best_rms;
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+      ImGui::SetTooltip(st.data.empty()             ? "Enter a training CSV first"
+                        : !st.preview.error.empty() ? "Fix the error on the right first"
+                                                    : "Fit the base model, then run the residual loop");
+    if (auto ex = emps_example()) {
+      ImGui::SameLine();
+      if (ImGui::Button("EMPS example")) {
+        const std::string model = st.model;
+        const int n = st.elements;
+        static_cast<Config&>(st) = *ex;
+        st.model = model;
+        st.elements = n;
+      }
+      tooltip("Fill in the EMPS benchmark records of ../shared/data/emps (pulse edges masked)");
     }
-    if (ImGui::Button("Cancel")) j.cancel = true;
-    ImGui::SameLine();
-    // Evaluations are not known in advance: the bar shows activity, the text what runs.
-    ImGui::ProgressBar(static_cast<float>((evals % 500) / 500.0), ImVec2(ImGui::GetFontSize() * 16.0f, 0),
-                       "");
-    ImGui::SameLine();
-    ImGui::Text("%s: %d evaluations, RMS %.4g N", stage.c_str(), evals, rms);
+  } else {
+    progress_line(*st.job);
     collect(st);
   }
-  if (!st.error.empty()) ImGui::TextColored(ImVec4(0.75f, 0.1f, 0.1f, 1), "%s", st.error.c_str());
-  if (!st.result) return;
-  const auto& r = st.result->report;
+  ImGui::EndChild();
+  if (!busy) refresh_preview(st);
+
+  // Right of the inputs: what was loaded, notes and errors, the outcome.
   ImGui::SameLine();
-  if (ImGui::Button("Send model to plant")) identify_send_to_plant(s);
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("Replace the Simulation panel's scenario: identified friction, identified mass, training motion");
-  if (!st.status.empty()) {
-    ImGui::SameLine();
-    ImGui::TextUnformatted(st.status.c_str());
+  ImGui::BeginChild("##ident_info", ImVec2(0, top_h), false);
+  const ImVec4 red(0.75f, 0.1f, 0.1f, 1), grey(0.4f, 0.4f, 0.4f, 1);
+  if (st.data.empty()) {
+    ImGui::TextWrapped("Identify a friction model from measured data. Give a CSV with a header row and "
+                       "columns t, x, F (units in the names: t_s, x_mm, F_N, ...). The base model is fitted "
+                       "first; then each round tests the residual against a catalog of effects (inertia, "
+                       "offset, direction asymmetry, position ripple, drift, extra velocity dependence, "
+                       "dwell stiction, normal load) and keeps an effect only if it lowers the error on "
+                       "the validation record.");
+    if (emps_example()) ImGui::TextWrapped("'EMPS example' fills in the measured EMPS benchmark records.");
   }
-  rounds_table(r);
+  if (!st.preview.error.empty()) ImGui::TextColored(red, "%s", st.preview.error.c_str());
+  for (const auto& line : {summary("training", st.preview.train), summary("validation", st.preview.val)})
+    if (!line.empty()) ImGui::TextUnformatted(line.c_str());
+  if (!st.data.empty() && st.validate.empty() && st.preview.error.empty())
+    ImGui::TextColored(grey, "validation: every 4th of 8 time blocks of the training record is held out");
+  ImGui::PushStyleColor(ImGuiCol_Text, grey);
+  for (const auto& n : st.preview.notes) ImGui::TextWrapped("%s", n.c_str());
+  ImGui::PopStyleColor();
+  if (!st.error.empty()) ImGui::TextColored(red, "%s", st.error.c_str());
+  if (st.result) {
+    const auto& r = st.result->report;
+    std::string added;
+    for (auto e : r.effects_added) added += (added.empty() ? "" : ", ") + std::string(ident::effect_name(e));
+    ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); effects added: %s",
+                r.rms_before_validation, r.rms_after_validation, r.rms_before_train, r.rms_after_train,
+                added.empty() ? "none" : added.c_str());
+    if (ImGui::Button("Send model to plant")) identify_send_to_plant(s);
+    tooltip("Replace the Simulation tab's scenario: identified friction, identified mass, training motion");
+    if (!st.status.empty()) {
+      ImGui::SameLine();
+      ImGui::TextUnformatted(st.status.c_str());
+    }
+  }
+  ImGui::EndChild();
+
+  if (!st.result) {
+    if (st.preview.train.size() >= 2) {
+      ImGui::Separator();
+      preview_plots(st, std::max(200.0f, ImGui::GetContentRegionAvail().y - style.ItemSpacing.y));
+    }
+    return;
+  }
+  rounds_table(st.result->report);
   ImGui::BeginChild("##identfig", ImVec2(0, 0), true, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   draw_figure(st.result->figure, true);
   ImGui::EndChild();

@@ -4,6 +4,7 @@
 // rounds table, and send the identified model to the plant of the Simulation panel.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/ident/loop.hpp"
@@ -18,6 +19,8 @@ struct IdentifyInputs {
   std::string data;      // training CSV
   std::string validate;  // validation CSV; empty = hold out a quarter of the training record
   std::string columns;   // explicit column map, e.g. "t=t_s,x=x_m,F=F_N"; empty = by name
+  std::string mask;      // time windows of the training record to ignore, "t0:t1,..." [s]
+  std::string validate_mask;  // the same for the validation record
   std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE_s:AFTER_s
   std::string model = "gms";
   int elements = 4;
@@ -28,6 +31,11 @@ struct IdentifyInputs {
 // none); the last run's error ("cancelled" after cancel()); send the identified model to the plant
 // (a pending scenario request, applied by apply_pending like any UI edit).
 void identify_start(AppState& s, const IdentifyInputs& in);
+// Fills the panel's fields without running (the records are loaded and shown on the next frame).
+void identify_set_inputs(AppState& s, const IdentifyInputs& in);
+// The EMPS benchmark's files when ../shared/data/emps (or $GMSLAB_SHARED/data/emps) has them:
+// training DATA_EMPS.csv, validation DATA_EMPS_PULSES.csv; nullopt otherwise.
+std::optional<IdentifyInputs> emps_example();
 bool identify_busy(AppState& s);
 void identify_cancel(AppState& s);
 const ident::IdentReport* identify_report(AppState& s);

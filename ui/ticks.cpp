@@ -28,6 +28,9 @@ Ticks nice_ticks(double lo, double hi, int target) {
     if (std::fabs(v) < step * 1e-9) v = 0.0;  // no "-0" and no 1e-17 at the origin
     t.values.push_back(v);
   }
+  // A range just short of two steps of the rounded-up step would get one tick, which cannot
+  // show a scale: ask for more until at least two land in the range.
+  if (t.values.size() < 2 && target < 12) return nice_ticks(lo, hi, target + 1);
   return t;
 }
 

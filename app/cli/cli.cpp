@@ -15,6 +15,12 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify")
       ->capture_default_str();
   sub.add_option("--time", o.time, "Simulated time to show [s] (default: the whole run)");
+  sub.add_option("--data", o.data,
+                 "Identify view: training CSV to identify before drawing (the panel's 'Identify')");
+  sub.add_option("--validate", o.validate, "Identify view: validation CSV (default: a hold-out part)");
+  sub.add_option("--mask-edges", o.mask_edges, "Identify view: COLUMN:BEFORE:AFTER [s] windows to ignore")
+      ->capture_default_str();
+  sub.add_flag("--no-run", o.no_run, "Identify view: load and show the records of --data without identifying");
 }
 
 void add_figures_options(CLI::App& sub, FiguresOptions& o) {

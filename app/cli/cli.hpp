@@ -16,6 +16,9 @@ struct RenderOptions {
   std::string size = "1600x1000";  // WIDTHxHEIGHT in pixels
   std::string view = "auto";       // which view to draw (auto: what the preset is for)
   double time = -1.0;              // simulated time to show [s]; < 0: the whole run
+  // Identify view: run an identification first and show its outcome.
+  std::string data, validate, mask_edges = "pulse_code:0.005:0.060";
+  bool no_run = false;  // only load and show the records
 };
 
 struct FiguresOptions {

@@ -19,7 +19,6 @@
 #include "core/ident/figure_json.hpp"
 #include "core/ident/loop.hpp"
 #include "core/io/atomic_file.hpp"
-#include "core/io/csv.hpp"
 #include "core/io/scenario_io.hpp"
 
 extern char** environ;
@@ -34,36 +33,6 @@ struct IdentifyOptions {
   int elements = 4, starts = 3, max_evals = 500;
   double holdout = 0.25, min_gain = 0.03;
 };
-
-// "COLUMN:BEFORE:AFTER" -> windows around every change of that extra column (if the file has it).
-std::vector<ident::TimeWindow> edge_masks(const std::string& spec, const MeasuredRecord& r) {
-  if (spec.empty()) return {};
-  const auto c1 = spec.find(':');
-  const auto c2 = spec.find(':', c1 == std::string::npos ? c1 : c1 + 1);
-  double before = 0, after = 0;
-  try {
-    if (c1 == std::string::npos || c2 == std::string::npos) throw std::invalid_argument("");
-    before = std::stod(spec.substr(c1 + 1, c2 - c1 - 1));
-    after = std::stod(spec.substr(c2 + 1));
-  } catch (const std::exception&) {
-    throw InputError("--mask-edges '" + spec +
-                     "': expected COLUMN:BEFORE:AFTER in seconds, e.g. pulse_code:0.005:0.060");
-  }
-  if (!(before >= 0 && after >= 0))
-    throw InputError("--mask-edges '" + spec + "': BEFORE and AFTER must be >= 0 s");
-  const auto* col = r.extra_column(spec.substr(0, c1));
-  if (!col) return {};
-  return ident::edge_windows(r.t, *col, before, after);
-}
-
-ident::Dataset load(const std::string& path, const CsvColumns& cols, const std::string& mask,
-                    const std::string& edges) {
-  const auto rec = load_measured_csv(path, cols);
-  auto windows = ident::parse_masks(mask);
-  const auto e = edge_masks(edges, rec);
-  windows.insert(windows.end(), e.begin(), e.end());
-  return ident::prepare_dataset(rec, windows);
-}
 
 std::string self_dir() {
   char buf[PATH_MAX];
@@ -102,14 +71,17 @@ std::string stem_path(const std::string& path, const std::string& suffix) {
 }
 
 int run_identify(const IdentifyOptions& o) {
-  const CsvColumns cols = o.columns.empty() ? CsvColumns{} : parse_column_map(o.columns);
   ident::FitSpec spec;
   spec.model = std::string(model_info(o.model).tag);
   spec.elements = static_cast<std::size_t>(o.elements);
-  ident::Dataset train = load(o.data, cols, o.mask, o.mask_edges);
+  std::string note;
+  ident::Dataset train = ident::load_dataset({o.data, o.columns, o.mask, o.mask_edges}, &note);
+  if (!note.empty()) std::cerr << "identify: " << note << '\n';
   ident::Dataset val;
   if (!o.validate.empty()) {
-    val = load(o.validate, cols, o.validate_mask, o.mask_edges);
+    note.clear();
+    val = ident::load_dataset({o.validate, o.columns, o.validate_mask, o.mask_edges, "--validate-mask"}, &note);
+    if (!note.empty()) std::cerr << "identify: " << note << '\n';
   } else {
     auto split = ident::split_holdout(train, o.holdout);
     train = std::move(split.first);

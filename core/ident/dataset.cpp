@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.hpp"
 
@@ -24,7 +25,7 @@ bool to_double(std::string_view s, double& out) {
 }
 }  // namespace
 
-std::vector<TimeWindow> parse_masks(std::string_view spec) {
+std::vector<TimeWindow> parse_masks(std::string_view spec, std::string_view what) {
   std::vector<TimeWindow> out;
   std::size_t start = 0;
   while (start <= spec.size()) {
@@ -37,7 +38,7 @@ std::vector<TimeWindow> parse_masks(std::string_view spec) {
     TimeWindow w;
     if (colon == std::string_view::npos || !to_double(item.substr(0, colon), w.t0) ||
         !to_double(item.substr(colon + 1), w.t1) || !(w.t1 > w.t0))
-      throw InputError("--mask: '" + std::string(item) +
+      throw InputError(std::string(what) + ": '" + std::string(item) +
                        "': expected T0:T1 in seconds with T1 > T0, e.g. 1.5:2.0,7:7.25");
     out.push_back(w);
   }
@@ -50,6 +51,42 @@ std::vector<TimeWindow> edge_windows(const std::vector<double>& t, const std::ve
   for (std::size_t k = 1; k < t.size() && k < code.size(); ++k)
     if (code[k] != code[k - 1]) out.push_back({t[k] - before, t[k] + after});
   return out;
+}
+
+std::vector<TimeWindow> parse_edge_masks(std::string_view spec, const MeasuredRecord& r,
+                                         std::string_view what, std::string* note) {
+  if (spec.empty()) return {};
+  const auto c1 = spec.find(':');
+  const auto c2 = c1 == std::string_view::npos ? c1 : spec.find(':', c1 + 1);
+  double before = 0, after = 0;
+  if (c1 == 0 || c2 == std::string_view::npos || !to_double(spec.substr(c1 + 1, c2 - c1 - 1), before) ||
+      !to_double(spec.substr(c2 + 1), after))
+    throw InputError(std::string(what) + " '" + std::string(spec) +
+                     "': expected COLUMN:BEFORE:AFTER in seconds, e.g. pulse_code:0.005:0.060");
+  if (!(before >= 0 && after >= 0))
+    throw InputError(std::string(what) + " '" + std::string(spec) + "': BEFORE and AFTER must be >= 0 s");
+  const std::string column(spec.substr(0, c1));
+  const auto* col = r.extra_column(column);
+  if (!col) {
+    if (note) {
+      std::string have;
+      for (const auto& [name, values] : r.extra) have += (have.empty() ? "" : ", ") + name;
+      *note = std::string(what) + ": no column '" + column + "' in " +
+              std::filesystem::path(r.source).filename().string() + ", so none are masked there (its other columns: " +
+              (have.empty() ? "none" : have) + ")";
+    }
+    return {};
+  }
+  return edge_windows(r.t, *col, before, after);
+}
+
+Dataset load_dataset(const RecordSpec& spec, std::string* note) {
+  const CsvColumns cols = spec.columns.empty() ? CsvColumns{} : parse_column_map(spec.columns);
+  const auto rec = load_measured_csv(spec.path, cols);
+  auto windows = parse_masks(spec.mask, spec.mask_what);
+  const auto e = parse_edge_masks(spec.mask_edges, rec, spec.edges_what, note);
+  windows.insert(windows.end(), e.begin(), e.end());
+  return prepare_dataset(rec, windows);
 }
 
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w) {

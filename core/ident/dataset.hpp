@@ -37,11 +37,32 @@ struct Dataset {
   std::size_t used() const;
 };
 
-// Parses "t0:t1,t0:t1,..." [s]; throws InputError naming the bad item (t1 must exceed t0).
-std::vector<TimeWindow> parse_masks(std::string_view spec);
+// Parses "t0:t1,t0:t1,..." [s]; throws InputError naming `what` (the option or field) and the bad
+// item (t1 must exceed t0).
+std::vector<TimeWindow> parse_masks(std::string_view spec, std::string_view what = "--mask");
 // Windows [-before, +after] around every change of value of `code` (e.g. EMPS pulse_code edges).
 std::vector<TimeWindow> edge_windows(const std::vector<double>& t, const std::vector<double>& code,
                                      double before, double after);
+
+// "COLUMN:BEFORE:AFTER" [s, s]: edge_windows around every change of the record's extra column
+// COLUMN (e.g. "pulse_code:0.005:0.060"). Empty spec: none. Throws InputError naming `what` on a
+// malformed spec or negative times. When the record has no such column nothing is masked and
+// *note (if given) says so, listing the columns it has.
+std::vector<TimeWindow> parse_edge_masks(std::string_view spec, const MeasuredRecord& r,
+                                         std::string_view what = "--mask-edges",
+                                         std::string* note = nullptr);
+
+// What a user gives for one record: the CSV, its column map, time windows and edge masks.
+struct RecordSpec {
+  std::string path;
+  std::string columns;     // "t=t_s,x=x_m,F=F_N"; empty = found by name
+  std::string mask;        // "t0:t1,..." [s]
+  std::string mask_edges;  // "COLUMN:BEFORE:AFTER" [s]
+  std::string mask_what = "--mask", edges_what = "--mask-edges";  // names used in errors
+};
+// Loads and prepares one record (load_measured_csv, parse_masks, parse_edge_masks,
+// prepare_dataset). Throws InputError naming the file, line, column or option.
+Dataset load_dataset(const RecordSpec& spec, std::string* note = nullptr);
 
 // Prepares a record. `edge` samples at each end are masked (derived-signal edge effects).
 Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks = {},

@@ -369,12 +369,14 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     starts.push_back(x);
   }
   const int total = static_cast<int>(starts.size()) + 1;
+  const int polish_evaluations = std::max(100, o.max_evaluations / 3);
+  const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
   for (int s = 0; s < total && n > 0; ++s) {
     std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
     opt.set_lower_bounds(std::vector<double>(n, 0.0));
     opt.set_upper_bounds(std::vector<double>(n, 1.0));
-    opt.set_maxeval(s + 1 < total ? o.max_evaluations : std::max(100, o.max_evaluations / 3));
+    opt.set_maxeval(s + 1 < total ? o.max_evaluations : polish_evaluations);
     opt.set_ftol_rel(o.rel_tol);
     opt.set_initial_step(std::vector<double>(n, s + 1 < total ? 0.1 : 0.03));
     int local = 0;
@@ -385,8 +387,9 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       std::vector<double>* best_u;
       int* evals;
       int* local;
+      int budget;
       std::string stage;
-    } ctx{&ev, &o, &best, &best_u, &evals, &local,
+    } ctx{&ev, &o, &best, &best_u, &evals, &local, budget,
           o.stage + (s + 1 < total ? ", start " + std::to_string(s + 1) + "/" +
                                          std::to_string(total - 1)
                                    : ", polish")};
@@ -398,7 +401,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
           ++*cx.evals;
           ++*cx.local;
           if (f < *cx.best) *cx.best = f, *cx.best_u = u;
-          if (cx.o->progress && *cx.local % 25 == 0) cx.o->progress({cx.stage, *cx.evals, *cx.best});
+          if (cx.o->progress && *cx.local % 25 == 0) cx.o->progress({cx.stage, *cx.evals, *cx.best, cx.budget});
           return f;
         },
         &ctx);
@@ -411,7 +414,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     if (o.cancel && o.cancel->load()) throw Cancelled();
   }
   best = ev.cost(best_u, &best_th);
-  if (o.progress) o.progress({o.stage + ", done", evals, best});
+  if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
   return make_result(spec, par, ev, best_u, best_th, best, evals);
 }
 

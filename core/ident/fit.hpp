@@ -50,6 +50,7 @@ struct FitProgress {
   std::string stage;     // e.g. "base fit, start 2/3"
   int evaluations = 0;   // cost evaluations so far in this fit
   double best_rms = 0;   // best training RMS so far [N]
+  int budget = 0;        // the most evaluations this fit can take (starts x max + polish)
 };
 
 struct FitOptions {

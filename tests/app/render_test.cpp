@@ -20,11 +20,21 @@ namespace fs = std::filesystem;
 namespace {
 const std::string kPreset = std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json";
 
+fs::path tmp_dir() { return fs::temp_directory_path() / ("gmslab_render_test_" + std::to_string(getpid())); }
+
 std::string tmp(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("gmslab_render_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
+  fs::create_directories(tmp_dir());
+  return (tmp_dir() / name).string();
 }
+
+// The folder of this process's outputs goes when the tests are done.
+struct RemoveTmpDir : ::testing::Environment {
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(tmp_dir(), ec);
+  }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new RemoveTmpDir);
 
 int run(const std::string& cmd) {
   const int rc = std::system((cmd + " 2>/dev/null").c_str());
@@ -145,4 +155,70 @@ TEST(FiguresCommand, EveryFigureOfTheSetIsWrittenWithItsCurvesVisible) {
     EXPECT_TRUE(fs::exists(csv)) << csv;
   }
   EXPECT_EQ(n, gmslab::figure_ids().size());
+}
+
+namespace {
+// A small measured-looking record: a triangle-wave motion, a Coulomb-like force, and a pulse_code
+// column that switches at t = 1 s and t = 2 s (its edges are masked by --mask-edges).
+std::string write_record(const std::string& name) {
+  const std::string path = tmp(name);
+  std::ofstream o(path);
+  o << "t_s,x_m,F_N,pulse_code\n";
+  for (int i = 0; i <= 3000; ++i) {
+    const double t = 0.001 * i;
+    const double ph = std::fmod(t, 1.0);
+    const double x = 0.01 * (ph < 0.5 ? ph : 1.0 - ph);
+    const double F = (ph < 0.5 ? 20.0 : -20.0) + 2.0 * std::sin(37.0 * t);
+    o << t << ',' << x << ',' << F << ',' << (t >= 1.0 && t < 2.0 ? 1 : 0) << '\n';
+  }
+  return path;
+}
+}  // namespace
+
+TEST(RenderCommand, IdentifyViewShowsTheLoadedRecordWithTheMaskedSamplesInGrey) {
+  const std::string csv = write_record("record.csv"), out = tmp("ident_preview.png");
+  ASSERT_EQ(run(std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --view identify --data " + csv +
+                " --mask-edges pulse_code:0.05:0.1 --no-run --size 1200x750 --out " + out),
+            0);
+  const Image im = load(out);
+  ASSERT_EQ(im.w, 1200);
+  // The preview plots fill the lower part: the force and position traces (blue) and the masked
+  // windows around the two pulse edges (grey 170) must both be drawn there.
+  int blue = 0, grey = 0;
+  for (int y = im.h / 3; y < im.h; ++y)
+    for (int x = 0; x < im.w; ++x) {
+      blue += im.near(x, y, 0, 114, 178, 30);
+      grey += im.near(x, y, 170, 170, 170, 6);
+    }
+  EXPECT_GT(blue, 600) << "record trace pixels";
+  EXPECT_GT(grey, 40) << "masked-window pixels";
+  // The empty view has no such traces.
+  const std::string empty = tmp("ident_empty.png");
+  ASSERT_EQ(run(std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --view identify --size 1200x750 --out " +
+                empty),
+            0);
+  const Image e = load(empty);
+  int blue_empty = 0;
+  for (int y = e.h / 3; y < e.h; ++y)
+    for (int x = 0; x < e.w; ++x) blue_empty += e.near(x, y, 0, 114, 178, 30);
+  EXPECT_LT(blue_empty, 50);
+}
+
+TEST(RenderCommand, IdentifyViewRejectsABadRecordNamingItsLine) {
+  const std::string csv = tmp("bad_record.csv"), out = tmp("ident_bad.png");
+  {
+    std::ofstream o(csv);
+    o << "t_s,x_m,F_N\n";
+    for (int i = 0; i < 30; ++i) o << 0.001 * i << ",0," << (i == 7 ? "oops" : "1.5") << '\n';
+  }
+  const std::string log = tmp("ident_bad.log");
+  const int rc = std::system((std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --view identify --data " +
+                              csv + " --out " + out + " 2>" + log)
+                                 .c_str());
+  EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, 2);
+  const std::string msg = bytes(log);
+  EXPECT_NE(msg.find("bad_record.csv"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad_record.csv:9:"), std::string::npos) << msg;  // header is line 1, i = 7 is line 9
+  EXPECT_NE(msg.find("F_N"), std::string::npos) << msg;
+  EXPECT_FALSE(fs::exists(out));
 }

@@ -80,10 +80,21 @@ Image load(const std::string& path) {
 
 const std::string kGolden = std::string(GMSLAB_SOURCE_DIR) + "/tests/golden";
 
+fs::path render_dir() { return fs::temp_directory_path() / ("gmslab_golden_" + std::to_string(getpid())); }
+
+// The renders are kept for inspection when a comparison failed, removed otherwise.
+struct RemoveRendersIfPassed : ::testing::Environment {
+  void TearDown() override {
+    std::error_code ec;
+    if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(render_dir(), ec);
+  }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new RemoveRendersIfPassed);
+
 // Renders the set once for all tests of this file.
 const std::string& rendered_dir() {
   static const std::string dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("gmslab_golden_" + std::to_string(getpid()));
+    const fs::path d = render_dir();
     fs::create_directories(d);
     const std::string cmd = std::string(GMSLAB_HEADLESS_EXE) + " figures --out " + d.string() +
                             " --size " + std::to_string(kWidth) + "x" + std::to_string(kHeight) +

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/ident/dataset.hpp"
 #include "core/io/csv.hpp"
 
 using namespace gmslab;
@@ -101,4 +102,46 @@ TEST(IdentCsv, BadFilesNameFileLineAndColumn) {
 TEST(IdentCsv, CommentsBlankLinesAndByteOrderMarkAreSkipped) {
   const std::string s = "\xEF\xBB\xBF# recorded 2026\n\n" + rows(11) + "\n\n";
   EXPECT_EQ(parse_measured_csv(s, "c.csv").size(), 11u);
+}
+
+// --mask-edges: windows around every change of an extra column, a note (not a silent nothing)
+// when the record lacks the column, and malformed specs named with the field they came from.
+TEST(IdentCsv, EdgeMasksAroundEveryChangeOfAColumn) {
+  std::string text = "t_s,x_m,F_N,pulse_code\n";
+  for (int i = 0; i < 40; ++i)
+    text += std::to_string(0.01 * i) + ",0," + std::to_string(i) + "," + (i >= 10 && i < 25 ? "1" : "0") + "\n";
+  const auto r = parse_measured_csv(text, "pulses.csv");
+  std::string note;
+  const auto w = ident::parse_edge_masks("pulse_code:0.015:0.045", r, "--mask-edges", &note);
+  ASSERT_EQ(w.size(), 2u);  // rising edge at t = 0.10 s, falling edge at t = 0.25 s
+  EXPECT_NEAR(w[0].t0, 0.085, 1e-12);
+  EXPECT_NEAR(w[0].t1, 0.145, 1e-12);
+  EXPECT_NEAR(w[1].t0, 0.235, 1e-12);
+  EXPECT_NEAR(w[1].t1, 0.295, 1e-12);
+  EXPECT_EQ(note, "");
+  // The prepared dataset ignores exactly the samples inside those windows (and 10 edge samples).
+  const auto d = ident::prepare_dataset(r, w, 0);
+  std::size_t masked = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const double t = d.t[k];
+    const bool inside = (t > 0.085 && t < 0.145) || (t > 0.235 && t < 0.295);
+    EXPECT_EQ(d.use[k] == 0, inside) << "t = " << t;
+    masked += d.use[k] == 0;
+  }
+  EXPECT_EQ(masked, 12u);  // 0.09 ... 0.14 and 0.24 ... 0.29
+
+  const auto none = ident::parse_edge_masks("code:0:0.1", r, "mask edges", &note);
+  EXPECT_TRUE(none.empty());
+  EXPECT_NE(note.find("no column 'code' in pulses.csv"), std::string::npos) << note;
+  EXPECT_NE(note.find("pulse_code"), std::string::npos) << note;  // lists what the file has
+
+  for (const char* bad : {"pulse_code", "pulse_code:0.1", "pulse_code:x:0.1", ":0:1", "pulse_code:-1:0.1",
+                          "pulse_code:0:nan"}) {
+    try {
+      ident::parse_edge_masks(bad, r, "mask edges");
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("mask edges '", 0), 0u) << e.what();
+    }
+  }
 }

@@ -38,10 +38,23 @@ TEST(NiceTicks, CoverEveryRandomRangeWithEvenNiceSteps) {
     EXPECT_LT(hi - t.values.back(), t.step * (1 + 1e-9));
     for (std::size_t i = 1; i < t.values.size(); ++i)
       EXPECT_NEAR(t.values[i] - t.values[i - 1], t.step, 1e-9 * t.step);
-    // About the number asked for: the chosen step is the smallest nice one >= range / target.
-    EXPECT_GE(t.step, (hi - lo) / target * (1 - 1e-12));
-    EXPECT_LE(t.values.size(), static_cast<std::size_t>(target) + 1);
+    // About the number asked for: the chosen step is the smallest nice one >= range / target,
+    // unless that leaves a single tick; then the first target' > target that gives two.
+    EXPECT_GE(t.values.size(), 2u) << lo << " " << hi;
+    int used = target;
+    while (t.step < (hi - lo) / used * (1 - 1e-12)) ++used;
+    EXPECT_LE(t.values.size(), static_cast<std::size_t>(used) + 1);
+    EXPECT_LE(used, 12);
   }
+}
+
+TEST(NiceTicks, ARangeJustShortOfTwoStepsStillGetsTwoTicks) {
+  // Rounded up, 1.75 / 2 gives step 1 and a single tick (0) inside [-0.8, 0.95]: no scale.
+  const auto t = nice_ticks(-0.8, 0.95, 2);
+  ASSERT_GE(t.values.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.step, 0.5);
+  EXPECT_DOUBLE_EQ(t.values.front(), -0.5);
+  EXPECT_DOUBLE_EQ(t.values.back(), 0.5);
 }
 
 TEST(NiceTicks, ZeroIsAnExactTickAndDegenerateRangesGiveNone) {
