@@ -204,6 +204,7 @@ int render_command(const cli::RenderOptions& o) {
     in.data = o.data;
     in.validate = o.validate;
     in.mask_edges = o.mask_edges;
+    in.compare = o.compare;
     if (o.no_run) {
       ui::identify_set_inputs(s, in);
     } else {

@@ -127,6 +127,12 @@ void start(IdentifyState& st) {
       spec.model = cfg.model;
       spec.elements = static_cast<std::size_t>(cfg.elements);
       r->report = ident::identify(r->train, r->val, spec, lo);
+      if (cfg.compare) {
+        ident::FitOptions co = lo.base;
+        co.max_seconds = 60;
+        r->report.comparison =
+            ident::compare_models(r->report, r->train, r->val, ident::parse_model_list("all"), co);
+      }
       r->figure = ident::report_figure(r->report, r->train, r->val);
       std::lock_guard<std::mutex> lock(j->m);
       j->result = std::move(r);
@@ -181,6 +187,10 @@ void inputs(IdentifyState& st, bool busy) {
   ImGui::InputInt("elements", &st.elements);
   st.elements = std::clamp(st.elements, 1, 64);
   tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64)");
+  ImGui::SameLine();
+  ImGui::Checkbox("compare models", &st.compare);
+  tooltip("After the loop, fit every model with the effects it found and compare their RMS\n"
+          "(each fit limited to 60 s)");
   ImGui::EndDisabled();
 }
 
@@ -314,6 +324,37 @@ void rounds_table(const ident::IdentReport& r) {
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(candidates_line(rd, 4).c_str());
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", evidence_text(rd).c_str());
+  }
+  ImGui::EndTable();
+}
+
+void comparison_table(const ident::IdentReport& r) {
+  if (r.comparison.empty()) return;
+  ImGui::Text("Model comparison: every model fitted with the effects added (%zu)", r.effects_added.size());
+  const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
+  if (!ImGui::BeginTable("comparison", 6, flags)) return;
+  for (const char* h : {"model", "elements", "shape parameters", "RMS train [N]", "RMS validation [N]", "fit time [s]"})
+    ImGui::TableSetupColumn(h);
+  ImGui::TableHeadersRow();
+  double best = 1e300;
+  for (const auto& c : r.comparison) best = std::min(best, c.rms_validation);
+  for (const auto& c : r.comparison) {
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted(std::string(model_info(c.model).name).c_str());
+    ImGui::TableNextColumn();
+    if (c.elements) ImGui::Text("%zu", c.elements);
+    ImGui::TableNextColumn();
+    ImGui::Text("%zu", c.shape_parameters);
+    ImGui::TableNextColumn();
+    ImGui::Text("%.4g", c.rms_train);
+    ImGui::TableNextColumn();
+    if (c.rms_validation == best)
+      ImGui::TextColored(ImVec4(0.0f, 0.45f, 0.3f, 1.0f), "%.4g (best)", c.rms_validation);
+    else
+      ImGui::Text("%.4g", c.rms_validation);
+    ImGui::TableNextColumn();
+    ImGui::Text(c.time_limited ? "%.1f (limit: not converged)" : "%.1f", c.seconds);
   }
   ImGui::EndTable();
 }
@@ -481,6 +522,7 @@ void draw_identify_panel(AppState& s) {
     return;
   }
   rounds_table(st.result->report);
+  comparison_table(st.result->report);
   ImGui::BeginChild("##identfig", ImVec2(0, 0), true, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   draw_figure(st.result->figure, true);
   ImGui::EndChild();

@@ -24,6 +24,7 @@ struct IdentifyInputs {
   std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE_s:AFTER_s
   std::string model = "gms";
   int elements = 4;
+  bool compare = false;  // afterwards fit every registered model with the effects found
 };
 
 // The panel's actions without drawing (scripted use and tests): start a run on the worker

@@ -20,6 +20,7 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("--validate", o.validate, "Identify view: validation CSV (default: a hold-out part)");
   sub.add_option("--mask-edges", o.mask_edges, "Identify view: COLUMN:BEFORE:AFTER [s] windows to ignore")
       ->capture_default_str();
+  sub.add_flag("--compare", o.compare, "Identify view: also fit and compare every model (slower)");
   sub.add_flag("--no-run", o.no_run, "Identify view: load and show the records of --data without identifying");
 }
 

@@ -18,7 +18,8 @@ struct RenderOptions {
   double time = -1.0;              // simulated time to show [s]; < 0: the whole run
   // Identify view: run an identification first and show its outcome.
   std::string data, validate, mask_edges = "pulse_code:0.005:0.060";
-  bool no_run = false;  // only load and show the records
+  bool no_run = false;   // only load and show the records
+  bool compare = false;  // also compare every model
 };
 
 struct FiguresOptions {

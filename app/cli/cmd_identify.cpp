@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <climits>
 #include <cstring>
 #include <filesystem>
@@ -29,9 +30,9 @@ namespace {
 
 struct IdentifyOptions {
   std::string data, validate, columns, model = "gms", mask, validate_mask, mask_edges;
-  std::string report, plot, scenario, method = "bobyqa", effects, size = "1600x1000";
+  std::string report, plot, scenario, method = "bobyqa", effects, compare, size = "1600x1000";
   int elements = 4, starts = 3, max_evals = 500;
-  double holdout = 0.25, min_gain = 0.03;
+  double holdout = 0.25, min_gain = 0.03, compare_seconds = 60;
 };
 
 std::string self_dir() {
@@ -73,6 +74,7 @@ std::string stem_path(const std::string& path, const std::string& suffix) {
 int run_identify(const IdentifyOptions& o) {
   ident::FitSpec spec;
   spec.model = std::string(model_info(o.model).tag);
+  const std::vector<std::string> compare = ident::parse_model_list(o.compare);  // fail before the run
   spec.elements = static_cast<std::size_t>(o.elements);
   std::string note;
   ident::Dataset train = ident::load_dataset({o.data, o.columns, o.mask, o.mask_edges}, &note);
@@ -112,8 +114,20 @@ int run_identify(const IdentifyOptions& o) {
               << " N   " << std::flush;
   };
   lo.base.progress = lo.refit.progress = progress;
-  const auto rep = ident::identify(train, val, spec, lo);
+  auto rep = ident::identify(train, val, spec, lo);
   std::cerr << '\n';
+  if (!compare.empty()) {
+    ident::FitOptions co = lo.base;
+    co.max_seconds = o.compare_seconds;
+    rep.comparison = ident::compare_models(rep, train, val, compare, co);
+    std::cerr << "\nmodel comparison (each with the effects added: " << rep.effects_added.size() << ")\n";
+    std::fprintf(stderr, "  %-14s %8s %8s %14s %19s %9s\n", "model", "elements", "shape", "RMS train [N]",
+                 "RMS validation [N]", "time [s]");
+    for (const auto& c : rep.comparison)
+      std::fprintf(stderr, "  %-14s %8zu %8zu %14.4g %19.4g %9.1f%s\n", c.model.c_str(), c.elements,
+                   c.shape_parameters, c.rms_train, c.rms_validation, c.seconds,
+                   c.time_limited ? "  (time limit: not converged)" : "");
+  }
   nlohmann::json j = to_json(rep);
   const std::string scenario = o.scenario.empty() ? stem_path(o.report, ".scenario.json") : o.scenario;
   j["scenario_file"] = scenario;
@@ -166,6 +180,12 @@ void register_identify(CLI::App& app, Action& action) {
   sub->add_option("--holdout", o->holdout, "Fraction held out for validation without --validate")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 0.5));
+  sub->add_option("--compare", o->compare,
+                  "Also fit these models (comma-separated tags, or 'all') with the effects found, and "
+                  "report their RMS (model_comparison)");
+  sub->add_option("--compare-seconds", o->compare_seconds, "Time limit of each comparison fit [s]")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 3600.0));
   sub->add_option("--method", o->method, "Optimiser: bobyqa, sbplx or neldermead")
       ->capture_default_str()
       ->check(CLI::IsMember({"bobyqa", "sbplx", "neldermead"}));

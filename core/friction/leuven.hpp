@@ -81,6 +81,9 @@ class LeuvenModel final : public FrictionModel {
   HysteresisAt hysteresis_at(const double* F, double dz) const;
   // sum of k_i of the elements not at their limit in direction dir after the increment dz [N/m]
   double free_stiffness(const double* F, double dz, double dir) const;
+  // The fixed point dz* >= dz (dir > 0) or <= dz (dir < 0) where the hysteresis force reaches s;
+  // false when the elements saturate before it does.
+  bool fixed_point(const double* F, double dz, double dir, double s, double& out) const;
   double power(double a) const;                                       // a^n, a >= 0
   double rate(const double* F, double dz, double v, double S) const;  // dz/dt [m/s]
   double state_increment(const double* F, double v, double s, double h) const;  // dz [m]

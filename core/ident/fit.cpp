@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <nlopt.hpp>
@@ -369,11 +370,22 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     starts.push_back(x);
   }
   const int total = static_cast<int>(starts.size()) + 1;
+  const auto t_start = std::chrono::steady_clock::now();
+  bool time_limited = false;
   const int polish_evaluations = std::max(100, o.max_evaluations / 3);
   const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
   for (int s = 0; s < total && n > 0; ++s) {
     std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
+    if (o.max_seconds > 0) {
+      const double left =
+          o.max_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+      if (left <= 0) {
+        time_limited = true;
+        break;
+      }
+      opt.set_maxtime(left);
+    }
     opt.set_lower_bounds(std::vector<double>(n, 0.0));
     opt.set_upper_bounds(std::vector<double>(n, 1.0));
     opt.set_maxeval(s + 1 < total ? o.max_evaluations : polish_evaluations);
@@ -407,7 +419,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
         &ctx);
     double f = 0;
     try {
-      opt.optimize(x, f);
+      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) time_limited = true;
     } catch (const nlopt::forced_stop&) {
     } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
     }
@@ -415,7 +427,9 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   }
   best = ev.cost(best_u, &best_th);
   if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
-  return make_result(spec, par, ev, best_u, best_th, best, evals);
+  FitResult r = make_result(spec, par, ev, best_u, best_th, best, evals);
+  r.time_limited = time_limited;
+  return r;
 }
 
 FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectContext& c,

@@ -59,6 +59,7 @@ struct FitOptions {
   int max_evaluations = 600;      // per start
   double rel_tol = 1e-7;          // relative cost tolerance
   bool data_start = true;         // also start from the data-based guess when warm-started
+  double max_seconds = 0;         // wall-time budget of the whole fit [s]; 0 = none
   std::string stage = "fit";      // label shown in progress
   std::function<void(const FitProgress&)> progress;  // may be empty
   const std::atomic<bool>* cancel = nullptr;         // set -> Cancelled
@@ -112,6 +113,7 @@ struct FitResult {
   ModelParams friction;        // the identified physical friction model
   double rms_train = 0;        // [N]
   int evaluations = 0;
+  bool time_limited = false;   // stopped by FitOptions::max_seconds before converging
 };
 
 // Simulates the friction model along the record's motion (prescribed): out[k] = force at t[k].

@@ -1,6 +1,7 @@
 #include "core/ident/loop.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -227,6 +228,70 @@ nlohmann::json fit_json(const FitResult& f) {
 
 }  // namespace
 
+std::vector<ModelComparison> compare_models(const IdentReport& r, const Dataset& train,
+                                            const Dataset& validation, const std::vector<std::string>& models,
+                                            const FitOptions& o) {
+  std::vector<ModelComparison> out;
+  for (const auto& tag : models) {
+    const ModelInfo& info = model_info(tag);
+    FitSpec spec;
+    spec.model = std::string(info.tag);
+    const std::size_t wanted = r.elements ? r.elements : 4;  // a base model without elements: 4
+    spec.elements = info.columns.empty() ? 0 : std::clamp(wanted, info.min_elements, info.max_elements);
+    spec.effects = r.effects_added;
+    FitOptions fo = o;
+    fo.stage = "compare: " + spec.model;
+    const auto t0 = std::chrono::steady_clock::now();
+    // The loop's own model starts from where the loop left it, so it never compares worse than
+    // the report says; the others start from their data-based guesses.
+    const bool is_base = spec.model == r.model && spec.elements == r.elements && !r.stages.empty();
+    if (is_base) fo.data_start = false;
+    FitResult f = fit_model(spec, train, r.context, fo, is_base ? &r.final_fit().u : nullptr);
+    // A warm-started refit, as every stage of the loop gets one: the comparison is then as well
+    // converged as the loop's own final model.
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!f.time_limited && (o.max_seconds <= 0 || spent < o.max_seconds) && !f.u.empty()) {
+      FitOptions again = fo;
+      again.data_start = false;
+      again.starts = 2;
+      if (o.max_seconds > 0) again.max_seconds = o.max_seconds - spent;
+      FitResult g = fit_model(spec, train, r.context, again, &f.u);
+      const int evaluations = f.evaluations + g.evaluations;
+      const bool limited = g.time_limited;
+      if (g.rms_train < f.rms_train) f = std::move(g);
+      f.evaluations = evaluations;
+      f.time_limited = limited;
+    }
+    ModelComparison c;
+    c.model = spec.model;
+    c.elements = spec.elements;
+    c.shape_parameters = f.u.size();
+    c.rms_train = f.rms_train;
+    c.rms_validation = rms_on(f, validation, r.context);
+    c.evaluations = f.evaluations;
+    c.time_limited = f.time_limited;
+    c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::vector<std::string> parse_model_list(std::string_view spec) {
+  std::vector<std::string> out;
+  if (spec == "all") {
+    for (const auto& m : model_registry()) out.emplace_back(m.tag);
+    return out;
+  }
+  std::size_t a = 0;
+  while (a <= spec.size()) {
+    auto b = spec.find(',', a);
+    if (b == std::string_view::npos) b = spec.size();
+    if (b > a) out.emplace_back(model_info(spec.substr(a, b - a)).tag);  // throws on unknown tags
+    a = b + 1;
+  }
+  return out;
+}
+
 nlohmann::json to_json(const IdentReport& r) {
   nlohmann::json j;
   j["base_model"] = r.model;
@@ -272,6 +337,18 @@ nlohmann::json to_json(const IdentReport& r) {
     rounds.push_back(o);
   }
   j["rounds"] = rounds;
+  if (!r.comparison.empty()) {
+    nlohmann::json cmp = nlohmann::json::array();
+    for (const auto& c : r.comparison)
+      cmp.push_back({{"model", c.model},
+                     {"elements", c.elements},
+                     {"shape_parameters", c.shape_parameters},
+                     {"rms", rms_json(c.rms_train, c.rms_validation)},
+                     {"evaluations", c.evaluations},
+                     {"seconds", c.seconds},
+                     {"time_limited", c.time_limited}});
+    j["model_comparison"] = cmp;
+  }
   j["base_fit"] = fit_json(r.stages.front());
   j["final_model"] = fit_json(r.final_fit());
   const auto& c = r.context;

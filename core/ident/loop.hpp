@@ -62,6 +62,17 @@ struct Round {
   std::optional<Effect> added;
 };
 
+// One model of a comparison: fitted on the same training record, with the same effects.
+struct ModelComparison {
+  std::string model;           // registry tag
+  std::size_t elements = 0;    // element count used (0: the model has none)
+  std::size_t shape_parameters = 0;  // searched (nonlinear) parameters
+  double rms_train = 0, rms_validation = 0;  // [N]
+  int evaluations = 0;
+  double seconds = 0;          // wall time of the fit [s]
+  bool time_limited = false;   // the fit hit FitOptions::max_seconds (not converged)
+};
+
 struct IdentReport {
   std::string model;
   std::size_t elements = 0;
@@ -73,11 +84,22 @@ struct IdentReport {
   double rms_after_train = 0, rms_after_validation = 0;
   std::vector<Effect> effects_added;
   std::vector<Round> rounds;
+  std::vector<ModelComparison> comparison;  // compare_models(); empty unless asked for
   const FitResult& final_fit() const { return stages.back(); }
 };
 
 IdentReport identify(const Dataset& train, const Dataset& validation, const FitSpec& base,
                      const LoopOptions& o);
+
+// Fits each model (registry tags) on the training record with the effects the loop added, so the
+// models are compared like for like, and reports their training and validation RMS. Multi-element
+// models use the report's element count (clamped to the model's range). Options as the base fit
+// (progress, cancel); o.max_seconds bounds each model's fit (slow models are reported as such).
+std::vector<ModelComparison> compare_models(const IdentReport& r, const Dataset& train,
+                                            const Dataset& validation, const std::vector<std::string>& models,
+                                            const FitOptions& o);
+// "all" -> every registered model; "a,b,c" -> those tags (InputError naming an unknown one).
+std::vector<std::string> parse_model_list(std::string_view spec);
 
 nlohmann::json to_json(const IdentReport& r);
 // Data vs final fit (validation), and the residual of each stage over time (training).

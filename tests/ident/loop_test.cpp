@@ -69,3 +69,55 @@ TEST(IdentLoop, RecordWithoutEffectGetsNoEffectAdded) {
   EXPECT_TRUE(run.report.effects_added.empty());
   EXPECT_LT(run.report.rms_after_validation, 1.35 * run.noise);
 }
+
+// The model comparison fits every model with the effects the loop found. On a GMS record (presliding
+// hysteresis, Stribeck) with an offset: GMS reaches the noise level on validation; a static
+// Coulomb law, which has neither presliding nor Stribeck, cannot; and the comparison's GMS fit, which
+// starts from the loop's final model, is never worse than it on the training record.
+TEST(IdentLoop, ModelComparisonRanksGmsAboveStaticFrictionOnAGmsRecord) {
+  synth::SynthOptions so;
+  so.effect = Effect::Offset;
+  so.seed = 11;
+  const auto train = prepare_dataset(synth::synthesize(so));
+  so.seed = 23;
+  const auto val = prepare_dataset(synth::synthesize(so));
+  LoopOptions o;
+  o.base.starts = 2;
+  const auto rep = identify(train, val, FitSpec{}, o);
+  ASSERT_EQ(rep.effects_added, std::vector<Effect>{Effect::Offset});
+  FitOptions fo = o.base;
+  fo.max_seconds = 120;
+  const auto cmp = compare_models(rep, train, val, parse_model_list("gms,coulomb"), fo);
+  ASSERT_EQ(cmp.size(), 2u);
+  std::printf("loop final train %.4f val %.4f; gms %.4f %.4f (%d evals); coulomb %.4f %.4f\n", rep.rms_after_train, rep.rms_after_validation, cmp[0].rms_train, cmp[0].rms_validation, cmp[0].evaluations, cmp[1].rms_train, cmp[1].rms_validation);
+  const ModelComparison& gms = cmp[0];
+  const ModelComparison& coulomb = cmp[1];
+  EXPECT_EQ(gms.model, "gms");
+  EXPECT_EQ(gms.elements, 4u);
+  EXPECT_EQ(coulomb.elements, 0u);
+  EXPECT_FALSE(gms.time_limited);
+  EXPECT_LE(gms.rms_train, rep.rms_after_train * (1 + 1e-12));
+  EXPECT_LT(gms.rms_validation, 1.35 * so.noise);
+  EXPECT_GT(coulomb.rms_validation, 1.5 * gms.rms_validation);
+  EXPECT_LT(gms.shape_parameters, 20u);
+  EXPECT_GT(gms.shape_parameters, coulomb.shape_parameters);
+  // In the report JSON, with the time limit flag.
+  IdentReport with = rep;
+  with.comparison = cmp;
+  const auto j = to_json(with);
+  ASSERT_EQ(j.at("model_comparison").size(), 2u);
+  EXPECT_EQ(j["model_comparison"][1]["model"], "coulomb");
+  EXPECT_DOUBLE_EQ(j["model_comparison"][0]["rms"]["validation"].get<double>(), gms.rms_validation);
+}
+
+TEST(IdentLoop, ModelListAcceptsAllAndNamesAnUnknownTag) {
+  EXPECT_EQ(parse_model_list("all").size(), model_registry().size());
+  EXPECT_EQ(parse_model_list("lugre,gms"), (std::vector<std::string>{"lugre", "gms"}));
+  EXPECT_TRUE(parse_model_list("").empty());
+  try {
+    parse_model_list("gms,friction9");
+    ADD_FAILURE() << "unknown tag accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("friction9"), std::string::npos) << e.what();
+  }
+}

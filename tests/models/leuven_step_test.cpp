@@ -193,5 +193,42 @@ TEST(LeuvenStep, ClosedCyclesWithRandomSpeedJumpsNeverCreateEnergy) {
   }
 }
 
+// The step goes straight to the fixed point only when the relaxation certainly gets there within
+// the step (it is what makes long steps of fast sliding cheap). Steps of 1 to 400 times
+// tau = 0.6 us from the virgin state at 1 m/s (the elements first load from u = 0, then relax; 16
+// tau still ends 1.6 % short of the fixed point, 100 tau on it): each must agree with a fine
+// independent integration of the same step. A jump taken too early fails the short ones.
+TEST(LeuvenStep, StepsAroundTheRelaxationTimeAgreeWithAFineIntegration) {
+  const ModelParams p = model_info("leuven").defaults();
+  const auto m = build_model(p);
+  const double v = 1.0, tau = 0.6e-6;
+  const double fixed = m->steady_state(v);
+  bool saw_short = false, saw_settled = false;
+  for (const double steps_tau : {1.0, 4.0, 16.0, 40.0, 100.0, 400.0}) {
+    const double h = steps_tau * tau;
+    std::vector<double> state(m->state_size());
+    m->reset(state);
+    const double f = m->step(state, {v, h});
+    const auto k = p.column("k"), W = p.column("W");
+    const Stribeck S{p.scalar("Fs"), p.scalar("Fc"), p.scalar("Vs"), p.scalar("delta")};
+    const double n = p.scalar("n"), s = S(v);
+    std::vector<double> F(k.size(), 0.0);
+    const int micro = 400000;
+    for (int i = 0; i < micro; ++i) {
+      double fh = 0.0;
+      for (double fi : F) fh += fi;
+      const double dz = v * (1.0 - std::copysign(std::pow(std::abs(fh / s), n), fh / s)) * (h / micro);
+      for (std::size_t j = 0; j < F.size(); ++j) F[j] = std::clamp(F[j] + k[j] * dz, -W[j], W[j]);
+    }
+    double end = p.scalar("sigma2") * v;
+    for (double fi : F) end += fi;
+    EXPECT_NEAR(f, end, 2e-5 * s) << h / tau << " relaxation times";
+    saw_short |= std::abs(end - fixed) > 1e-3 * s;
+    saw_settled |= std::abs(end - fixed) < 1e-9 * s;
+  }
+  EXPECT_TRUE(saw_short);    // the range covers steps that must not jump ...
+  EXPECT_TRUE(saw_settled);  // ... and steps that settle
+}
+
 }  // namespace
 }  // namespace gmslab
