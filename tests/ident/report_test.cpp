@@ -1,6 +1,9 @@
 // Report, scenario export, masks, hold-out, cancellation and figure JSON of the identification.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cmath>
+
 #include <atomic>
 #include <filesystem>
 
@@ -63,6 +66,39 @@ TEST(IdentReport, CancelFlagStopsTheFit) {
   int calls = 0;
   o.progress = [&](const FitProgress&) { ++calls; };
   EXPECT_THROW(fit_model(FitSpec{}, d, c, o), Cancelled);
+}
+
+// The progress the panel's bar shows: the evaluations so far against the fit's budget (starts x
+// max_evaluations + the polishing restart), never beyond it, and a time limit that stops the fit
+// and says so.
+TEST(IdentReport, ProgressReportsTheBudgetAndATimeLimitStopsTheFit) {
+  synth::SynthOptions so;
+  so.moves = 4;
+  const auto d = prepare_dataset(synth::synthesize(so));
+  const auto c = make_context(d);
+  FitOptions o;
+  o.starts = 2;
+  o.max_evaluations = 150;
+  std::vector<FitProgress> seen;
+  o.progress = [&](const FitProgress& p) { seen.push_back(p); };
+  const FitResult r = fit_model(FitSpec{}, d, c, o);
+  ASSERT_FALSE(seen.empty());
+  const int budget = 2 * 150 + std::max(100, 150 / 3);
+  for (const auto& p : seen) {
+    EXPECT_EQ(p.budget, budget);
+    EXPECT_LE(p.evaluations, budget + 1);  // + the first guess's evaluation
+  }
+  EXPECT_EQ(seen.back().evaluations, r.evaluations);
+  EXPECT_FALSE(r.time_limited);
+  FitOptions quick = o;
+  quick.max_evaluations = 100000;
+  quick.rel_tol = 0;  // would run to the evaluation limit
+  quick.max_seconds = 0.2;
+  const auto t0 = std::chrono::steady_clock::now();
+  const FitResult q = fit_model(FitSpec{}, d, c, quick);
+  EXPECT_TRUE(q.time_limited);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  EXPECT_TRUE(std::isfinite(q.rms_train));
 }
 
 TEST(IdentReport, MasksParseAndBadMasksNameTheItem) {
