@@ -13,18 +13,21 @@ using namespace gmslab::ident;
 
 namespace {
 
-struct Run {
+struct LoopRun {
   IdentReport report;
   double noise;
+  Dataset train, val;
+  LoopOptions options;
 };
 
-Run run_loop(std::optional<Effect> effect) {
+// Training (seed 11) and validation (seed 23) records with the effect, and the loop over them.
+LoopRun run_loop(std::optional<Effect> effect) {
   synth::SynthOptions so;
   so.effect = effect;
   so.seed = 11;
-  const auto train = prepare_dataset(synth::synthesize(so));
+  auto train = prepare_dataset(synth::synthesize(so));
   so.seed = 23;
-  const auto val = prepare_dataset(synth::synthesize(so));
+  auto val = prepare_dataset(synth::synthesize(so));
   LoopOptions o;
   o.base.starts = 2;
   FitSpec spec;
@@ -41,7 +44,7 @@ Run run_loop(std::optional<Effect> effect) {
     for (const auto& a : rd.attempts)
       std::printf("   try  %-20s train %.4f val %.4f kept %d\n", std::string(effect_name(a.effect)).c_str(), a.rms_train, a.rms_validation, a.kept);
   }
-  return {std::move(rep), so.noise};
+  return {std::move(rep), so.noise, std::move(train), std::move(val), o};
 }
 
 }  // namespace
@@ -75,21 +78,16 @@ TEST(IdentLoop, RecordWithoutEffectGetsNoEffectAdded) {
 // Coulomb law, which has neither presliding nor Stribeck, cannot; and the comparison's GMS fit, which
 // starts from the loop's final model, is never worse than it on the training record.
 TEST(IdentLoop, ModelComparisonRanksGmsAboveStaticFrictionOnAGmsRecord) {
-  synth::SynthOptions so;
-  so.effect = Effect::Offset;
-  so.seed = 11;
-  const auto train = prepare_dataset(synth::synthesize(so));
-  so.seed = 23;
-  const auto val = prepare_dataset(synth::synthesize(so));
-  LoopOptions o;
-  o.base.starts = 2;
-  const auto rep = identify(train, val, FitSpec{}, o);
+  const LoopRun run = run_loop(Effect::Offset);
+  const IdentReport& rep = run.report;
   ASSERT_EQ(rep.effects_added, std::vector<Effect>{Effect::Offset});
-  FitOptions fo = o.base;
+  FitOptions fo = run.options.base;
   fo.max_seconds = 120;
-  const auto cmp = compare_models(rep, train, val, parse_model_list("gms,coulomb"), fo);
+  const auto cmp = compare_models(rep, run.train, run.val, parse_model_list("gms,coulomb"), fo);
   ASSERT_EQ(cmp.size(), 2u);
-  std::printf("loop final train %.4f val %.4f; gms %.4f %.4f (%d evals); coulomb %.4f %.4f\n", rep.rms_after_train, rep.rms_after_validation, cmp[0].rms_train, cmp[0].rms_validation, cmp[0].evaluations, cmp[1].rms_train, cmp[1].rms_validation);
+  std::printf("loop final train %.4f val %.4f; gms %.4f %.4f (%d evals); coulomb %.4f %.4f\n",
+              rep.rms_after_train, rep.rms_after_validation, cmp[0].rms_train, cmp[0].rms_validation,
+              cmp[0].evaluations, cmp[1].rms_train, cmp[1].rms_validation);
   const ModelComparison& gms = cmp[0];
   const ModelComparison& coulomb = cmp[1];
   EXPECT_EQ(gms.model, "gms");
@@ -97,7 +95,7 @@ TEST(IdentLoop, ModelComparisonRanksGmsAboveStaticFrictionOnAGmsRecord) {
   EXPECT_EQ(coulomb.elements, 0u);
   EXPECT_FALSE(gms.time_limited);
   EXPECT_LE(gms.rms_train, rep.rms_after_train * (1 + 1e-12));
-  EXPECT_LT(gms.rms_validation, 1.35 * so.noise);
+  EXPECT_LT(gms.rms_validation, 1.35 * run.noise);
   EXPECT_GT(coulomb.rms_validation, 1.5 * gms.rms_validation);
   EXPECT_LT(gms.shape_parameters, 20u);
   EXPECT_GT(gms.shape_parameters, coulomb.shape_parameters);
