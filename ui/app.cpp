@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/design_view.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
 
 namespace gmslab::ui {
@@ -117,8 +118,9 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 }
 
 Session make_session(const AppState& s) {
-  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}};
+  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
   if (const auto* d = s.find_slot<DesignViewState>("design")) out.design = design_settings(*d);
+  out.identify = identify_settings(s);
   return out;
 }
 
@@ -127,6 +129,7 @@ void restore_session(AppState& s, const Session& session) {
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
   apply_design_settings(s.slot<DesignViewState>("design"), session.design);
+  apply_identify_settings(s, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
 }

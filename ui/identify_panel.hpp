@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/ident/loop.hpp"
+#include "core/io/session_io.hpp"
 #include "ui/app.hpp"
 
 namespace gmslab::ui {
@@ -32,6 +33,10 @@ struct IdentifyInputs {
 // none); the last run's error ("cancelled" after cancel()); send the identified model to the plant
 // (a pending scenario request, applied by apply_pending like any UI edit).
 void identify_start(AppState& s, const IdentifyInputs& in);
+// The panel's fields as the session saves them (defaults when the panel was never shown), and
+// back (fields only; a run in progress is left alone).
+IdentifySettings identify_settings(const AppState& s);
+void apply_identify_settings(AppState& s, const IdentifySettings& settings);
 // Fills the panel's fields without running (the records are loaded and shown on the next frame).
 void identify_set_inputs(AppState& s, const IdentifyInputs& in);
 // The EMPS benchmark's files when ../shared/data/emps (or $GMSLAB_SHARED/data/emps) has them:

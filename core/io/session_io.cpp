@@ -39,6 +39,16 @@ json to_json(const Session& s) {
                  {"settling_time", d.settling_time},
                  {"other_regime", d.other_regime},
                  {"zero_degree", d.zero_degree}};
+  const IdentifySettings& i = s.identify;
+  j["identify"] = {{"data", i.data},
+                   {"validate", i.validate},
+                   {"columns", i.columns},
+                   {"mask", i.mask},
+                   {"validate_mask", i.validate_mask},
+                   {"mask_edges", i.mask_edges},
+                   {"model", i.model},
+                   {"elements", i.elements},
+                   {"compare", i.compare}};
   return j;
 }
 
@@ -79,6 +89,27 @@ DesignSettings design_from_json(JsonReader& r) {
   r.finish();
   return d;
 }
+IdentifySettings identify_from_json(JsonReader& r) {
+  IdentifySettings i;
+  const auto text = [&r](const char* key) {
+    std::string v = r.string(key);
+    if (v.size() > 4096) r.fail(key, "at most 4096 characters");
+    return v;
+  };
+  i.data = text("data");
+  i.validate = text("validate");
+  i.columns = text("columns");
+  i.mask = text("mask");
+  i.validate_mask = text("validate_mask");
+  i.mask_edges = text("mask_edges");
+  std::vector<std::string> tags;
+  for (const auto& m : model_registry()) tags.emplace_back(m.tag);
+  i.model = r.choice("model", tags);
+  i.elements = static_cast<int>(r.integer("elements", 1, 64));
+  i.compare = r.boolean("compare");
+  r.finish();
+  return i;
+}
 }  // namespace
 
 Session session_from_json(const json& j, const std::string& file) {
@@ -97,6 +128,10 @@ Session session_from_json(const json& j, const std::string& file) {
   if (version >= 2) {
     auto design = r.object("design");
     s.design = design_from_json(design);
+  }
+  if (version >= 3) {
+    auto identify = r.object("identify");
+    s.identify = identify_from_json(identify);
   }
   r.finish();
   return s;

@@ -1,8 +1,8 @@
-// gmslab core: the window's session as JSON (schema_version 2): what the window saves on exit to
+// gmslab core: the window's session as JSON (schema_version 3): what the window saves on exit to
 // restore itself. Pure data and strict loading, like scenario_io.
 //
 // {
-//   "schema_version": 2,
+//   "schema_version": 3,
 //   "scenario_path": "presets/fig4_stick_slip.json",   where the scenario came from ("" if none)
 //   "scenario": { ...a full scenario, schema_version 1 (core/io/scenario_io.hpp)... },
 //   "compare": {"model": "lugre", ...} | null,          overlay model on the same input
@@ -12,10 +12,13 @@
 //              "K": 1000, "max_ratio": 20, "reference": "sine", "amplitude": 0.01,
 //              "slope": 0.01, "frequency": 2, "compensation": "gms", "mismatch_force": 1,
 //              "mismatch_stiffness": 1, "sample_time": 0, "max_overshoot": 10,
-//              "settling_time": 0.15, "other_regime": false, "zero_degree": false}
+//              "settling_time": 0.15, "other_regime": false, "zero_degree": false},
+//   "identify": {"data": "", "validate": "", "columns": "", "mask": "", "validate_mask": "",
+//                "mask_edges": "pulse_code:0.005:0.060", "model": "gms", "elements": 4,
+//                "compare": false}
 // }
-// Every key is required. Version 1 (no "design") is still read; its design settings are the
-// defaults below, as a version-1 gmslab had no way to save them. Unknown keys, wrong types,
+// Every key is required. Versions 1 (no "design", no "identify") and 2 (no "identify") are still
+// read; what they lack gets the defaults below, as those versions had no way to save it. Unknown keys, wrong types,
 // non-finite or out-of-range values are InputErrors naming the file and the key path
 // ("view.speed") with the allowed range; errors in the embedded scenario name the file as
 // "FILE (in 'scenario')".
@@ -29,7 +32,7 @@
 
 namespace gmslab {
 
-inline constexpr int kSessionSchemaVersion = 2;
+inline constexpr int kSessionSchemaVersion = 3;
 inline constexpr int kOldestSessionSchemaVersion = 1;
 
 // What the user chose to see (the window's view settings).
@@ -68,12 +71,27 @@ struct DesignSettings {
   bool operator==(const DesignSettings&) const = default;
 };
 
+// The Identify tab's fields (what to identify; the run and its report are not saved).
+struct IdentifySettings {
+  std::string data;           // training CSV path (at most 4096 characters, as every field here)
+  std::string validate;       // validation CSV path; "" = hold out a part of the training record
+  std::string columns;        // column map "t=t_s,x=x_m,F=F_N"; "" = found by name
+  std::string mask;           // training time windows "t0:t1,..." [s]
+  std::string validate_mask;  // validation time windows [s]
+  std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE:AFTER [s]
+  std::string model = "gms";  // base model: a registry tag
+  int elements = 4;           // element count of multi-element models, [1, 64]
+  bool compare = false;       // compare every model after the loop
+  bool operator==(const IdentifySettings&) const = default;
+};
+
 struct Session {
   std::string scenario_path;           // where the scenario was loaded from, "" if unknown
   Scenario scenario;                   // the scenario as edited
   std::optional<ModelParams> compare;  // overlay model, none if absent
   ViewSettings view;
   DesignSettings design;
+  IdentifySettings identify;
   bool operator==(const Session&) const = default;
 };
 

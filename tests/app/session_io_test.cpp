@@ -33,6 +33,14 @@ Session sample() {
   s.design.mismatch_stiffness = 0.5;
   s.design.sample_time = 1e-3;
   s.design.zero_degree = true;
+  s.identify.data = "/data/run 1/train.csv";
+  s.identify.validate = "val.csv";
+  s.identify.columns = "t=time_s,x=x_mm,F=F_N";
+  s.identify.mask = "1:2,7:7.5";
+  s.identify.mask_edges = "";
+  s.identify.model = "lugre";
+  s.identify.elements = 7;
+  s.identify.compare = true;
   return s;
 }
 
@@ -72,9 +80,24 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["view"].erase("tab");
   EXPECT_NE(expect_rejected(j).find("view.tab"), std::string::npos);
   j = good;
-  j["schema_version"] = 3;
-  EXPECT_NE(expect_rejected(j).find("version 3 is not supported; this gmslab reads version 1 to 2"),
+  j["schema_version"] = 4;
+  EXPECT_NE(expect_rejected(j).find("version 4 is not supported; this gmslab reads version 1 to 3"),
             std::string::npos);
+  j = good;
+  j["identify"]["model"] = "no_such_model";
+  EXPECT_NE(expect_rejected(j).find("identify.model"), std::string::npos);
+  j = good;
+  j["identify"]["elements"] = 65;
+  EXPECT_NE(expect_rejected(j).find("identify.elements"), std::string::npos);
+  j = good;
+  j["identify"]["data"] = std::string(5000, 'a');
+  EXPECT_NE(expect_rejected(j).find("identify.data"), std::string::npos);
+  j = good;
+  j["identify"].erase("mask_edges");
+  EXPECT_NE(expect_rejected(j).find("identify.mask_edges"), std::string::npos);
+  j = good;
+  j.erase("identify");  // required in version 3
+  EXPECT_NE(expect_rejected(j).find("identify"), std::string::npos);
   j = good;
   j["design"]["zeta"] = 1.0;
   EXPECT_NE(expect_rejected(j).find("design.zeta"), std::string::npos);
@@ -88,7 +111,7 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["design"].erase("max_ratio");
   EXPECT_NE(expect_rejected(j).find("design.max_ratio"), std::string::npos);
   j = good;
-  j.erase("design");  // required in version 2
+  j.erase("design");  // required from version 2 on
   EXPECT_NE(expect_rejected(j).find("design"), std::string::npos);
   j = good;
   j["compare"]["model"] = "no_such_model";
@@ -113,10 +136,25 @@ TEST(SessionIo, VersionOneSessionsLoadWithDefaultDesignSettings) {
   nlohmann::json j = to_json(sample());
   j["schema_version"] = 1;
   j.erase("design");
+  j.erase("identify");
   const Session s = session_from_json(j, "old.json");
   EXPECT_EQ(s.design, DesignSettings{});
+  EXPECT_EQ(s.identify, IdentifySettings{});
   EXPECT_EQ(s.view, sample().view);
   EXPECT_EQ(s.scenario, sample().scenario);
   j["design"] = to_json(sample())["design"];
   EXPECT_NE(expect_rejected(j).find("design"), std::string::npos);
+}
+
+// A version-2 file (design settings, no identify settings) loads with the Identify tab's defaults;
+// a version-2 file with an "identify" key is malformed.
+TEST(SessionIo, VersionTwoSessionsLoadWithDefaultIdentifySettings) {
+  nlohmann::json j = to_json(sample());
+  j["schema_version"] = 2;
+  j.erase("identify");
+  const Session s = session_from_json(j, "v2.json");
+  EXPECT_EQ(s.identify, IdentifySettings{});
+  EXPECT_EQ(s.design, sample().design);
+  j["identify"] = to_json(sample())["identify"];
+  EXPECT_NE(expect_rejected(j).find("identify"), std::string::npos);
 }

@@ -8,6 +8,7 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/design_view.hpp"
+#include "ui/identify_panel.hpp"
 
 using namespace gmslab;
 
@@ -150,4 +151,29 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   EXPECT_EQ(e.in.regime, control::Regime::Presliding);
   EXPECT_EQ(e.in.compensation, control::Compensation::Coulomb);
   EXPECT_TRUE(e.dirty);
+}
+
+// The Identify tab's fields are saved in the session and come back; the panel's defaults agree
+// with the session's.
+TEST(AppState, SessionRestoresTheIdentifyFields) {
+  ui::AppState a;
+  ui::load_scenario_into(a, stick_slip(), "");
+  EXPECT_EQ(ui::make_session(a).identify, IdentifySettings{});  // identify tab never opened
+  ui::IdentifyInputs in;
+  in.data = "/measurements/axis 2/run.csv";
+  in.validate = "/measurements/axis 2/check.csv";
+  in.mask = "0:0.5";
+  in.mask_edges = "";
+  in.model = "maxwell_slip";
+  in.elements = 9;
+  in.compare = true;
+  ui::identify_set_inputs(a, in);
+  const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
+  EXPECT_EQ(sess.identify.data, in.data);
+  EXPECT_EQ(sess.identify.model, "maxwell_slip");
+  ui::AppState b;
+  ui::restore_session(b, sess);
+  EXPECT_EQ(ui::identify_settings(b), sess.identify);
+  EXPECT_EQ(ui::identify_settings(b).elements, 9);
+  EXPECT_TRUE(ui::identify_settings(b).compare);
 }
