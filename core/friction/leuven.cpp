@@ -152,27 +152,30 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
       return std::min({left, 0.25 * as / (K * av * slope),
                        0.5 * std::abs(a.fh - s) / (K * std::abs(k1))});
     };
-    // Relaxation long enough to settle: |F_h - s| decays at least at the rate
-    // lambda = K* |v| min phi' / S on the way to the fixed point (K* the free stiffness there,
-    // min phi' over [u, 1]); when lambda * left exceeds what is needed to bring |F_h - s| below the
-    // settling tolerance, the exact solution ends on the fixed point: go there directly.
-    const double e0 = std::abs(a.fh - s), tol = 4.0 * eps * (a.magnitude + as);
-    // An upper bound of ln(e0 / tol) + 1 from the binary exponents (no log on the hot path).
-    const double need = 0.6931471805599453 * (std::ilogb(e0) - std::ilogb(tol) + 2) + 1.0;
-    if (k_total_ * av * n_exp_ * std::max(1.0, std::abs(u)) * left > need * as) {
-      const double au = std::abs(u);
-      const double phi_min = (u <= 0.0 && n_exp_ > 1.0) ? 0.0 : n_exp_ * std::min(1.0, std::pow(au, n_exp_ - 1.0));
-      double zs = 0.0;
-      if (phi_min > 0.0 && fixed_point(F, dz, dir, s, zs)) {
-        const double K_star = free_stiffness(F, zs, dir);
-        if (K_star * av * phi_min * left > need * as) {
-          dz = zs;
-          break;
+    double hs = substep(k_total_);  // all elements free: the bound is then only shorter
+    if (hs < left) {  // more than one sub-step to go
+      // Relaxation long enough to settle: |F_h - s| decays at least at the rate
+      // lambda = K* |v| min phi' / S on the way to the fixed point (K* the free stiffness there,
+      // min phi' over [u, 1]); when lambda * left exceeds what is needed to bring |F_h - s|
+      // below the settling tolerance, the exact solution ends on the fixed point: go there.
+      const double e0 = std::abs(a.fh - s), tol = 4.0 * eps * (a.magnitude + as);
+      // An upper bound of ln(e0 / tol) + 1 from the binary exponents (no log on the hot path).
+      const double need = 0.6931471805599453 * (std::ilogb(e0) - std::ilogb(tol) + 2) + 1.0;
+      if (k_total_ * av * n_exp_ * std::max(1.0, std::abs(u)) * left > need * as) {
+        const double au = std::abs(u);
+        const double phi_min =
+            (u <= 0.0 && n_exp_ > 1.0) ? 0.0 : n_exp_ * std::min(1.0, std::pow(au, n_exp_ - 1.0));
+        double zs = 0.0;
+        if (phi_min > 0.0 && fixed_point(F, dz, dir, s, zs)) {
+          const double K_star = free_stiffness(F, zs, dir);
+          if (K_star * av * phi_min * left > need * as) {
+            dz = zs;
+            break;
+          }
         }
       }
+      hs = substep(free_stiffness(F, dz, dir));
     }
-    double hs = substep(k_total_);  // all elements free: the bound is then only shorter
-    if (hs < left) hs = substep(free_stiffness(F, dz, dir));
     const double k2 = rate(F, dz + 0.5 * hs * k1, v, s);
     const double k3 = rate(F, dz + 0.5 * hs * k2, v, s);
     const double k4 = rate(F, dz + hs * k3, v, s);
