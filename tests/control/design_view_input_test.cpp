@@ -85,4 +85,30 @@ TEST(DesignViewInput, ClickingABranchReadsItsGainAndTheClosedLoopPolesThere) {
   EXPECT_LT(d, 1e-6 * (1 + std::abs(h.d().picked_s)));
   EXPECT_GT(h.d().picked_k, 0.0);
 }
+// Dragging the compensator's zero (green o) along the real axis switches the design to manual: the
+// zero follows the mouse, the drawn loop and its closed-loop poles are those of the new compensator
+// (1 + Kc L(s) = 0 at each), and the pole stays where it was.
+TEST(DesignViewInput, DraggingTheCompensatorZeroMakesAManualDesignThatTheLocusFollows) {
+  Harness h;
+  ASSERT_TRUE(h.d().out.compensator.has_value());
+  const double z0 = h.d().out.compensator->z, p0 = h.d().out.compensator->p;
+  const double z1 = 0.6 * z0;  // move the zero towards the origin
+  h.frame(h.px(cplx(-z0, 0)), true);
+  h.frame(h.px(cplx(-0.5 * (z0 + z1), 0)), true);
+  h.frame(h.px(cplx(-z1, 0)), true);
+  h.frame(h.px(cplx(-z1, 0)), false);
+  h.frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+  const auto& out = h.d().out;
+  ASSERT_TRUE(out.compensator.has_value());
+  EXPECT_EQ(out.compensator_kind, "manual");
+  const double tol = 1.5 * (h.d().canvas.x1 - h.d().canvas.x0) / (h.d().canvas.px1 - h.d().canvas.px0);
+  EXPECT_NEAR(out.compensator->z, z1, tol);
+  EXPECT_NEAR(out.compensator->p, p0, 1e-9 * p0);
+  bool zero_in_loop = false;
+  for (const cplx& z : out.loop.zeros()) zero_in_loop |= std::abs(z - cplx(-out.compensator->z, 0)) < 1e-6 * z0;
+  EXPECT_TRUE(zero_in_loop);
+  ASSERT_FALSE(out.closed_loop_poles.empty());
+  for (const cplx& p : out.closed_loop_poles)
+    EXPECT_LT(std::abs(1.0 + out.compensator->Kc * out.loop(p)), 1e-6) << p.real() << " + j" << p.imag();
+}
 #endif
