@@ -465,7 +465,7 @@ void draw_identify_panel(AppState& s) {
   auto& st = s.slot<IdentifyState>("identify");
   const bool busy = st.job != nullptr;
   const ImGuiStyle& style = ImGui::GetStyle();
-  const float input_w = ImGui::GetFontSize() * 36.0f;
+  const float input_w = ImGui::GetFontSize() * 38.0f;
   const float top_h = ImGui::GetFrameHeightWithSpacing() * 7.0f + style.WindowPadding.y;
   ImGui::BeginChild("##ident_inputs", ImVec2(input_w, top_h), false);
   inputs(st, busy);
