@@ -188,7 +188,7 @@ void inputs(IdentifyState& st, bool busy) {
   st.elements = std::clamp(st.elements, 1, 64);
   tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64)");
   ImGui::SameLine();
-  ImGui::Checkbox("compare models", &st.compare);
+  ImGui::Checkbox("compare", &st.compare);
   tooltip("After the loop, fit every model with the effects it found and compare their RMS\n"
           "(each fit limited to 60 s)");
   ImGui::EndDisabled();

@@ -448,7 +448,7 @@ Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& 
   // Panel A: a 4 s window of the validation record at full resolution (masked samples left out).
   const double t0 = val.t.front() + 0.4 * (val.t.back() - val.t.front());
   const double t1 = std::min(val.t.back(), t0 + 4.0);
-  Panel a{"A", "Measured and fitted force, validation, " + fmt(t1 - t0) + " s window", "t [s]",
+  Panel a{"A", "Force, validation, " + fmt(t1 - t0) + " s: measured and fitted", "t [s]",
           "F [N]", {}};
   a.series.push_back(window("measured", val, val.F, t0, t1));
   a.series.push_back(window("base " + r.model, val, predict(r.stages.front(), val, r.context), t0, t1));
@@ -460,6 +460,10 @@ Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& 
   // than 5x the final one would flatten the others and are left out (named in the caption).
   Panel b{"B", "Training residual after each round", "t [s]", "F - F_fit [N]", {}};
   Panel c{"C", "Mean training residual by velocity", "v [mm/s]", "mean F - F_fit [N]", {}};
+  // Panel D: the residual's amplitude spectrum over position (the position_periodic evidence),
+  // against spatial frequency so that a ripple of a few mm stands clear of the slow trends.
+  Panel dp{"D", "Residual's spectrum over position", "1 / wavelength [1/mm]",
+           "sine amplitude [N]", {}};
   double vmax = 0;
   for (std::size_t k = 0; k < train.size(); ++k)
     if (train.use[k]) vmax = std::max(vmax, std::abs(train.v[k]));
@@ -473,10 +477,17 @@ Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& 
     for (std::size_t k = 0; k < train.size(); ++k) res[k] = train.F[k] - res[k];
     b.series.push_back(decimated(stage_label(r, i), train.t, res, &train.use));
     c.series.push_back(by_velocity(stage_label(r, i), train, res, vmax));
+    const Spectrum sp = position_spectrum(train, r.context, res);
+    Series spec;
+    spec.label = stage_label(r, i);
+    for (std::size_t k = sp.wavelength.size(); k-- > 0;)  // ascending spatial frequency
+      spec.x.push_back(1e-3 / sp.wavelength[k]), spec.y.push_back(sp.amplitude[k]);
+    if (!spec.x.empty()) dp.series.push_back(std::move(spec));
   }
-  if (!left_out.empty()) cap += ". B, C leave out " + left_out;
+  if (!left_out.empty()) cap += ". B, C, D leave out " + left_out;
   f.caption = cap;
   f.panels = {std::move(a), std::move(b), std::move(c)};
+  if (!dp.series.empty()) f.panels.push_back(std::move(dp));
   return f;
 }
 

@@ -3,8 +3,10 @@
 // noise level; on a record without an effect it must add nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
+#include "core/ident/evidence.hpp"
 #include "core/ident/loop.hpp"
 #include "tests/ident/synthetic.hpp"
 
@@ -118,4 +120,41 @@ TEST(IdentLoop, ModelListAcceptsAllAndNamesAnUnknownTag) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("friction9"), std::string::npos) << e.what();
   }
+}
+
+// The report figure's panel D shows the residual's position spectrum after each stage (the stages
+// panels B and C show). On a record with an undeclared ripple the base fit's residual spectrum
+// peaks at the ripple's spatial frequency; in panel D's final stage that peak is gone.
+TEST(IdentLoop, ReportFigureSpectrumShowsTheRippleAndItsRemoval) {
+  const LoopRun run = run_loop(Effect::PositionPeriodic);
+  const IdentReport& rep = run.report;
+  ASSERT_EQ(rep.effects_added.front(), Effect::PositionPeriodic);
+  const Figure f = report_figure(rep, run.train, run.val);
+  ASSERT_EQ(f.panels.size(), 4u);
+  const Panel& d = f.panels[3];
+  EXPECT_EQ(d.letter, "D");
+  EXPECT_EQ(d.series.size(), f.panels[1].series.size());
+  const double f_ripple = 1.0 / 2.5;  // synthesize()'s ripple: 2.5 mm wavelength [1/mm]
+  // The base model's residual, straight from the evidence code.
+  auto res = predict(rep.stages.front(), run.train, rep.context);
+  for (std::size_t k = 0; k < res.size(); ++k) res[k] = run.train.F[k] - res[k];
+  const Spectrum base = position_spectrum(run.train, rep.context, res);
+  EXPECT_NEAR(1e-3 / base.peak_wavelength, f_ripple, 0.05 * f_ripple);
+  EXPECT_GT(base.peak_to_median, 4.0);
+  // Panel D's last series is the final model's residual spectrum, against 1 / wavelength in 1/mm,
+  // and its range covers the ripple.
+  const Series& last = d.series.back();
+  auto fres = predict(rep.final_fit(), run.train, rep.context);
+  for (std::size_t k = 0; k < fres.size(); ++k) fres[k] = run.train.F[k] - fres[k];
+  const Spectrum fin = position_spectrum(run.train, rep.context, fres);
+  ASSERT_EQ(last.x.size(), fin.wavelength.size());
+  EXPECT_DOUBLE_EQ(last.x.front(), 1e-3 / fin.wavelength.back());
+  EXPECT_DOUBLE_EQ(last.y.front(), fin.amplitude.back());
+  EXPECT_LT(last.x.front(), 0.5 * f_ripple);
+  EXPECT_GT(last.x.back(), 2.0 * f_ripple);
+  // Nothing left near the ripple.
+  double near_ripple = 0;
+  for (std::size_t k = 0; k < last.x.size(); ++k)
+    if (std::abs(last.x[k] - f_ripple) < 0.1 * f_ripple) near_ripple = std::max(near_ripple, last.y[k]);
+  EXPECT_LT(near_ripple, 0.3 * base.peak_amplitude);
 }
