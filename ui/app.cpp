@@ -129,7 +129,7 @@ void restore_session(AppState& s, const Session& session) {
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
   apply_design_settings(s.slot<DesignViewState>("design"), session.design);
-  apply_identify_settings(s, session.identify);
+  identify_set_inputs(s, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
 }

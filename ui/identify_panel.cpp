@@ -410,22 +410,7 @@ std::optional<IdentifyInputs> emps_example() {
 
 IdentifySettings identify_settings(const AppState& s) {
   const auto* st = s.find_slot<IdentifyState>("identify");
-  const Config c = st ? static_cast<const Config&>(*st) : Config{};
-  return {c.data, c.validate, c.columns, c.mask, c.validate_mask, c.mask_edges, c.model, c.elements, c.compare};
-}
-
-void apply_identify_settings(AppState& s, const IdentifySettings& i) {
-  Config c;
-  c.data = i.data;
-  c.validate = i.validate;
-  c.columns = i.columns;
-  c.mask = i.mask;
-  c.validate_mask = i.validate_mask;
-  c.mask_edges = i.mask_edges;
-  c.model = i.model;
-  c.elements = i.elements;
-  c.compare = i.compare;
-  identify_set_inputs(s, c);
+  return st ? static_cast<const Config&>(*st) : Config{};
 }
 
 void identify_set_inputs(AppState& s, const IdentifyInputs& in) {

@@ -15,29 +15,19 @@ namespace gmslab::ui {
 
 void draw_identify_panel(AppState& s);
 
-// What the panel's fields hold.
-struct IdentifyInputs {
-  std::string data;      // training CSV
-  std::string validate;  // validation CSV; empty = hold out a quarter of the training record
-  std::string columns;   // explicit column map, e.g. "t=t_s,x=x_m,F=F_N"; empty = by name
-  std::string mask;      // time windows of the training record to ignore, "t0:t1,..." [s]
-  std::string validate_mask;  // the same for the validation record
-  std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE_s:AFTER_s
-  std::string model = "gms";
-  int elements = 4;
-  bool compare = false;  // afterwards fit every registered model with the effects found
-};
+// What the panel's fields hold: the session's IdentifySettings (core/io/session_io.hpp), so the
+// window saves and restores exactly what the panel shows.
+using IdentifyInputs = IdentifySettings;
 
 // The panel's actions without drawing (scripted use and tests): start a run on the worker
 // thread; busy() also collects a finished run; the report of the last finished run (nullptr if
 // none); the last run's error ("cancelled" after cancel()); send the identified model to the plant
 // (a pending scenario request, applied by apply_pending like any UI edit).
 void identify_start(AppState& s, const IdentifyInputs& in);
-// The panel's fields as the session saves them (defaults when the panel was never shown), and
-// back (fields only; a run in progress is left alone).
+// The panel's fields (defaults when the panel was never shown); the session saves them.
 IdentifySettings identify_settings(const AppState& s);
-void apply_identify_settings(AppState& s, const IdentifySettings& settings);
-// Fills the panel's fields without running (the records are loaded and shown on the next frame).
+// Fills the panel's fields without running (the records are loaded and shown on the next frame);
+// a run in progress is left alone. The session restores the fields with it.
 void identify_set_inputs(AppState& s, const IdentifyInputs& in);
 // The EMPS benchmark's files when ../shared/data/emps (or $GMSLAB_SHARED/data/emps) has them:
 // training DATA_EMPS.csv, validation DATA_EMPS_PULSES.csv; nullopt otherwise.
