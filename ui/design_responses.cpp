@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <vector>
 
 #include "ui/design_view.hpp"
 #include "ui/plot.hpp"
@@ -89,18 +88,13 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
     EndPlot();
   }
   // The tracking error tells the compensations apart where the positions overlap.
-  static std::vector<double> ea, eb;
-  ea.resize(a.t.size());
-  eb.resize(b.t.size());
-  for (std::size_t i = 0; i < a.t.size(); ++i) ea[i] = a.r[i] - a.x[i];
-  for (std::size_t i = 0; i < b.t.size(); ++i) eb[i] = b.r[i] - b.x[i];
   PlotOptions ne;
   ne.title = "Tracking error e = r - x";
   ne.legend = false;
   if (BeginPlot("##design_error", ImVec2(w, size.y - h_pos - gap), ne)) {
     SetupAxesSI("t", "s", "e", "m");
-    PlotLine("no compensation", a.t.data(), ea.data(), a.t.size(), {.color = 1, .x_sorted = true});
-    PlotLine(comp.c_str(), b.t.data(), eb.data(), b.t.size(), {.color = 2, .x_sorted = true});
+    PlotLine("no compensation", a.t.data(), o.error_plain.data(), a.t.size(), {.color = 1, .x_sorted = true});
+    PlotLine(comp.c_str(), b.t.data(), o.error_compensated.data(), b.t.size(), {.color = 2, .x_sorted = true});
     EndPlot();
   }
   ImGui::EndGroup();

@@ -48,7 +48,6 @@ using Config = IdentifyInputs;
 struct Preview {
   std::string key;  // the inputs it was loaded from
   ident::Dataset train, val;
-  std::vector<std::uint8_t> train_masked, val_masked;  // 1 = ignored (plot class)
   std::string error;
   std::vector<std::string> notes;
 };
@@ -91,10 +90,6 @@ void refresh_preview(IdentifyState& st) {
     } catch (const std::exception& e) {
       p.error = e.what();
     }
-    for (auto [d, m] : {std::pair{&p.train, &p.train_masked}, std::pair{&p.val, &p.val_masked}}) {
-      m->resize(d->size());
-      for (std::size_t k = 0; k < d->size(); ++k) (*m)[k] = d->use[k] ? 0 : 1;
-    }
   }
   st.preview = std::move(p);
 }
@@ -129,7 +124,7 @@ void start(IdentifyState& st) {
       r->report = ident::identify(r->train, r->val, spec, lo);
       if (cfg.compare) {
         ident::FitOptions co = lo.base;
-        co.max_seconds = 60;
+        co.max_seconds = ident::kCompareSeconds;
         r->report.comparison =
             ident::compare_models(r->report, r->train, r->val, ident::parse_model_list("all"), co);
       }
@@ -189,8 +184,9 @@ void inputs(IdentifyState& st, bool busy) {
   tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64)");
   ImGui::SameLine();
   ImGui::Checkbox("compare", &st.compare);
-  tooltip("After the loop, fit every model with the effects it found and compare their RMS\n"
-          "(each fit limited to 60 s)");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("After the loop, fit every model with the effects it found and compare their RMS\n"
+                      "(each fit limited to %.0f s)", ident::kCompareSeconds);
   ImGui::EndDisabled();
 }
 
@@ -208,11 +204,12 @@ std::string summary(const char* what, const ident::Dataset& d) {
 void preview_plots(const IdentifyState& st, float height) {
   const Preview& p = st.preview;
   if (p.train.size() < 2) return;
-  static const ImU32 masked_colors[2] = {palette(0), IM_COL32(170, 170, 170, 255)};
+  // Plot classes are the samples' use[] flags: 0 = masked (grey), 1 = used.
+  static const ImU32 use_colors[2] = {IM_COL32(170, 170, 170, 255), palette(0)};
   const int n_plots = p.val.size() >= 2 ? 3 : 2;
   const float w = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x * (n_plots - 1)) / n_plots;
-  auto plot = [&](const char* id, const char* title, const ident::Dataset& d, const std::vector<std::uint8_t>& m,
-                  const std::vector<double>& y, const char* name, const char* unit) {
+  auto plot = [&](const char* id, const char* title, const ident::Dataset& d, const std::vector<double>& y,
+                  const char* name, const char* unit) {
     PlotOptions o;
     o.title = title;
     o.legend = false;
@@ -221,19 +218,19 @@ void preview_plots(const IdentifyState& st, float height) {
       SeriesStyle s;
       s.x_sorted = true;
       s.thickness = 1.0f;
-      s.classes = m.data();
-      s.class_colors = masked_colors;
+      s.classes = d.use.data();
+      s.class_colors = use_colors;
       s.n_classes = 2;
       PlotLine(name, d.t.data(), y.data(), d.size(), s);
       EndPlot();
     }
   };
-  plot("##train_F", "training record: force (grey: masked)", p.train, p.train_masked, p.train.F, "F", "N");
+  plot("##train_F", "training record: force (grey: masked)", p.train, p.train.F, "F", "N");
   ImGui::SameLine();
-  plot("##train_x", "training record: position", p.train, p.train_masked, p.train.x, "x", "m");
+  plot("##train_x", "training record: position", p.train, p.train.x, "x", "m");
   if (n_plots == 3) {
     ImGui::SameLine();
-    plot("##val_F", "validation record: force (grey: masked)", p.val, p.val_masked, p.val.F, "F", "N");
+    plot("##val_F", "validation record: force (grey: masked)", p.val, p.val.F, "F", "N");
   }
 }
 
@@ -404,7 +401,6 @@ std::optional<IdentifyInputs> emps_example() {
   IdentifyInputs in;
   in.data = (dir / "DATA_EMPS.csv").lexically_normal().string();
   in.validate = (dir / "DATA_EMPS_PULSES.csv").lexically_normal().string();
-  in.mask_edges = "pulse_code:0.005:0.060";
   return in;
 }
 
@@ -449,6 +445,7 @@ void identify_send_to_plant(AppState& s) {
 void draw_identify_panel(AppState& s) {
   auto& st = s.slot<IdentifyState>("identify");
   const bool busy = st.job != nullptr;
+  static const std::optional<IdentifyInputs> example = emps_example();  // looked up once
   const ImGuiStyle& style = ImGui::GetStyle();
   const float input_w = ImGui::GetFontSize() * 38.0f;
   const float top_h = ImGui::GetFrameHeightWithSpacing() * 7.0f + style.WindowPadding.y;
@@ -463,14 +460,15 @@ void draw_identify_panel(AppState& s) {
       ImGui::SetTooltip(st.data.empty()             ? "Enter a training CSV first"
                         : !st.preview.error.empty() ? "Fix the error on the right first"
                                                     : "Fit the base model, then run the residual loop");
-    if (auto ex = emps_example()) {
+    if (example) {
       ImGui::SameLine();
-      if (ImGui::Button("EMPS example")) {
-        const std::string model = st.model;
-        const int n = st.elements;
-        static_cast<Config&>(st) = *ex;
-        st.model = model;
-        st.elements = n;
+      if (ImGui::Button("EMPS example")) {  // the records and their masks; the model choice stays
+        st.data = example->data;
+        st.validate = example->validate;
+        st.columns = example->columns;
+        st.mask = example->mask;
+        st.validate_mask = example->validate_mask;
+        st.mask_edges = example->mask_edges;
       }
       tooltip("Fill in the EMPS benchmark records of ../shared/data/emps (pulse edges masked)");
     }
@@ -492,7 +490,7 @@ void draw_identify_panel(AppState& s) {
                        "offset, direction asymmetry, position ripple, drift, extra velocity dependence, "
                        "dwell stiction, normal load) and keeps an effect only if it lowers the error on "
                        "the validation record.");
-    if (emps_example()) ImGui::TextWrapped("'EMPS example' fills in the measured EMPS benchmark records.");
+    if (example) ImGui::TextWrapped("'EMPS example' fills in the measured EMPS benchmark records.");
   }
   if (!st.preview.error.empty()) ImGui::TextColored(red, "%s", st.preview.error.c_str());
   for (const auto& line : {summary("training", st.preview.train), summary("validation", st.preview.val)})

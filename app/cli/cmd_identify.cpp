@@ -32,7 +32,7 @@ struct IdentifyOptions {
   std::string data, validate, columns, model = "gms", mask, validate_mask, mask_edges;
   std::string report, plot, scenario, method = "bobyqa", effects, compare, size = "1600x1000";
   int elements = 4, starts = 3, max_evals = 500;
-  double holdout = 0.25, min_gain = 0.03, compare_seconds = 60;
+  double holdout = 0.25, min_gain = 0.03, compare_seconds = ident::kCompareSeconds;
 };
 
 std::string self_dir() {
@@ -74,8 +74,8 @@ std::string stem_path(const std::string& path, const std::string& suffix) {
 int run_identify(const IdentifyOptions& o) {
   ident::FitSpec spec;
   spec.model = std::string(model_info(o.model).tag);
-  const std::vector<std::string> compare = ident::parse_model_list(o.compare);  // fail before the run
   spec.elements = static_cast<std::size_t>(o.elements);
+  const std::vector<std::string> compare = ident::parse_model_list(o.compare);  // fail before the run
   std::string note;
   ident::Dataset train = ident::load_dataset({o.data, o.columns, o.mask, o.mask_edges}, &note);
   if (!note.empty()) std::cerr << "identify: " << note << '\n';

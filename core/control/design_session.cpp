@@ -108,9 +108,11 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.comp = Compensation::None;
     out.loop_plain = simulate_loop(in.scenario, cfg);
     out.metrics_plain = loop_metrics(out.loop_plain);
+    out.error_plain = tracking_error(out.loop_plain);
     cfg.comp = in.compensation;
     out.loop_compensated = simulate_loop(in.scenario, cfg);
     out.metrics_compensated = loop_metrics(out.loop_compensated);
+    out.error_compensated = tracking_error(out.loop_compensated);
   } catch (const std::exception& e) {
     out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
   }

@@ -63,6 +63,7 @@ struct DesignOutputs {
   std::optional<RootLocus> zero_degree_locus;  // k < 0 branches of the drawn loop
   StepResponse step;
   LoopTrace loop_plain, loop_compensated;
+  std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;
   double horizon = 0.0;  // [s]
 };

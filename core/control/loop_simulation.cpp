@@ -176,6 +176,12 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
   return tr;
 }
 
+std::vector<double> tracking_error(const LoopTrace& tr) {
+  std::vector<double> e(tr.t.size());
+  for (std::size_t i = 0; i < e.size(); ++i) e[i] = tr.r[i] - tr.x[i];
+  return e;
+}
+
 LoopMetrics loop_metrics(const LoopTrace& tr) {
   LoopMetrics m;
   const std::size_t n = tr.t.size();

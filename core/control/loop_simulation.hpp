@@ -70,5 +70,7 @@ struct LoopMetrics {
 ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch& m);
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 LoopMetrics loop_metrics(const LoopTrace& tr);
+// e = r - x at every recorded sample [m].
+std::vector<double> tracking_error(const LoopTrace& tr);
 
 }  // namespace gmslab::control

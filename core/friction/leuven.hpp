@@ -38,9 +38,12 @@
 // size from u = 1 alone (the former scheme, at most 4096 equal sub-steps) made RK4 unstable there:
 // dz of the wrong sign, every element stuck at its limit against the motion, energy given out over
 // closed cycles. The sub-steps stop once F_h is on the fixed point to rounding, so a step in steady
-// sliding costs one pass; settling from far off costs about 4 n ln|u| + 4 ln(1/eps) sub-steps
-// (measured at most ~1000 over the whole parameter ranges). dz/dt in F is the step average. At
-// v = 0 the state is held. Throws SimulationError if a step needs more than 1e6 sub-steps.
+// sliding costs one pass. When more than one sub-step is left and |F_h - s|, which decays at least
+// at the rate K* |v| min phi' / S (K* the free stiffness at the fixed point, min phi' over [u, 1]),
+// certainly falls below that rounding tolerance within the rest of the step, the step goes
+// straight to the fixed point (solved exactly on the piecewise-linear F_h) instead of taking the
+// ~4 ln(1/eps) sub-steps of settling. dz/dt in F is the step average. At v = 0 the state is held.
+// Throws SimulationError if a step needs more than 1e6 sub-steps.
 //
 // Passivity (sigma1 = 0): F_h (v - dz/dt) = |F_h| |v| |u|^n >= 0 and the Maxwell-slip elements
 // dissipate in z, so a closed displacement cycle takes energy; the step keeps this because the

@@ -62,6 +62,9 @@ struct Round {
   std::optional<Effect> added;
 };
 
+// Default time limit of each comparison fit [s] (FitOptions::max_seconds for compare_models).
+inline constexpr double kCompareSeconds = 60.0;
+
 // One model of a comparison: fitted on the same training record, with the same effects.
 struct ModelComparison {
   std::string model;           // registry tag

@@ -3,6 +3,8 @@
 // compensator's green markers.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -40,6 +42,17 @@ TEST(DesignSession, UsableMaximumDesignPlacesSdAndFeedsBothLoops) {
   // The friction loops cover two sine periods (1 s) and the feedforward lowers the RMS error.
   EXPECT_NEAR(out.loop_plain.t.back(), 1.0, 1e-9);
   EXPECT_LT(out.metrics_compensated.rms_error, out.metrics_plain.rms_error);
+  // The plotted tracking errors are r - x of each loop, and their RMS is the metric's.
+  for (const auto& [tr, e, m] : {std::tuple{&out.loop_plain, &out.error_plain, &out.metrics_plain},
+                                 std::tuple{&out.loop_compensated, &out.error_compensated, &out.metrics_compensated}}) {
+    ASSERT_EQ(e->size(), tr->t.size());
+    double s2 = 0.0;
+    for (std::size_t i = 0; i < e->size(); ++i) {
+      EXPECT_EQ((*e)[i], tr->r[i] - tr->x[i]);
+      s2 += (*e)[i] * (*e)[i];
+    }
+    EXPECT_NEAR(std::sqrt(s2 / static_cast<double>(e->size())), m->rms_error, 1e-12);
+  }
 }
 
 TEST(DesignSession, FailuresAreReportedNotThrown) {
