@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "core/ident/element_fit.hpp"
 #include "core/ident/evidence.hpp"
 #include "core/io/scenario_io.hpp"
 
@@ -88,6 +89,18 @@ void refine_wavelength(const FitResult& cur, const Dataset& train, EffectContext
 
 }  // namespace
 
+FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val,
+                   const EffectContext& c, const FitOptions& o) {
+  const ModelInfo& info = model_info(base.model);
+  if (base.elements == 0 && !info.columns.empty()) {
+    if (has_linear_elements(base.model)) return fit_elements_auto(base, train, val, c, o);
+    FitSpec s = base;
+    s.elements = 4;  // no grid fit for this model: its default element count
+    return fit_model(s, train, c, o);
+  }
+  return fit_model(base, train, c, o);
+}
+
 IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& base,
                      const LoopOptions& o) {
   IdentReport rep;
@@ -98,7 +111,8 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
   rep.train_samples = train.used();
   rep.validation_samples = val.used();
   EffectContext c = make_context(train);
-  FitResult cur = fit_model(base, train, c, o.base);
+  FitResult cur = fit_base(base, train, val, c, o.base);
+  rep.elements = cur.spec.elements;
   double cur_val = rms_on(cur, val, c);
   rep.stages.push_back(cur);
   rep.rms_before_train = cur.rms_train;
