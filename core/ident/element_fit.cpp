@@ -94,12 +94,21 @@ using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowM
 
 class ElementEvaluator {
  public:
-  ElementEvaluator(const FitSpec& spec, const Dataset& d, const EffectContext& c)
+  // max_rows > 0: the cost uses every s-th used sample only, s chosen so that at most max_rows
+  // remain (the grid stage: the state is still simulated through every sample).
+  ElementEvaluator(const FitSpec& spec, const Dataset& d, const EffectContext& c,
+                   std::size_t max_rows = 0)
       : info_(model_info(spec.model)), d_(d), par_(info_, 1, c) {
     for (const auto& p : par_.params())
       if (p.scalar >= 0) scalars_.push_back(p);
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
+    if (max_rows > 0 && rows_.size() > max_rows) {
+      const std::size_t stride = (rows_.size() + max_rows - 1) / max_rows;
+      std::vector<std::size_t> kept;
+      for (std::size_t i = 0; i < rows_.size(); i += stride) kept.push_back(rows_[i]);
+      rows_ = std::move(kept);
+    }
     row_of_.assign(d.size(), -1);
     for (std::size_t i = 0; i < rows_.size(); ++i) row_of_[rows_[i]] = static_cast<long>(i);
     const auto nu = static_cast<Eigen::Index>(rows_.size());
@@ -194,7 +203,10 @@ class ElementEvaluator {
     const Eigen::Index K = E_.cols(), pf = Af_.cols(), p = K + pf;
     Eigen::MatrixXd G(p, p);
     Eigen::VectorXd b(p);
-    G.topLeftCorner(K, K).noalias() = E_.transpose() * E_;
+    G.topLeftCorner(K, K).setZero();
+    G.topLeftCorner(K, K).selfadjointView<Eigen::Lower>().rankUpdate(E_.transpose());
+    G.topLeftCorner(K, K).triangularView<Eigen::StrictlyUpper>() =
+        G.topLeftCorner(K, K).transpose().triangularView<Eigen::StrictlyUpper>();
     G.topRightCorner(K, pf).noalias() = E_.transpose() * Af_;
     G.bottomLeftCorner(pf, K) = G.topRightCorner(K, pf).transpose();
     G.bottomRightCorner(pf, pf) = Gff_;
@@ -304,12 +316,33 @@ std::vector<double> log_grid(double lo, double hi, std::size_t n) {
 }
 
 constexpr std::size_t kGridPoints = 30;
+constexpr std::size_t kGridRows = 4000;  // samples in the grid stage's cost (a regular subset)
+constexpr std::size_t kPolishRows = 8000;  // in the free-knot polish (the final linear solve: all)
 
+}  // namespace
+
+namespace {
+// The grid solution at shape u: NNLS weights and the groups of neighbouring active points.
+void finish_grid(ElementEvaluator& ev, const std::vector<double>& best_u, GridSolution& g) {
+  Eigen::VectorXd th;
+  g.rms = ev.cost(best_u, g.kappa, &th);
+  g.shape = best_u;
+  g.weight.assign(th.data(), th.data() + static_cast<Eigen::Index>(g.kappa.size()));
+  // Groups of neighbouring active grid points.
+  const double wsum = std::accumulate(g.weight.begin(), g.weight.end(), 0.0);
+  for (std::size_t j = 0; j < g.kappa.size();) {
+    if (!(g.weight[j] > 1e-9 * wsum)) { ++j; continue; }
+    double w = 0, lk = 0;
+    while (j < g.kappa.size() && g.weight[j] > 1e-9 * wsum) w += g.weight[j], lk += g.weight[j] * std::log(g.kappa[j]), ++j;
+    g.active.push_back({std::exp(lk / w), w});
+  }
+  std::sort(g.active.begin(), g.active.end(), [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
+}
 }  // namespace
 
 GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                       const FitOptions& o) {
-  ElementEvaluator ev(spec, train, c);
+  ElementEvaluator ev(spec, train, c, kGridRows);
   const auto [x_lo, x_hi] = element_x_range(c);
   GridSolution g;
   g.model = spec.model;
@@ -355,7 +388,7 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   std::sort(scored.begin(), scored.end());
   double best = scored.front().first;
   std::vector<double> best_u = cands[scored.front().second];
-  const int starts = ns == 0 ? 0 : std::min<int>(5, static_cast<int>(scored.size()));
+  const int starts = ns == 0 ? 0 : std::min<int>(3, static_cast<int>(scored.size()));
   for (int s = 0; s < starts; ++s) {
     std::vector<double> x = cands[scored[static_cast<std::size_t>(s)].second];
     auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
@@ -364,20 +397,8 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
                                 o.stage + ", grid start " + std::to_string(s + 1) + "/" + std::to_string(starts));
     if (v < best) best = v, best_u = x;
   }
-  Eigen::VectorXd th;
-  g.rms = ev.cost(best_u, g.kappa, &th);
-  g.shape = best_u;
-  g.weight.assign(th.data(), th.data() + static_cast<Eigen::Index>(g.kappa.size()));
+  finish_grid(ev, best_u, g);
   g.evaluations = search.evals;
-  // Groups of neighbouring active grid points.
-  const double wsum = std::accumulate(g.weight.begin(), g.weight.end(), 0.0);
-  for (std::size_t j = 0; j < g.kappa.size();) {
-    if (!(g.weight[j] > 1e-9 * wsum)) { ++j; continue; }
-    double w = 0, lk = 0;
-    while (j < g.kappa.size() && g.weight[j] > 1e-9 * wsum) w += g.weight[j], lk += g.weight[j] * std::log(g.kappa[j]), ++j;
-    g.active.push_back({std::exp(lk / w), w});
-  }
-  std::sort(g.active.begin(), g.active.end(), [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
   return g;
 }
 
@@ -418,7 +439,7 @@ namespace {
 FitResult polish(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                  const FitOptions& o, std::vector<double> x_shape, std::vector<GridElement> els,
                  int evals0, std::chrono::steady_clock::time_point t0, int budget) {
-  ElementEvaluator ev(spec, train, c);
+  ElementEvaluator ev(spec, train, c, kPolishRows);
   const auto [x_lo, x_hi] = element_x_range(c);
   const double k_lo = 1.0 / x_hi, k_hi = 1.0 / x_lo;
   const std::size_t ns = ev.scalar_count(), n = els.size();
@@ -489,9 +510,9 @@ int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOpt
   const Parameterization par(model_info(spec.model), 1, c);
   std::size_t ns = 0;
   for (const auto& p : par.params()) ns += p.scalar >= 0;
-  // Design points + up to 5 grid starts + the polish and its two restarts.
+  // Design points + up to 3 grid starts + the polish and its two restarts.
   const int design = ns == 0 ? 1 : 1 + 3 * 4 * 3 * 2;
-  const int grid = ns == 0 ? 0 : 5 * (o.max_evaluations / 2 + 1);
+  const int grid = ns == 0 ? 0 : 3 * (o.max_evaluations / 2 + 1);
   return design + grid + 2 * (o.max_evaluations + 1) + 1;
 }
 
@@ -499,6 +520,25 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
                             const EffectContext& c, const FitOptions& o) {
   return polish(spec, train, c, o, g.shape, group(g, std::max<std::size_t>(1, spec.elements)),
                 g.evaluations, g.started, g.budget);
+}
+
+FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                          const FitOptions& o, const std::vector<double>& warm) {
+  const Parameterization par(model_info(spec.model), spec.elements, c);
+  if (warm.size() != par.size()) throw InputError("internal: warm start of the wrong size");
+  ElementEvaluator ev(spec, train, c, kGridRows);
+  const auto [x_lo, x_hi] = element_x_range(c);
+  GridSolution g;
+  g.model = spec.model;
+  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo, kGridPoints);
+  g.started = std::chrono::steady_clock::now();
+  g.budget = 2 * (o.max_evaluations + 1) + 2;
+  std::vector<double> shape;
+  for (std::size_t i = 0; i < par.size(); ++i)
+    if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
+  finish_grid(ev, shape, g);
+  g.evaluations = 1;
+  return reduce_and_polish(g, spec, train, c, o);
 }
 
 FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,

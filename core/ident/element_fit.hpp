@@ -67,6 +67,10 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
 // the refit after an effect was added. Budget 2 max_evaluations + 1.
 FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                           const FitOptions& o, const std::vector<double>& warm);
+// Stages 1-3 at the warm start's shape: the grid weights solved once at that shape (no shape
+// search), grouped, polished. Frees the element table after an effect was added.
+FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                          const FitOptions& o, const std::vector<double>& warm);
 // The evaluation budget of fit_elements (what FitProgress::budget reports).
 int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOptions& o);
 // fit_grid + reduce_and_polish.

@@ -388,11 +388,12 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       for (const auto& col : effect_columns(e)) g_free &= !col.uses_g;
     if (g_free && !warm) return fit_elements(spec, train, c, o);
     if (g_free && warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
-      // From the warm start, and afresh over the grid: a new effect can free the element table
-      // from what it had bent itself into (e.g. a soft element standing in for an offset).
+      // From the warm start, and with the element table chosen afresh on the grid at the warm
+      // shape: a new effect can free the table from what it had bent itself into (e.g. a soft
+      // element standing in for an offset).
       FitResult w = polish_elements(spec, train, c, o, *warm);
       if (!o.data_start) return w;
-      FitResult g = fit_elements(spec, train, c, o);
+      FitResult g = regrid_elements(spec, train, c, o, *warm);
       const int evals = w.evaluations + g.evaluations;
       FitResult& best = g.rms_train < w.rms_train ? g : w;
       best.evaluations = evals;
