@@ -3,9 +3,11 @@
 //   BM_CsvParse: parse DATA_EMPS.csv from memory (24,841 rows x 7 columns).
 //   BM_FitCost: one cost evaluation of the variable-projection fit (GMS 4 elements simulated along
 //     the record + least squares of the linear terms); reported per sample.
-//   BM_IdentifyEmps: the full identification plus residual loop (GMS 4 base fit with 3 starts,
-//     screening of the catalog, refits, validation on the PULSES record with its pulse windows
-//     masked). Target: under 10 s on the 2-core development machine.
+//   BM_GridFitEmps: the GMS base fit alone (element grid by variable projection, grouping to 4
+//     elements, free-knot polish; element_fit.hpp), with inertia as a linear term.
+//   BM_IdentifyEmps: the full identification plus residual loop (GMS 4 grid base fit, screening
+//     of the catalog, refits, validation on the PULSES record with its pulse windows masked).
+//     Target (issue #10): under 2 s on the 2-core development machine.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -56,6 +58,23 @@ static void BM_FitCost(benchmark::State& st) {
   st.SetItemsProcessed(static_cast<std::int64_t>(st.iterations() * d.size()));
 }
 BENCHMARK(BM_FitCost)->Unit(benchmark::kMillisecond);
+
+static void BM_GridFitEmps(benchmark::State& st) {
+  if (!have_emps()) return st.SkipWithError("EMPS data not found (../shared/data/emps)");
+  const auto d = prepare_dataset(load_measured_csv(emps("DATA_EMPS.csv")), {}, 50);
+  const auto c = make_context(d);
+  FitSpec spec;
+  spec.effects = {Effect::Inertia};
+  FitResult r;
+  for (auto _ : st) {
+    r = fit_model(spec, d, c, FitOptions{});
+    double rms = r.rms_train;
+    benchmark::DoNotOptimize(rms);
+  }
+  st.counters["rms_train_N"] = r.rms_train;
+  st.counters["evaluations"] = r.evaluations;
+}
+BENCHMARK(BM_GridFitEmps)->Unit(benchmark::kMillisecond)->Iterations(2)->UseRealTime();
 
 static void BM_IdentifyEmps(benchmark::State& st) {
   if (!have_emps()) return st.SkipWithError("EMPS data not found (../shared/data/emps)");
