@@ -14,24 +14,9 @@
 
 namespace gmslab::ui {
 
-void LiveRun::update_phase(double slip_velocity) {
-  if (!sim) {
-    phase.clear();
-    return;
-  }
-  const Trace& tr = sim->trace();
-  if (phase.size() > tr.size()) phase.clear();  // the run was reset
-  const std::size_t ne = tr.n_elements;
-  for (std::size_t k = phase.size(); k < tr.size(); ++k) {
-    // Gross slip: the body moves, or every element slips (a single weak element slipping is
-    // still presliding: the body sticks).
-    bool slip = std::fabs(tr.v[k]) > slip_velocity;
-    if (!slip && ne > 0 && (k + 1) * ne <= tr.element_slip.size()) {
-      slip = true;
-      for (std::size_t i = 0; i < ne && slip; ++i) slip = tr.element_slip[k * ne + i] != 0;
-    }
-    phase.push_back(slip ? 1 : 0);
-  }
+std::span<const std::uint8_t> LiveRun::phases(double slip_velocity) {
+  if (!sim) return {};
+  return phase_series.update(sim->trace(), slip_velocity);
 }
 
 namespace {

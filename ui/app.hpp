@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/io/session_io.hpp"
+#include "core/sim/phases.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/simulation.hpp"
 
@@ -37,11 +38,13 @@ struct PendingRequests {
   std::string save_path;                // non-empty: save the scenario (atomic)
 };
 
-// A simulation plus the per-sample phase class (0 = stick, 1 = slip) of its trace.
+// A simulation plus the stick / slip phases of its trace (computed in core from the whole trace).
 struct LiveRun {
   std::unique_ptr<Simulation> sim;
-  std::vector<std::uint8_t> phase;  // same length as sim->trace() after update_phase()
-  void update_phase(double slip_velocity);
+  PhaseSeries phase_series;
+  // The phase (0 = stick, 1 = slip) of every sample of sim->trace() for this threshold; a new
+  // threshold reclassifies the whole trace. Empty without a simulation.
+  std::span<const std::uint8_t> phases(double slip_velocity);
 };
 
 struct AppState {

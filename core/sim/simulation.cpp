@@ -38,6 +38,7 @@ void Trace::clear() {
   applied.clear();
   element_force.clear();
   element_slip.clear();
+  ++revision;
 }
 
 namespace {
@@ -113,6 +114,7 @@ void Simulation::set_friction(const ModelParams& p) {
     trace_.n_elements = std::min(model_->element_count(), kMaxRecordedElements);
     trace_.element_force.assign(trace_.size() * trace_.n_elements, 0.0);
     trace_.element_slip.assign(trace_.size() * trace_.n_elements, 0);
+    ++trace_.revision;
   }
   rebase_energy();
 }

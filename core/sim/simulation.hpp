@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/sim/scenario.hpp"
@@ -26,6 +27,9 @@ struct Trace {
   std::vector<double> applied;        // drive force on the body [N] (prescribed motion: F_f)
   std::vector<double> element_force;  // [sample * n_elements + i], F_i [N]
   std::vector<std::uint8_t> element_slip;  // same layout, 1 = slipping
+  // Bumped whenever samples already recorded change (clear, compaction, re-laid element
+  // columns); appending samples keeps it. Derived series (core/sim/phases.hpp) key on it.
+  std::uint64_t revision = 0;
 
   std::size_t size() const { return t.size(); }
   void clear();

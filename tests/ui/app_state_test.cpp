@@ -177,3 +177,26 @@ TEST(AppState, SessionRestoresTheIdentifyFields) {
   EXPECT_EQ(ui::identify_settings(b).elements, 9);
   EXPECT_TRUE(ui::identify_settings(b).compare);
 }
+
+// A slip threshold changed in the Simulation panel after a run applies to the whole recorded trace
+// (the phases are computed from the trace, not appended as it grows).
+TEST(AppState, ChangedSlipThresholdReclassifiesTheRecordedTrace) {
+  ui::AppState s;
+  ui::load_scenario_into(s, stick_slip(), "");
+  s.view.slip_velocity = 1e-4;
+  ui::run_until(s, 12.0);
+  const auto before = s.main.phases(s.view.slip_velocity);
+  std::vector<std::uint8_t> low(before.begin(), before.end());
+  s.view.slip_velocity = 10.0;  // no |v| in this run comes near: only all-elements-slipping counts
+  const auto after = s.main.phases(s.view.slip_velocity);
+  const Trace& tr = s.main.sim->trace();
+  ASSERT_EQ(after.size(), tr.size());
+  std::size_t changed = 0;
+  for (std::size_t k = 0; k < tr.size(); ++k) {
+    bool all = true;
+    for (std::size_t i = 0; i < tr.n_elements; ++i) all = all && tr.element_slip[k * tr.n_elements + i];
+    ASSERT_EQ(after[k], all ? 1 : 0) << k;
+    changed += after[k] != low[k];
+  }
+  EXPECT_GT(changed, 100u);
+}
