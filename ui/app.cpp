@@ -28,7 +28,8 @@ Scenario with_friction(Scenario sc, const ModelParams& p) {
 void rebuild_overlay(AppState& s) {
   s.overlay = {};
   if (!s.compare) return;
-  s.overlay.sim = std::make_unique<Simulation>(with_friction(s.main.sim->scenario(), *s.compare));
+  s.overlay.sim = std::make_unique<Simulation>(with_friction(s.main.sim->scenario(), *s.compare),
+                                               TraceOptions{.max_bytes = s.history_bytes});
   // Catch up with the main run so both show the same stretch of input.
   const double t = s.main.sim->time();
   while (!s.overlay.sim->finished() && s.overlay.sim->time() + 0.5 * s.scenario.run.dt < t)
@@ -83,7 +84,8 @@ std::string presets_dir() {
 }
 
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path) {
-  auto sim = std::make_unique<Simulation>(sc);  // validates before anything changes
+  // Validates before anything changes.
+  auto sim = std::make_unique<Simulation>(sc, TraceOptions{.max_bytes = s.history_bytes});
   ++s.generation;
   s.scenario = sc;
   s.scenario_path = path;

@@ -60,6 +60,10 @@ struct AppState {
   std::string error;                // why the run stopped (SimulationError) or load failed
   double frame_dt = 1.0 / 60.0;     // wall-clock seconds of this frame (host sets it)
   std::size_t max_steps_per_frame = 400000;  // keeps the window responsive
+  // Memory bound of each live run's trace (main and overlay) [bytes]: a longer run is kept as
+  // min/max per time bucket (TraceOptions, core/sim/simulation.hpp). Set before loading.
+  std::size_t history_bytes = kHistoryBytes;
+  static constexpr std::size_t kHistoryBytes = std::size_t{64} << 20;
   PendingRequests pending;
   int generation = 0;               // bumped when the scenario is replaced (editors resync)
   int select_tab = 2;               // frames left to force view.tab as the selected tab

@@ -47,7 +47,7 @@ void sync(AppState& s, SimPanelState& p) {
 // "" when the scenario would run, else the validation message (names key and range).
 std::string check(const Scenario& sc) {
   try {
-    Simulation probe(sc);
+    Simulation probe(sc, TraceOptions{.max_bytes = 0, .reserve_samples = 1});  // no trace memory
     return "";
   } catch (const InputError& e) {
     return e.what();

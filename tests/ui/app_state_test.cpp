@@ -3,6 +3,7 @@
 // diverging run stops with its message instead of crashing the window.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/io/scenario_io.hpp"
@@ -199,4 +200,26 @@ TEST(AppState, ChangedSlipThresholdReclassifiesTheRecordedTrace) {
     changed += after[k] != low[k];
   }
   EXPECT_GT(changed, 100u);
+}
+
+// The window's (and render's) live runs keep a bounded trace: main and overlay stay within
+// history_bytes each, and the recorded extremes of the friction force survive.
+TEST(AppState, LiveRunsKeepABoundedHistoryWithTheExtremes) {
+  ui::AppState s;
+  s.history_bytes = 2000 * trace_sample_bytes(4);
+  ui::load_scenario_into(s, stick_slip(), "");
+  s.pending.compare = s.scenario.friction;
+  ui::apply_pending(s);
+  ASSERT_TRUE(s.overlay.sim);
+  ui::run_until(s, -1.0);
+  const Trace full = simulate(s.scenario);
+  for (const ui::LiveRun* r : {&s.main, &s.overlay}) {
+    const Trace& tr = r->sim->trace();
+    EXPECT_LE(tr.size(), 2000u);
+    EXPECT_GT(r->sim->trace_bucket_steps(), 0u);
+    EXPECT_EQ(*std::max_element(tr.friction.begin(), tr.friction.end()),
+              *std::max_element(full.friction.begin(), full.friction.end()));
+    EXPECT_EQ(*std::min_element(tr.v.begin(), tr.v.end()), *std::min_element(full.v.begin(), full.v.end()));
+    EXPECT_EQ(tr.t.back(), full.t.back());
+  }
 }
