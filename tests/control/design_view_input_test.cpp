@@ -10,6 +10,7 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/design_view.hpp"
+#include "ui/plot.hpp"
 
 using namespace gmslab;
 using gmslab::control::cplx;
@@ -17,6 +18,7 @@ using gmslab::control::cplx;
 namespace {
 struct Harness {
   ui::AppState s;
+  ui::ScopedPlotContext plots;
   Harness() {
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
