@@ -106,7 +106,7 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 
 Session make_session(const AppState& s) {
   Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
-  if (const auto* d = s.find_slot<DesignViewState>("design")) out.design = design_settings(*d);
+  out.design = design_settings(s.design);
   out.identify = identify_settings(s);
   return out;
 }
@@ -115,7 +115,7 @@ void restore_session(AppState& s, const Session& session) {
   if (session.compare) build_model(*session.compare);  // validate before changing anything
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
-  apply_design_settings(s.slot<DesignViewState>("design"), session.design);
+  apply_design_settings(s.design, session.design);
   identify_set_inputs(s, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);

@@ -12,13 +12,13 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "core/io/session_io.hpp"
 #include "core/sim/phases.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/simulation.hpp"
+#include "ui/panel_state.hpp"
 
 namespace gmslab::ui {
 
@@ -68,22 +68,11 @@ struct AppState {
   int generation = 0;               // bumped when the scenario is replaced (editors resync)
   int select_tab = 2;               // frames left to force view.tab as the selected tab
 
-  // Per-panel state slot for panels added by others: state.slot<MyPanelState>("design").
-  template <class T>
-  T& slot(const std::string& key) {
-    auto& p = slots_[key];
-    if (!p) p = std::shared_ptr<void>(new T(), [](void* q) { delete static_cast<T*>(q); });
-    return *static_cast<T*>(p.get());
-  }
-  // The slot if a panel has created it, else nullptr.
-  template <class T>
-  const T* find_slot(const std::string& key) const {
-    const auto it = slots_.find(key);
-    return it == slots_.end() ? nullptr : static_cast<const T*>(it->second.get());
-  }
-
- private:
-  std::unordered_map<std::string, std::shared_ptr<void>> slots_;
+  // Each panel's state (ui/panel_state.hpp), typed.
+  SimPanelState sim_panel;
+  FiguresState figures;
+  DesignViewState design;
+  IdentifyState identify;
 };
 
 // Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets".

@@ -8,16 +8,9 @@
 
 namespace gmslab::ui {
 
-namespace {
-struct FiguresState {
-  std::string id;       // figure shown
-  Figure figure;        // its data
-  std::string error;    // why it could not be built
-};
-}  // namespace
 
 void draw_figures_panel(AppState& s) {
-  auto& f = s.slot<FiguresState>("figures");
+  auto& f = s.figures;
   const auto ids = figure_ids();
   if (f.id.empty() && !ids.empty()) f.id = ids.front();
   std::string pick;

@@ -2,7 +2,8 @@
 //
 // To add a panel:
 //   1. write ui/panel_<name>.cpp with `void draw_<name>_panel(AppState& s)` (one file per panel);
-//      keep its own state in `s.slot<YourState>("<name>")` and record changes to the simulation
+//      keep its own state as a typed member of AppState (its struct in ui/panel_state.hpp) and
+//      record changes to the simulation
 //      as `s.pending` requests (never change s.main directly while drawing);
 //   2. declare the function below;
 //   3. add one line to the list in ui/panels.cpp.

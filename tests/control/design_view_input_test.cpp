@@ -41,7 +41,7 @@ struct Harness {
     ui::draw_frame(s);
     ImGui::Render();
   }
-  ui::DesignViewState& d() { return s.slot<ui::DesignViewState>("design"); }
+  ui::DesignViewState& d() { return s.design; }
   ImVec2 px(cplx z) {
     const auto& t = d().canvas;
     return ImVec2(static_cast<float>(t.to_px_x(z.real())), static_cast<float>(t.to_px_y(z.imag())));

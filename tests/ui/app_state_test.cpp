@@ -130,12 +130,12 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   ui::AppState a;
   ui::load_scenario_into(a, stick_slip(), "");
   EXPECT_EQ(ui::make_session(a).design, DesignSettings{});  // design tab never opened
-  auto& d = a.slot<ui::DesignViewState>("design");
+  auto& d = a.design;
   d.in.root = {0.35, 140.0};
   d.in.regime = control::Regime::Presliding;
   d.use_K = true;
   d.K = 2.5e4;
-  d.reference = 1;
+  d.reference = DesignReference::Ramp;
   d.slope = 0.02;
   d.in.compensation = control::Compensation::Coulomb;
   d.in.mismatch.force = 0.8;
@@ -143,10 +143,10 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   d.in.other_regime = true;
   const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
   EXPECT_EQ(sess.design.zeta, 0.35);
-  EXPECT_EQ(sess.design.reference, "ramp");
+  EXPECT_EQ(sess.design.reference, DesignReference::Ramp);
   ui::AppState b;
   ui::restore_session(b, sess);
-  const auto& e = b.slot<ui::DesignViewState>("design");
+  const auto& e = b.design;
   EXPECT_EQ(ui::design_settings(e), ui::design_settings(d));
   EXPECT_EQ(e.in.root.wn, 140.0);
   EXPECT_EQ(e.in.regime, control::Regime::Presliding);
