@@ -64,7 +64,7 @@ AtomicFileWriter::AtomicFileWriter(const std::string& path) : path_(path) {
   tmp_ = (dir / (temp_prefix(target) + std::to_string(::getpid()) + "-XXXXXX")).string();
   fd_ = ::mkstemp(tmp_.data());
   if (fd_ < 0)
-    throw std::runtime_error("cannot create a temporary file beside '" + path +
+    throw IoError("cannot create a temporary file beside '" + path +
                              "': " + std::strerror(errno));
   buf_.reserve(kBuffer);
 }
@@ -82,7 +82,7 @@ void AtomicFileWriter::abandon() noexcept {
 void AtomicFileWriter::fail(const char* what) {
   const std::string err = std::strerror(errno);
   abandon();
-  throw std::runtime_error(std::string("cannot save '") + path_ + "' (" + what + "): " + err);
+  throw IoError(std::string("cannot save '") + path_ + "' (" + what + "): " + err);
 }
 
 void AtomicFileWriter::write_all(const char* p, std::size_t left) {
@@ -121,12 +121,12 @@ void AtomicFileWriter::commit() {
   if (::close(fd) != 0) {
     const std::string err = std::strerror(errno);
     ::unlink(tmp_.c_str());
-    throw std::runtime_error("cannot save '" + path_ + "' (close): " + err);
+    throw IoError("cannot save '" + path_ + "' (close): " + err);
   }
   if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const std::string err = std::strerror(errno);
     ::unlink(tmp_.c_str());
-    throw std::runtime_error("cannot save '" + path_ + "' (rename): " + err);
+    throw IoError("cannot save '" + path_ + "' (rename): " + err);
   }
   // Make the rename itself durable.
   const fs::path target(path_);
@@ -148,7 +148,7 @@ std::string set_aside(const std::string& path) {
   std::string to = path + ".unreadable";
   for (int i = 2; fs::exists(to); ++i) to = path + ".unreadable-" + std::to_string(i);
   if (::rename(path.c_str(), to.c_str()) != 0)
-    throw std::runtime_error("cannot move '" + path + "' aside to '" + to +
+    throw IoError("cannot move '" + path + "' aside to '" + to +
                              "': " + std::strerror(errno));
   return to;
 }

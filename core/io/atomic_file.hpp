@@ -14,8 +14,8 @@ namespace gmslab {
 // A file written atomically in pieces (streamed): the pieces go to the temporary file as they
 // come (through a 1 MiB buffer, so memory stays constant whatever the size), and commit() flushes,
 // fsyncs and renames it over the target. Destroyed without commit() (an error, an exception), it
-// removes the temporary file and the target is untouched. Errors throw std::runtime_error naming
-// the path and the system error.
+// removes the temporary file and the target is untouched. Errors throw IoError (core/error.hpp)
+// naming the path and the system error.
 class AtomicFileWriter {
  public:
   explicit AtomicFileWriter(const std::string& path);
@@ -36,14 +36,14 @@ class AtomicFileWriter {
   int fd_ = -1;
 };
 
-// Throws std::runtime_error naming the path and the system error on failure.
+// Throws IoError naming the path and the system error on failure.
 void write_file_atomic(const std::string& path, std::string_view contents);
 // Removes the temporary files beside `path` whose writing process no longer exists (a save that
 // was killed); files of live writers, including this process, are kept. Returns how many it removed.
 std::size_t remove_stale_temporaries(const std::string& path);
 // Moves a file that could not be read aside, to PATH.unreadable (or PATH.unreadable-2, -3, ... if
 // taken), so that a later save to PATH does not overwrite what the user had. Returns the new path;
-// throws std::runtime_error naming both paths when the rename fails.
+// throws IoError naming both paths when the rename fails.
 std::string set_aside(const std::string& path);
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string read_file(const std::string& path);
