@@ -8,8 +8,6 @@
 
 #include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
-#include "ui/design_view.hpp"
-#include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
 
 namespace gmslab::ui {
@@ -107,7 +105,7 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 Session make_session(const AppState& s) {
   Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
   out.design = design_settings(s.design);
-  out.identify = identify_settings(s);
+  out.identify = identify_settings(s.identify);
   return out;
 }
 
@@ -116,7 +114,7 @@ void restore_session(AppState& s, const Session& session) {
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
   apply_design_settings(s.design, session.design);
-  identify_set_inputs(s, session.identify);
+  apply_identify_settings(s.identify, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
 }

@@ -10,7 +10,6 @@
 #include <numbers>
 
 #include "ui/design_view.hpp"
-#include "ui/panels.hpp"
 
 namespace gmslab::ui {
 
@@ -45,10 +44,10 @@ std::string poles_text(const std::vector<cplx>& poles) {
   return s;
 }
 
-void sync(AppState& s, DesignViewState& d) {
-  if (d.generation != s.generation || !(d.in.scenario == s.scenario)) {
-    d.generation = s.generation;
-    d.in.scenario = s.scenario;
+void sync(DesignViewState& d, const Scenario& scenario, int generation) {
+  if (d.generation != generation || !(d.in.scenario == scenario)) {
+    d.generation = generation;
+    d.in.scenario = scenario;
     d.dirty = true;
   }
 }
@@ -220,9 +219,8 @@ void simulation_section(DesignViewState& d) {
 }
 }  // namespace
 
-void draw_design_panel(AppState& s) {
-  DesignViewState& d = s.design;
-  sync(s, d);
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation) {
+  sync(d, scenario, generation);
   recompute(d);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float left = std::min(ImGui::GetFontSize() * 24.0f, 0.34f * avail.x);

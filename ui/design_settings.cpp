@@ -1,5 +1,5 @@
 // The design view's settings <-> the session's DesignSettings (core/io/session_io.hpp).
-#include "ui/design_view.hpp"
+#include "ui/panel_state.hpp"
 
 namespace gmslab::ui {
 

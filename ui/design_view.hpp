@@ -18,7 +18,6 @@
 
 #include "core/control/design_session.hpp"
 #include "core/io/session_io.hpp"
-#include "ui/app.hpp"
 #include "ui/panel_state.hpp"
 #include "ui/plot_transform.hpp"
 
@@ -26,13 +25,14 @@ namespace gmslab::ui {
 
 
 
-// The view's settings as saved in a session, and back (marks the design dirty). Defaults agree:
-// design_settings(DesignViewState{}) == DesignSettings{}.
-DesignSettings design_settings(const DesignViewState& d);
-void apply_design_settings(DesignViewState& d, const DesignSettings& s);
+// design_settings / apply_design_settings (the session's view of this state): ui/panel_state.hpp.
 
 // zeta_min of an overshoot requirement [%]: OS = exp(-pi zeta / sqrt(1 - zeta^2)).
 double zeta_for_overshoot(double overshoot_percent);
+
+// The Design panel: its own state and the scenario it designs for (generation: the app's scenario
+// generation; a new one resyncs the design's plant). Knows nothing of the app.
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation);
 
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);

@@ -1,5 +1,7 @@
 #include "ui/identify_panel.hpp"
 
+#include "ui/app.hpp"  // the scripted API below takes the AppState (tests, render)
+
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -372,14 +374,15 @@ std::optional<IdentifyInputs> emps_example() {
   return in;
 }
 
-IdentifySettings identify_settings(const AppState& s) {
-  return static_cast<const Config&>(s.identify);
-}
+IdentifySettings identify_settings(const IdentifyState& st) { return static_cast<const Config&>(st); }
 
-void identify_set_inputs(AppState& s, const IdentifyInputs& in) {
-  auto& st = s.identify;
+void apply_identify_settings(IdentifyState& st, const IdentifySettings& in) {
   if (!collect(st)) static_cast<Config&>(st) = in;
 }
+
+IdentifySettings identify_settings(const AppState& s) { return identify_settings(s.identify); }
+
+void identify_set_inputs(AppState& s, const IdentifyInputs& in) { apply_identify_settings(s.identify, in); }
 
 void identify_start(AppState& s, const IdentifyInputs& in) {
   auto& st = s.identify;
@@ -402,15 +405,15 @@ const ident::IdentReport* identify_report(AppState& s) {
 
 std::string identify_error(AppState& s) { return s.identify.error; }
 
-void identify_send_to_plant(AppState& s) {
-  auto& st = s.identify;
+void identify_send_to_plant(IdentifyState& st, std::optional<Scenario>& plant_request) {
   if (!st.result) return;
-  s.pending.scenario = ident::identified_scenario(st.result->report, st.result->train);
+  plant_request = ident::identified_scenario(st.result->report, st.result->train);
   st.status = "sent to the Simulation tab";
 }
 
-void draw_identify_panel(AppState& s) {
-  auto& st = s.identify;
+void identify_send_to_plant(AppState& s) { identify_send_to_plant(s.identify, s.pending.scenario); }
+
+void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_request) {
   const bool busy = st.job != nullptr;
   static const std::optional<IdentifyInputs> example = emps_example();  // looked up once
   const ImGuiStyle& style = ImGui::GetStyle();
@@ -475,7 +478,7 @@ void draw_identify_panel(AppState& s) {
     ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); effects added: %s",
                 r.rms_before_validation, r.rms_after_validation, r.rms_before_train, r.rms_after_train,
                 added.empty() ? "none" : added.c_str());
-    if (ImGui::Button("Send model to plant")) identify_send_to_plant(s);
+    if (ImGui::Button("Send model to plant")) identify_send_to_plant(st, plant_request);
     tooltip("Replace the Simulation tab's scenario: identified friction, identified mass, training motion");
     if (!st.status.empty()) {
       ImGui::SameLine();

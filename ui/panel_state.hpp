@@ -58,7 +58,7 @@ struct DesignViewState {
   double max_overshoot = 10.0;       // requirement [%] -> zeta_min
   double settling_time = 0.15;       // requirement (2 % band) [s] -> sigma_min = 4 / Ts
   // Root-locus canvas
-  std::optional<control::ViewBox> view;  // user zoom (none: fit the computed locus)
+  // The user's zoom of the canvas is in.locus_view (none: fit the computed locus), kept once.
   enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
   bool picked = false;               // a clicked point of a branch
   double picked_k = 0.0;
@@ -104,5 +104,14 @@ struct IdentifyState : IdentifySettings {  // the fields are the session's setti
   IdentifyPreview preview;
   std::string error, status;
 };
+
+// Each panel's settings as a session saves them, and back. The app builds and restores the
+// session through these alone (it includes no panel). Defaults agree:
+// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings marks the
+// design dirty; applying identify settings leaves a run in progress (and its fields) alone.
+DesignSettings design_settings(const DesignViewState& d);
+void apply_design_settings(DesignViewState& d, const DesignSettings& s);
+IdentifySettings identify_settings(const IdentifyState& st);
+void apply_identify_settings(IdentifyState& st, const IdentifySettings& s);
 
 }  // namespace gmslab::ui
