@@ -59,7 +59,13 @@ void recompute(DesignViewState& d) {
                    : d.reference == DesignReference::Ramp ? Signal::ramp(0.0, d.slope)
                                       : Signal::sine(0.0, d.amplitude, d.frequency);
   const auto t0 = std::chrono::steady_clock::now();
-  d.out = control::compute_design(d.in);
+  try {
+    d.out = control::compute_design(d.in);
+  } catch (const std::exception& e) {  // not a typed error: a bug; shown in this panel, not lost
+    d.out = {};
+    d.out.error = std::string("internal error: ") + e.what();
+    d.out.error_kind = ErrorKind::Internal;
+  }
   d.compute_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (d.picked) d.picked_poles = control::closed_loop_poles(d.out.loop, d.picked_k);
   d.dirty = false;
