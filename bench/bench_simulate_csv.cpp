@@ -93,3 +93,21 @@ static void BM_SimulateCsv_Streamed(benchmark::State& st) {
   report(st, path);
 }
 BENCHMARK(BM_SimulateCsv_Streamed)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The window's / render's live run: the Fig. 4 preset run for 250 s (2.5e7 steps, 2.5e6 samples
+// recorded = 190 MB of trace) with every sample kept, and within the 64 MiB bound
+// (TraceOptions::max_bytes, compacted to min/max per time bucket).
+static void BM_LiveRun_Fig4_250s(benchmark::State& st) {
+  Scenario s = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
+  s.run.duration = 250.0;
+  const std::size_t limit = st.range(0) ? std::size_t{64} << 20 : 0;
+  std::size_t kept = 0;
+  for (auto _ : st) {
+    Simulation sim(s, TraceOptions{.max_bytes = limit});
+    sim.run_to_end();
+    kept = sim.trace().size();
+  }
+  st.counters["samples_kept"] = static_cast<double>(kept);
+  st.counters["trace_MB"] = static_cast<double>(kept * trace_sample_bytes(4)) / 1e6;
+}
+BENCHMARK(BM_LiveRun_Fig4_250s)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
