@@ -25,6 +25,7 @@
 #include "ui/figure_view.hpp"
 #include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
+#include "ui/plot.hpp"
 #include "ui/style.hpp"
 
 namespace gmslab::app {
@@ -98,6 +99,7 @@ Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(heigh
   ctx_ = ctx;
   IMGUI_CHECKVERSION();
   imgui_ = ImGui::CreateContext();
+  plot_ = ui::CreatePlotContext();
   if (font_px <= 0.0f) font_px = std::clamp(17.0f * static_cast<float>(h_) / 1000.0f, 12.0f, 26.0f);
   ui::setup_style(font_px);
   ImGuiIO& io = ImGui::GetIO();
@@ -111,11 +113,13 @@ Offscreen::~Offscreen() {
   ImGui::SetCurrentContext(static_cast<ImGuiContext*>(imgui_));
   ImGui_ImplOpenGL2_Shutdown();
   ImGui::DestroyContext(static_cast<ImGuiContext*>(imgui_));
+  ui::DestroyPlotContext(static_cast<ui::PlotContext*>(plot_));
   OSMesaDestroyContext(static_cast<OSMesaContext>(ctx_));
 }
 
 const std::vector<unsigned char>& Offscreen::render(const std::function<void()>& draw, int frames) {
   ImGui::SetCurrentContext(static_cast<ImGuiContext*>(imgui_));
+  ui::SetCurrentPlotContext(static_cast<ui::PlotContext*>(plot_));
   ImGuiIO& io = ImGui::GetIO();
   for (int f = 0; f < std::max(1, frames); ++f) {
     io.DisplaySize = ImVec2(static_cast<float>(w_), static_cast<float>(h_));

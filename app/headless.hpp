@@ -13,7 +13,7 @@
 
 namespace gmslab::app {
 
-// One OSMesa + ImGui context of a fixed size. Not copyable; one at a time per thread.
+// One OSMesa + ImGui + plot context of a fixed size. Not copyable; one at a time per thread.
 class Offscreen {
  public:
   // font_px <= 0: scaled with the height (17 px at 1000 px). Throws std::runtime_error when
@@ -35,6 +35,7 @@ class Offscreen {
   std::vector<unsigned char> gl_buf_, out_;
   void* ctx_ = nullptr;      // OSMesaContext
   void* imgui_ = nullptr;    // ImGuiContext
+  void* plot_ = nullptr;     // ui::PlotContext: this renderer's plot view state (never shared)
 };
 
 // PNG bytes of an RGBA image (rows top to bottom).

@@ -13,7 +13,8 @@
 
 namespace {
 
-// plot-figure FIGURE.json --out PNG [--size WxH]; exit code 0, or 2 with one error line.
+// plot-figure FIGURE.json --out PNG [--size WxH]; exit code 0, else 2 (bad input) or 1 (cannot
+// write, no OSMesa) with one error line.
 int plot_figure(int argc, char** argv) {
   std::string json, out, size = "1600x1000";
   for (int i = 2; i < argc; ++i) {
@@ -31,9 +32,12 @@ int plot_figure(int argc, char** argv) {
     const auto& rgba = off.render([&] { gmslab::app::draw_figure_window(f); });
     gmslab::app::write_png(out, w, h, rgba);
     return 0;
-  } catch (const std::exception& e) {
+  } catch (const gmslab::Error& e) {  // the README's exit codes: 2 bad input, 1 cannot write
+    std::cerr << "gmslab-headless: " << gmslab::error_label(e.kind()) << ": " << e.what() << '\n';
+    return gmslab::exit_code(e.kind());
+  } catch (const std::exception& e) {  // OSMesa unavailable, a bug
     std::cerr << "gmslab-headless: error: " << e.what() << '\n';
-    return 2;
+    return 1;
   }
 }
 

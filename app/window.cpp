@@ -18,6 +18,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/app.hpp"
+#include "ui/plot.hpp"
 #include "ui/style.hpp"
 
 namespace gmslab::app {
@@ -151,6 +152,7 @@ int run_window(const std::string& session_path) {
   }
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
+  const ui::ScopedPlotContext plots;  // the window's plot view state
   float sx = 1.0f, sy = 1.0f;
   glfwGetWindowContentScale(win, &sx, &sy);
   ui::setup_style(17.0f * std::max(1.0f, sy));

@@ -85,7 +85,7 @@ static void BM_DesignViewDragFrameRendered(benchmark::State& st) {
   s.view.tab = "Design";
   gmslab::app::Offscreen off(1600, 1000);
   off.render([&] { gmslab::ui::draw_frame(s); }, 3);
-  auto& d = s.slot<gmslab::ui::DesignViewState>("design");
+  auto& d = s.design;
   int i = 0;
   for (auto _ : st) {
     d.in.root.wn = 60.0 + (i++ % 2);

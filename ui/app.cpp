@@ -8,30 +8,13 @@
 
 #include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
-#include "ui/design_view.hpp"
-#include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
 
 namespace gmslab::ui {
 
-void LiveRun::update_phase(double slip_velocity) {
-  if (!sim) {
-    phase.clear();
-    return;
-  }
-  const Trace& tr = sim->trace();
-  if (phase.size() > tr.size()) phase.clear();  // the run was reset
-  const std::size_t ne = tr.n_elements;
-  for (std::size_t k = phase.size(); k < tr.size(); ++k) {
-    // Gross slip: the body moves, or every element slips (a single weak element slipping is
-    // still presliding: the body sticks).
-    bool slip = std::fabs(tr.v[k]) > slip_velocity;
-    if (!slip && ne > 0 && (k + 1) * ne <= tr.element_slip.size()) {
-      slip = true;
-      for (std::size_t i = 0; i < ne && slip; ++i) slip = tr.element_slip[k * ne + i] != 0;
-    }
-    phase.push_back(slip ? 1 : 0);
-  }
+std::span<const std::uint8_t> LiveRun::phases(double slip_velocity) {
+  if (!sim) return {};
+  return phase_series.update(sim->trace(), slip_velocity);
 }
 
 namespace {
@@ -43,7 +26,8 @@ Scenario with_friction(Scenario sc, const ModelParams& p) {
 void rebuild_overlay(AppState& s) {
   s.overlay = {};
   if (!s.compare) return;
-  s.overlay.sim = std::make_unique<Simulation>(with_friction(s.main.sim->scenario(), *s.compare));
+  s.overlay.sim = std::make_unique<Simulation>(with_friction(s.main.sim->scenario(), *s.compare),
+                                               TraceOptions{.max_bytes = s.history_bytes});
   // Catch up with the main run so both show the same stretch of input.
   const double t = s.main.sim->time();
   while (!s.overlay.sim->finished() && s.overlay.sim->time() + 0.5 * s.scenario.run.dt < t)
@@ -98,7 +82,8 @@ std::string presets_dir() {
 }
 
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path) {
-  auto sim = std::make_unique<Simulation>(sc);  // validates before anything changes
+  // Validates before anything changes.
+  auto sim = std::make_unique<Simulation>(sc, TraceOptions{.max_bytes = s.history_bytes});
   ++s.generation;
   s.scenario = sc;
   s.scenario_path = path;
@@ -119,8 +104,8 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 
 Session make_session(const AppState& s) {
   Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
-  if (const auto* d = s.find_slot<DesignViewState>("design")) out.design = design_settings(*d);
-  out.identify = identify_settings(s);
+  out.design = design_settings(s.design);
+  out.identify = identify_settings(s.identify);
   return out;
 }
 
@@ -128,8 +113,8 @@ void restore_session(AppState& s, const Session& session) {
   if (session.compare) build_model(*session.compare);  // validate before changing anything
   load_scenario_into(s, session.scenario, session.scenario_path);
   s.view = session.view;
-  apply_design_settings(s.slot<DesignViewState>("design"), session.design);
-  identify_set_inputs(s, session.identify);
+  apply_design_settings(s.design, session.design);
+  apply_identify_settings(s.identify, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
 }

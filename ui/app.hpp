@@ -12,12 +12,13 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "core/io/session_io.hpp"
+#include "core/sim/phases.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/simulation.hpp"
+#include "ui/panel_state.hpp"
 
 namespace gmslab::ui {
 
@@ -37,11 +38,13 @@ struct PendingRequests {
   std::string save_path;                // non-empty: save the scenario (atomic)
 };
 
-// A simulation plus the per-sample phase class (0 = stick, 1 = slip) of its trace.
+// A simulation plus the stick / slip phases of its trace (computed in core from the whole trace).
 struct LiveRun {
   std::unique_ptr<Simulation> sim;
-  std::vector<std::uint8_t> phase;  // same length as sim->trace() after update_phase()
-  void update_phase(double slip_velocity);
+  PhaseSeries phase_series;
+  // The phase (0 = stick, 1 = slip) of every sample of sim->trace() for this threshold; a new
+  // threshold reclassifies the whole trace. Empty without a simulation.
+  std::span<const std::uint8_t> phases(double slip_velocity);
 };
 
 struct AppState {
@@ -57,26 +60,19 @@ struct AppState {
   std::string error;                // why the run stopped (SimulationError) or load failed
   double frame_dt = 1.0 / 60.0;     // wall-clock seconds of this frame (host sets it)
   std::size_t max_steps_per_frame = 400000;  // keeps the window responsive
+  // Memory bound of each live run's trace (main and overlay) [bytes]: a longer run is kept as
+  // min/max per time bucket (TraceOptions, core/sim/simulation.hpp). Set before loading.
+  std::size_t history_bytes = kHistoryBytes;
+  static constexpr std::size_t kHistoryBytes = std::size_t{64} << 20;
   PendingRequests pending;
   int generation = 0;               // bumped when the scenario is replaced (editors resync)
   int select_tab = 2;               // frames left to force view.tab as the selected tab
 
-  // Per-panel state slot for panels added by others: state.slot<MyPanelState>("design").
-  template <class T>
-  T& slot(const std::string& key) {
-    auto& p = slots_[key];
-    if (!p) p = std::shared_ptr<void>(new T(), [](void* q) { delete static_cast<T*>(q); });
-    return *static_cast<T*>(p.get());
-  }
-  // The slot if a panel has created it, else nullptr.
-  template <class T>
-  const T* find_slot(const std::string& key) const {
-    const auto it = slots_.find(key);
-    return it == slots_.end() ? nullptr : static_cast<const T*>(it->second.get());
-  }
-
- private:
-  std::unordered_map<std::string, std::shared_ptr<void>> slots_;
+  // Each panel's state (ui/panel_state.hpp), typed.
+  SimPanelState sim_panel;
+  FiguresState figures;
+  DesignViewState design;
+  IdentifyState identify;
 };
 
 // Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets".

@@ -174,10 +174,9 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
     if (near_px(m, px(t, sd), grab) || near_px(m, px(t, std::conj(sd)), grab)) d.drag = DesignViewState::Drag::Root;
     else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->z, 0)), grab)) d.drag = DesignViewState::Drag::Zero;
     else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->p, 0)), grab)) d.drag = DesignViewState::Drag::Pole;
-    if (d.drag != DesignViewState::Drag::None && !d.view) {
+    if (d.drag != DesignViewState::Drag::None && !d.in.locus_view) {
       // Freeze the view while a handle is dragged, so the point under the mouse stays put.
-      d.view = control::ViewBox{t.x0, t.x1, t.y0, t.y1};
-      d.in.locus_view = d.view;
+      d.in.locus_view = control::ViewBox{t.x0, t.x1, t.y0, t.y1};
     }
     if (d.drag == DesignViewState::Drag::None) {
       // Pick the nearest branch sample within 12 px.
@@ -224,8 +223,7 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
     case DesignViewState::Drag::Pan:
       if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
         const PlotTransform n = t.panned(io.MouseDelta.x, io.MouseDelta.y);
-        d.view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
-        d.in.locus_view = d.view;
+        d.in.locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
         d.dirty = true;
       }
       break;
@@ -234,12 +232,10 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
   if (hovered && io.MouseWheel != 0.0f) {
     const double f = std::pow(0.85, io.MouseWheel);
     const PlotTransform n = t.zoomed(m.x, m.y, f, f);
-    d.view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
-    d.in.locus_view = d.view;
+    d.in.locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
     d.dirty = true;
   }
   if (hovered && ImGui::IsMouseDoubleClicked(0)) {
-    d.view.reset();
     d.in.locus_view.reset();
     d.dirty = true;
   }
@@ -272,7 +268,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   ImGui::InvisibleButton("##locus", size);
   const bool hovered = ImGui::IsItemHovered();
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
-  const control::ViewBox v = d.view ? *d.view : d.out.locus.view;
+  const control::ViewBox v = d.in.locus_view ? *d.in.locus_view : d.out.locus.view;
   const PlotTransform t = fit(v, p0, p1);
   d.canvas = t;
   ImDrawList* dl = ImGui::GetWindowDrawList();

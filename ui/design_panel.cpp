@@ -10,7 +10,6 @@
 #include <numbers>
 
 #include "ui/design_view.hpp"
-#include "ui/panels.hpp"
 
 namespace gmslab::ui {
 
@@ -45,10 +44,10 @@ std::string poles_text(const std::vector<cplx>& poles) {
   return s;
 }
 
-void sync(AppState& s, DesignViewState& d) {
-  if (d.generation != s.generation || !(d.in.scenario == s.scenario)) {
-    d.generation = s.generation;
-    d.in.scenario = s.scenario;
+void sync(DesignViewState& d, const Scenario& scenario, int generation) {
+  if (d.generation != generation || !(d.in.scenario == scenario)) {
+    d.generation = generation;
+    d.in.scenario = scenario;
     d.dirty = true;
   }
 }
@@ -56,11 +55,17 @@ void sync(AppState& s, DesignViewState& d) {
 void recompute(DesignViewState& d) {
   if (!d.dirty) return;
   d.in.K = d.use_K ? std::optional<double>(d.K) : std::nullopt;
-  d.in.reference = d.reference == 0   ? Signal::constant(d.amplitude)
-                   : d.reference == 1 ? Signal::ramp(0.0, d.slope)
+  d.in.reference = d.reference == DesignReference::Step   ? Signal::constant(d.amplitude)
+                   : d.reference == DesignReference::Ramp ? Signal::ramp(0.0, d.slope)
                                       : Signal::sine(0.0, d.amplitude, d.frequency);
   const auto t0 = std::chrono::steady_clock::now();
-  d.out = control::compute_design(d.in);
+  try {
+    d.out = control::compute_design(d.in);
+  } catch (const std::exception& e) {  // not a typed error: a bug; shown in this panel, not lost
+    d.out = {};
+    d.out.error = std::string("internal error: ") + e.what();
+    d.out.error_kind = ErrorKind::Internal;
+  }
   d.compute_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (d.picked) d.picked_poles = control::closed_loop_poles(d.out.loop, d.picked_k);
   d.dirty = false;
@@ -200,10 +205,14 @@ void simulation_section(DesignViewState& d) {
   ImGui::Separator();
   ImGui::TextUnformatted("Loop with the scenario's friction");
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
-  d.dirty |= ImGui::Combo("reference", &d.reference, "step\0ramp\0sine\0");
-  if (d.reference != 1) d.dirty |= input_double("amplitude [m]", &d.amplitude, 1e-6, 1.0, "%.3g", "Step height / sine amplitude", true);
-  if (d.reference == 1) d.dirty |= input_double("slope [m/s]", &d.slope, 1e-6, 1.0, "%.3g", "Ramp velocity", true);
-  if (d.reference == 2) d.dirty |= input_double("frequency [Hz]", &d.frequency, 0.01, 100.0, "%.3g", "Sine frequency", true);
+  int reference = static_cast<int>(d.reference);  // the combo's items in DesignReference order
+  if (ImGui::Combo("reference", &reference, "step\0ramp\0sine\0")) {
+    d.reference = static_cast<DesignReference>(reference);
+    d.dirty = true;
+  }
+  if (d.reference != DesignReference::Ramp) d.dirty |= input_double("amplitude [m]", &d.amplitude, 1e-6, 1.0, "%.3g", "Step height / sine amplitude", true);
+  if (d.reference == DesignReference::Ramp) d.dirty |= input_double("slope [m/s]", &d.slope, 1e-6, 1.0, "%.3g", "Ramp velocity", true);
+  if (d.reference == DesignReference::Sine) d.dirty |= input_double("frequency [Hz]", &d.frequency, 0.01, 100.0, "%.3g", "Sine frequency", true);
   int comp = d.in.compensation == control::Compensation::Coulomb ? 0 : 1;
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
   if (ImGui::Combo("compensation", &comp, "Coulomb feedforward\0GMS feedforward\0"))
@@ -216,9 +225,8 @@ void simulation_section(DesignViewState& d) {
 }
 }  // namespace
 
-void draw_design_panel(AppState& s) {
-  DesignViewState& d = s.slot<DesignViewState>("design");
-  sync(s, d);
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation) {
+  sync(d, scenario, generation);
   recompute(d);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float left = std::min(ImGui::GetFontSize() * 24.0f, 0.34f * avail.x);

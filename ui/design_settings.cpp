@@ -1,5 +1,5 @@
 // The design view's settings <-> the session's DesignSettings (core/io/session_io.hpp).
-#include "ui/design_view.hpp"
+#include "ui/panel_state.hpp"
 
 namespace gmslab::ui {
 
@@ -12,7 +12,7 @@ DesignSettings design_settings(const DesignViewState& d) {
   s.use_K = d.use_K;
   s.K = d.K;
   s.max_ratio = d.in.options.max_ratio;
-  s.reference = d.reference == 0 ? "step" : d.reference == 1 ? "ramp" : "sine";
+  s.reference = d.reference;
   s.amplitude = d.amplitude;
   s.slope = d.slope;
   s.frequency = d.frequency;
@@ -34,7 +34,7 @@ void apply_design_settings(DesignViewState& d, const DesignSettings& s) {
   d.use_K = s.use_K;
   d.K = s.K;
   d.in.options.max_ratio = s.max_ratio;
-  d.reference = s.reference == "step" ? 0 : s.reference == "ramp" ? 1 : 2;
+  d.reference = s.reference;
   d.amplitude = s.amplitude;
   d.slope = s.slope;
   d.frequency = s.frequency;

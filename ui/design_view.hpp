@@ -18,42 +18,21 @@
 
 #include "core/control/design_session.hpp"
 #include "core/io/session_io.hpp"
-#include "ui/app.hpp"
+#include "ui/panel_state.hpp"
 #include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
 
-struct DesignViewState {
-  int generation = -1;               // scenario generation the inputs were taken from
-  control::DesignInputs in;          // what the design is computed from
-  control::DesignOutputs out;        // the last computation
-  bool dirty = true;
-  double compute_ms = 0.0;           // wall time of the last computation [ms]
-  bool use_K = false;                // target a desired error constant (else the usable maximum)
-  double K = 1000.0;                 // desired error constant
-  int reference = 2;                 // 0 step, 1 ramp, 2 sine
-  double amplitude = 0.01;           // step height / sine amplitude [m]
-  double slope = 0.01;               // ramp velocity [m/s]
-  double frequency = 2.0;            // sine frequency [Hz]
-  double max_overshoot = 10.0;       // requirement [%] -> zeta_min
-  double settling_time = 0.15;       // requirement (2 % band) [s] -> sigma_min = 4 / Ts
-  // Root-locus canvas
-  std::optional<control::ViewBox> view;  // user zoom (none: fit the computed locus)
-  enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
-  bool picked = false;               // a clicked point of a branch
-  double picked_k = 0.0;
-  control::cplx picked_s;
-  std::vector<control::cplx> picked_poles;
-  PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
-};
 
-// The view's settings as saved in a session, and back (marks the design dirty). Defaults agree:
-// design_settings(DesignViewState{}) == DesignSettings{}.
-DesignSettings design_settings(const DesignViewState& d);
-void apply_design_settings(DesignViewState& d, const DesignSettings& s);
+
+// design_settings / apply_design_settings (the session's view of this state): ui/panel_state.hpp.
 
 // zeta_min of an overshoot requirement [%]: OS = exp(-pi zeta / sqrt(1 - zeta^2)).
 double zeta_for_overshoot(double overshoot_percent);
+
+// The Design panel: its own state and the scenario it designs for (generation: the app's scenario
+// generation; a new one resyncs the design's plant). Knows nothing of the app.
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation);
 
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);

@@ -1,5 +1,7 @@
 #include "ui/identify_panel.hpp"
 
+#include "ui/app.hpp"  // the scripted API below takes the AppState (tests, render)
+
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -21,44 +23,12 @@ namespace gmslab::ui {
 
 namespace {
 
-struct Result {
-  ident::IdentReport report;
-  ident::Dataset train, val;
-  Figure figure;
-};
-
-// The worker: runs identify() on its own copies, reports progress under a mutex.
-struct Job {
-  std::atomic<bool> cancel{false};
-  std::atomic<bool> done{false};
-  std::mutex m;
-  ident::FitProgress progress;     // guarded by m
-  std::string error;               // guarded by m
-  std::unique_ptr<Result> result;  // guarded by m
-  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
-  std::thread thread;
-  ~Job() {
-    cancel = true;
-    if (thread.joinable()) thread.join();
-  }
-};
-
+using Result = IdentifyResult;
+using Job = IdentifyJob;
 using Config = IdentifyInputs;
+using Preview = IdentifyPreview;
 
-// The records as loaded for the preview (before a run), or why they could not be loaded.
-struct Preview {
-  std::string key;  // the inputs it was loaded from
-  ident::Dataset train, val;
-  std::string error;
-  std::vector<std::string> notes;
-};
 
-struct IdentifyState : Config {
-  std::unique_ptr<Job> job;
-  std::unique_ptr<Result> result;
-  Preview preview;
-  std::string error, status;
-};
 
 ident::RecordSpec train_spec(const Config& c) {
   return {c.data, c.columns, c.mask, c.mask_edges, "training mask", "mask edges"};
@@ -394,46 +364,46 @@ std::optional<IdentifyInputs> emps_example() {
   return in;
 }
 
-IdentifySettings identify_settings(const AppState& s) {
-  const auto* st = s.find_slot<IdentifyState>("identify");
-  return st ? static_cast<const Config&>(*st) : Config{};
-}
+IdentifySettings identify_settings(const IdentifyState& st) { return static_cast<const Config&>(st); }
 
-void identify_set_inputs(AppState& s, const IdentifyInputs& in) {
-  auto& st = s.slot<IdentifyState>("identify");
+void apply_identify_settings(IdentifyState& st, const IdentifySettings& in) {
   if (!collect(st)) static_cast<Config&>(st) = in;
 }
 
+IdentifySettings identify_settings(const AppState& s) { return identify_settings(s.identify); }
+
+void identify_set_inputs(AppState& s, const IdentifyInputs& in) { apply_identify_settings(s.identify, in); }
+
 void identify_start(AppState& s, const IdentifyInputs& in) {
-  auto& st = s.slot<IdentifyState>("identify");
+  auto& st = s.identify;
   if (collect(st)) return;  // one run at a time
   static_cast<Config&>(st) = in;
   start(st);
 }
 
-bool identify_busy(AppState& s) { return collect(s.slot<IdentifyState>("identify")); }
+bool identify_busy(AppState& s) { return collect(s.identify); }
 
 void identify_cancel(AppState& s) {
-  auto& st = s.slot<IdentifyState>("identify");
+  auto& st = s.identify;
   if (st.job) st.job->cancel = true;
 }
 
 const ident::IdentReport* identify_report(AppState& s) {
-  auto& st = s.slot<IdentifyState>("identify");
+  auto& st = s.identify;
   return st.result ? &st.result->report : nullptr;
 }
 
-std::string identify_error(AppState& s) { return s.slot<IdentifyState>("identify").error; }
+std::string identify_error(AppState& s) { return s.identify.error; }
 
-void identify_send_to_plant(AppState& s) {
-  auto& st = s.slot<IdentifyState>("identify");
+void identify_send_to_plant(IdentifyState& st, std::optional<Scenario>& plant_request) {
   if (!st.result) return;
-  s.pending.scenario = ident::identified_scenario(st.result->report, st.result->train);
+  plant_request = ident::identified_scenario(st.result->report, st.result->train);
   st.status = "sent to the Simulation tab";
 }
 
-void draw_identify_panel(AppState& s) {
-  auto& st = s.slot<IdentifyState>("identify");
+void identify_send_to_plant(AppState& s) { identify_send_to_plant(s.identify, s.pending.scenario); }
+
+void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_request) {
   const bool busy = st.job != nullptr;
   static const std::optional<IdentifyInputs> example = emps_example();  // looked up once
   const ImGuiStyle& style = ImGui::GetStyle();
@@ -498,7 +468,7 @@ void draw_identify_panel(AppState& s) {
     ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); effects added: %s",
                 r.rms_before_validation, r.rms_after_validation, r.rms_before_train, r.rms_after_train,
                 added.empty() ? "none" : added.c_str());
-    if (ImGui::Button("Send model to plant")) identify_send_to_plant(s);
+    if (ImGui::Button("Send model to plant")) identify_send_to_plant(st, plant_request);
     tooltip("Replace the Simulation tab's scenario: identified friction, identified mass, training motion");
     if (!st.status.empty()) {
       ImGui::SameLine();

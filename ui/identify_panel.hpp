@@ -9,11 +9,15 @@
 
 #include "core/ident/loop.hpp"
 #include "core/io/session_io.hpp"
-#include "ui/app.hpp"
+#include "ui/panel_state.hpp"
 
 namespace gmslab::ui {
 
-void draw_identify_panel(AppState& s);
+struct AppState;
+
+// The panel: its own state; "Send model to plant" puts the identified scenario into
+// plant_request (the app passes its pending scenario request). Knows nothing else of the app.
+void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_request);
 
 // What the panel's fields hold: the session's IdentifySettings (core/io/session_io.hpp), so the
 // window saves and restores exactly what the panel shows.

@@ -4,20 +4,12 @@
 
 #include "core/figures/figure_set.hpp"
 #include "ui/figure_view.hpp"
-#include "ui/panels.hpp"
+#include "ui/panel_figures.hpp"
 
 namespace gmslab::ui {
 
-namespace {
-struct FiguresState {
-  std::string id;       // figure shown
-  Figure figure;        // its data
-  std::string error;    // why it could not be built
-};
-}  // namespace
 
-void draw_figures_panel(AppState& s) {
-  auto& f = s.slot<FiguresState>("figures");
+void draw_figures_panel(FiguresState& f, const std::string& presets) {
   const auto ids = figure_ids();
   if (f.id.empty() && !ids.empty()) f.id = ids.front();
   std::string pick;
@@ -28,14 +20,14 @@ void draw_figures_panel(AppState& s) {
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("Figures of the seed paper, recomputed from the presets in %s", presets_dir().c_str());
+    ImGui::SetTooltip("Figures of the seed paper, recomputed from the presets in %s", presets.c_str());
   if (!pick.empty() && pick != f.id) {
     f.id = pick;
     f.figure = {};
   }
   if (f.figure.id != f.id && f.error.empty()) {
     try {
-      f.figure = make_figure(f.id, presets_dir());
+      f.figure = make_figure(f.id, presets);
     } catch (const std::exception& e) {
       f.error = e.what();
     }

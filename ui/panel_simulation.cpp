@@ -19,15 +19,6 @@ namespace gmslab::ui {
 
 namespace {
 
-struct SimPanelState {
-  int generation = -1;
-  std::string path;
-  ModelParams friction, compare;
-  Plant plant;
-  Drive drive;
-  RunSettings run;
-  std::string friction_msg, plant_msg, drive_msg, compare_msg;
-};
 
 const ImVec4 kErr(0.75f, 0.10f, 0.10f, 1.0f);
 const ImVec4 kDim(0.35f, 0.35f, 0.38f, 1.0f);
@@ -47,7 +38,7 @@ void sync(AppState& s, SimPanelState& p) {
 // "" when the scenario would run, else the validation message (names key and range).
 std::string check(const Scenario& sc) {
   try {
-    Simulation probe(sc);
+    Simulation probe(sc, TraceOptions{.max_bytes = 0, .reserve_samples = 1});  // no trace memory
     return "";
   } catch (const InputError& e) {
     return e.what();
@@ -231,7 +222,7 @@ void display_section(AppState& s) {
 }  // namespace
 
 void draw_simulation_panel(AppState& s) {
-  auto& p = s.slot<SimPanelState>("simulation");
+  auto& p = s.sim_panel;
   sync(s, p);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float left = std::min(avail.x * 0.38f, ImGui::GetFontSize() * 31.0f);

@@ -1,6 +1,8 @@
 #include "ui/panels.hpp"
 
+#include "ui/design_view.hpp"
 #include "ui/identify_panel.hpp"
+#include "ui/panel_figures.hpp"
 
 #include <strings.h>
 
@@ -10,9 +12,13 @@ const std::vector<PanelEntry>& panels() {
   static const std::vector<PanelEntry> list = {
       {"Simulation", "Plant, drive and friction model; run it and watch the forces live",
        draw_simulation_panel},
-      {"Figures", "The seed paper's figures, recomputed from the presets", draw_figures_panel},
-      {"Design", "Phase-lead design on the root locus, simulated with the friction", draw_design_panel},
-      {"Identify", "Fit a friction model to measured data and find what it lacks", draw_identify_panel},
+      // Each panel gets its own typed state and only what it needs of the app.
+      {"Figures", "The seed paper's figures, recomputed from the presets",
+       [](AppState& s) { draw_figures_panel(s.figures, presets_dir()); }},
+      {"Design", "Phase-lead design on the root locus, simulated with the friction",
+       [](AppState& s) { draw_design_panel(s.design, s.scenario, s.generation); }},
+      {"Identify", "Fit a friction model to measured data and find what it lacks",
+       [](AppState& s) { draw_identify_panel(s.identify, s.pending.scenario); }},
       // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
   };
   return list;

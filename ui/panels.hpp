@@ -1,11 +1,11 @@
 // gmslab ui: the panels (tabs) of the main window.
 //
 // To add a panel:
-//   1. write ui/panel_<name>.cpp with `void draw_<name>_panel(AppState& s)` (one file per panel);
-//      keep its own state in `s.slot<YourState>("<name>")` and record changes to the simulation
-//      as `s.pending` requests (never change s.main directly while drawing);
-//   2. declare the function below;
-//   3. add one line to the list in ui/panels.cpp.
+//   1. write ui/panel_<name>.cpp (+ .hpp) with `void draw_<name>_panel(YourState& st, ...)` (one
+//      file per panel): its state is a struct in ui/panel_state.hpp, held by AppState as a typed
+//      member; pass it only what it needs of the app (the scenario, a pending request to fill -
+//      never change s.main directly while drawing). The panel does not include the app;
+//   2. add one line to the list in ui/panels.cpp (a lambda from AppState to those arguments).
 // `gmslab render --view NAME` selects a panel by its name (case-insensitive; "auto" = the first).
 #pragma once
 
@@ -27,7 +27,5 @@ const std::vector<PanelEntry>& panels();
 const PanelEntry* find_panel(const char* view);
 
 void draw_simulation_panel(AppState& s);
-void draw_figures_panel(AppState& s);
-void draw_design_panel(AppState& s);
 
 }  // namespace gmslab::ui

@@ -59,13 +59,19 @@ struct Building {
   std::vector<SeriesRef> series;
 };
 
-std::unordered_map<ImGuiID, View>& views() {
-  static std::unordered_map<ImGuiID, View> v;
-  return v;
-}
-Building g_plot;
-bool g_open = false;
-PlotTransform g_last;
+}  // namespace
+
+// Everything the widget keeps between calls; owned by the caller (CreatePlotContext).
+struct PlotContext {
+  std::unordered_map<ImGuiID, View> views;  // per-plot view state, by ID
+  Building plot;                            // the plot between BeginPlot and EndPlot
+  bool open = false;
+  PlotTransform last;                       // of the last EndPlot
+};
+
+namespace {
+// The current context (not owned), as ImGui's and ImPlot's: set by the host for its frame.
+thread_local PlotContext* g_ctx = nullptr;
 
 struct Colors {
   ImU32 bg, frame, grid, text, axis;
@@ -452,55 +458,70 @@ ImU32 palette(int i) {
 }
 
 // [SECTION] api -----------------------------------------------------------------------------------
+PlotContext* CreatePlotContext() { return new PlotContext(); }
+
+void DestroyPlotContext(PlotContext* ctx) {
+  if (g_ctx == ctx) g_ctx = nullptr;
+  delete ctx;
+}
+
+void SetCurrentPlotContext(PlotContext* ctx) { g_ctx = ctx; }
+PlotContext* GetCurrentPlotContext() { return g_ctx; }
+
+ScopedPlotContext::ScopedPlotContext() : ctx_(CreatePlotContext()) { SetCurrentPlotContext(ctx_); }
+ScopedPlotContext::~ScopedPlotContext() { DestroyPlotContext(ctx_); }
+
 bool BeginPlot(const char* id, ImVec2 size, const PlotOptions& opt) {
-  IM_ASSERT(!g_open && "BeginPlot without EndPlot");
+  IM_ASSERT(g_ctx && "no current plot context: CreatePlotContext() + SetCurrentPlotContext()");
+  if (!g_ctx) return false;  // nothing is drawn (release builds)
+  IM_ASSERT(!g_ctx->open && "BeginPlot without EndPlot");
   // Each plot is a child window: its own draw list (16-bit indices) and its own wheel input.
   if (!ImGui::BeginChild(id, size, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse)) {
     ImGui::EndChild();
     return false;
   }
-  g_plot = Building{};
-  g_plot.id = ImGui::GetID("##plotview");
-  g_plot.opt = opt;
-  g_open = true;
+  g_ctx->plot = Building{};
+  g_ctx->plot.id = ImGui::GetID("##plotview");
+  g_ctx->plot.opt = opt;
+  g_ctx->open = true;
   return true;
 }
 
 void SetupAxes(const char* x_label, const char* y_label) {
-  g_plot.ax = {x_label ? x_label : "", "", 1.0, x_label ? x_label : ""};
-  g_plot.ay = {y_label ? y_label : "", "", 1.0, y_label ? y_label : ""};
+  g_ctx->plot.ax = {x_label ? x_label : "", "", 1.0, x_label ? x_label : ""};
+  g_ctx->plot.ay = {y_label ? y_label : "", "", 1.0, y_label ? y_label : ""};
 }
 
 void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, const char* y_unit) {
-  g_plot.ax = {x_name, x_unit ? x_unit : "", 1.0, x_name};
-  g_plot.ay = {y_name, y_unit ? y_unit : "", 1.0, y_name};
+  g_ctx->plot.ax = {x_name, x_unit ? x_unit : "", 1.0, x_name};
+  g_ctx->plot.ay = {y_name, y_unit ? y_unit : "", 1.0, y_name};
 }
 
 void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always) {
-  g_plot.has_limits = true;
-  g_plot.limits_always = always;
-  g_plot.lx0 = x0;
-  g_plot.lx1 = x1;
-  g_plot.ly0 = y0;
-  g_plot.ly1 = y1;
+  g_ctx->plot.has_limits = true;
+  g_ctx->plot.limits_always = always;
+  g_ctx->plot.lx0 = x0;
+  g_ctx->plot.lx1 = x1;
+  g_ctx->plot.ly0 = y0;
+  g_ctx->plot.ly1 = y1;
 }
 
 void SetupFitRangeX(double x0, double x1) {
-  g_plot.has_hint = x1 > x0;
-  g_plot.hx0 = x0;
-  g_plot.hx1 = x1;
+  g_ctx->plot.has_hint = x1 > x0;
+  g_ctx->plot.hx0 = x0;
+  g_ctx->plot.hx1 = x1;
 }
 
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style) {
-  const int index = static_cast<int>(g_plot.series.size());
-  g_plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
+  const int index = static_cast<int>(g_ctx->plot.series.size());
+  g_ctx->plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
 }
 
 void EndPlot() {
-  IM_ASSERT(g_open);
-  Building& b = g_plot;
-  View& v = views()[b.id];
+  IM_ASSERT(g_ctx && g_ctx->open);
+  Building& b = g_ctx->plot;
+  View& v = g_ctx->views[b.id];
   if (b.has_limits && (b.limits_always || !v.initialized))
     v = {b.lx0, b.lx1, b.ly0, b.ly1, false, true};
   if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b);
@@ -543,11 +564,11 @@ void EndPlot() {
   }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
-  g_last = t;
-  g_open = false;
+  g_ctx->last = t;
+  g_ctx->open = false;
   ImGui::EndChild();
 }
 
-PlotTransform LastPlotTransform() { return g_last; }
+PlotTransform LastPlotTransform() { return g_ctx ? g_ctx->last : PlotTransform{}; }
 
 }  // namespace gmslab::ui

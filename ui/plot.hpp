@@ -6,7 +6,7 @@
 //     ui::EndPlot();                            // lays out, handles input, draws
 //   }
 //
-// View state (limits, autoscale) is kept per plot ID between frames. Interaction: mouse wheel
+// View state (limits, autoscale) is kept per plot ID between frames, in the current PlotContext. Interaction: mouse wheel
 // zooms about the cursor (Shift: x only, Ctrl: y only), left drag pans, double-click returns to
 // autoscale (the view then follows the data as it grows). Hovering shows the nearest drawn sample.
 // Data pointers must stay valid until EndPlot (the data is not copied; labels are). Long traces are decimated per
@@ -46,6 +46,30 @@ struct PlotOptions {
   bool legend = true;
   bool interactive = true;       // zoom, pan, hover
   bool paper = false;            // paper look: black frame, ticks inside, lighter grid
+};
+
+// The widget's state (each plot's view limits and autoscale by ID, the plot being built, the
+// last transform) lives in a PlotContext owned by the caller, as ImPlot's: a host creates one
+// beside its ImGui context and makes it current for its frames, so two windows or renders never
+// share view state. BeginPlot without a current context draws nothing (asserts in debug builds).
+struct PlotContext;
+PlotContext* CreatePlotContext();
+void DestroyPlotContext(PlotContext* ctx);  // clears the current context if it is this one
+void SetCurrentPlotContext(PlotContext* ctx);
+PlotContext* GetCurrentPlotContext();
+
+// Owns a context and makes it current (creation order = the usual ImGui::CreateContext order).
+class ScopedPlotContext {
+ public:
+  ScopedPlotContext();
+  ~ScopedPlotContext();
+  ScopedPlotContext(const ScopedPlotContext&) = delete;
+  ScopedPlotContext& operator=(const ScopedPlotContext&) = delete;
+  PlotContext* get() const { return ctx_; }
+  void make_current() const { SetCurrentPlotContext(ctx_); }
+
+ private:
+  PlotContext* ctx_;
 };
 
 bool BeginPlot(const char* id, ImVec2 size = ImVec2(-1, -1), const PlotOptions& opt = {});

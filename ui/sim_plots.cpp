@@ -171,10 +171,9 @@ void draw_simulation_plots(AppState& s) {
     ImGui::TextUnformatted("No scenario loaded: enter a preset path on the left and press Load.");
     return;
   }
-  s.main.update_phase(s.view.slip_velocity);
   Runs r;
   r.main = &s.main.sim->trace();
-  r.phase = s.main.phase.data();
+  r.phase = s.main.phases(s.view.slip_velocity).data();
   r.main_name = short_name(model_info(s.scenario.friction.model).name);
   if (s.overlay.sim) {
     r.overlay = &s.overlay.sim->trace();

@@ -1,6 +1,7 @@
 #include "app/cli/cli.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <utility>
 
@@ -83,7 +84,9 @@ int Cli::run(int argc, char** argv) {
   try {
     app_.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app_.exit(e);
+    // CLI11 prints the message (or the help / version, exit 0); any other parse failure is bad
+    // input: exit 2, as the README says (CLI11's own codes, e.g. 109 for an unknown option, are not).
+    return app_.exit(e) == 0 ? 0 : exit_code(ErrorKind::Input);
   }
   try {
     if (!action_) {
@@ -92,15 +95,15 @@ int Cli::run(int argc, char** argv) {
       return 2;
     }
     return action_();
-  } catch (const InputError& e) {
-    std::cerr << "gmslab: error: " << e.what() << '\n';
-    return 2;
-  } catch (const SimulationError& e) {
-    std::cerr << "gmslab: simulation stopped: " << e.what() << '\n';
-    return 3;
-  } catch (const std::exception& e) {
-    std::cerr << "gmslab: error: " << e.what() << '\n';
-    return 1;
+  } catch (const Error& e) {  // typed: the kind decides the exit code (README)
+    std::cerr << "gmslab: " << error_label(e.kind()) << ": " << e.what() << '\n';
+    return exit_code(e.kind());
+  } catch (const std::filesystem::filesystem_error& e) {  // a folder that cannot be created
+    std::cerr << "gmslab: " << error_label(ErrorKind::Io) << ": " << e.what() << '\n';
+    return exit_code(ErrorKind::Io);
+  } catch (const std::exception& e) {  // not a typed error: a bug
+    std::cerr << "gmslab: " << error_label(ErrorKind::Internal) << ": " << e.what() << '\n';
+    return exit_code(ErrorKind::Internal);
   }
 }
 

@@ -27,17 +27,18 @@ void register_simulate(CLI::App& app, Action& action) {
   sub->callback([&action, o] {
     action = [o] {
       const Scenario sc = load_scenario(o->preset);
-      Trace tr;
+      // The trace streams to the output as it is computed (constant memory whatever the run
+      // length); a file is written atomically (temporary file, renamed once the run is complete).
       try {
-        tr = simulate(sc);
+        if (o->out == "-") {
+          stream_trace_csv(sc, [](std::string_view s) { std::cout.write(s.data(), static_cast<std::streamsize>(s.size())); });
+          std::cout.flush();
+        } else {
+          const std::size_t n = save_trace_csv_streamed(sc, o->out);
+          std::cerr << "wrote " << n << " samples to " << o->out << '\n';
+        }
       } catch (const InputError& e) {  // e.g. a step too large for this plant: name the file
         throw InputError(o->preset + ": " + e.what());
-      }
-      if (o->out == "-") {
-        write_trace_csv(tr, std::cout);
-      } else {
-        save_trace_csv(tr, o->out);
-        std::cerr << "wrote " << tr.size() << " samples to " << o->out << '\n';
       }
       return 0;
     };

@@ -1,5 +1,7 @@
 #include "core/control/design_session.hpp"
 
+#include "core/error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -32,8 +34,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
     try {  // a failed design still leaves the plant's own locus to draw
       out.report = lead_design(out.plant.g, in.root, in.K, in.options);
       choose(in, out);
-    } catch (const std::exception& e) {
+    } catch (const Error& e) {  // typed (bad design inputs): reported; anything else is a bug
       out.error = std::string("design: ") + e.what();
+      out.error_kind = e.kind();
       out.report.reset();
       if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
     }
@@ -113,8 +116,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.loop_compensated = simulate_loop(in.scenario, cfg);
     out.metrics_compensated = loop_metrics(out.loop_compensated);
     out.error_compensated = tracking_error(out.loop_compensated);
-  } catch (const std::exception& e) {
+  } catch (const Error& e) {  // typed: bad input, a diverging loop
     out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
+    out.error_kind = e.kind();
   }
   return out;
 }

@@ -15,8 +15,10 @@
 // locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
 // zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
 // pole would otherwise shrink the interesting region to a dot).
-// Never throws: a failure of any stage is reported in `error` and later stages are skipped; a
-// failed design (e.g. K0 <= 0) still gets the plant's locus (or the manual compensator's loop).
+// A typed failure of any stage (InputError, SimulationError: core/error.hpp) is reported in
+// `error` with its kind and later stages are skipped; a failed design (e.g. K0 <= 0) still gets
+// the plant's locus (or the manual compensator's loop). Any other exception is a bug and
+// propagates (nothing is swallowed).
 #pragma once
 
 #include <optional>
@@ -27,6 +29,7 @@
 #include "core/control/loop_simulation.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/control/scenario_plant.hpp"
+#include "core/error.hpp"
 
 namespace gmslab::control {
 
@@ -51,6 +54,7 @@ struct DesignInputs {
 
 struct DesignOutputs {
   std::string error;  // empty when every stage ran
+  std::optional<ErrorKind> error_kind;  // the kind of the (last) failure, if any
   LinearPlant plant;
   std::optional<LeadReport> report;
   std::optional<LeadCompensator> compensator;  // what the loops use

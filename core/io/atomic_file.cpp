@@ -57,26 +57,37 @@ std::size_t remove_stale_temporaries(const std::string& path) {
   return removed;
 }
 
-void write_file_atomic(const std::string& path, std::string_view contents) {
+AtomicFileWriter::AtomicFileWriter(const std::string& path) : path_(path) {
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   remove_stale_temporaries(path);
-  std::string tmpl =
-      (dir / (temp_prefix(target) + std::to_string(::getpid()) + "-XXXXXX")).string();
-  const int fd = ::mkstemp(tmpl.data());
-  if (fd < 0)
-    throw std::runtime_error("cannot create a temporary file beside '" + path +
+  tmp_ = (dir / (temp_prefix(target) + std::to_string(::getpid()) + "-XXXXXX")).string();
+  fd_ = ::mkstemp(tmp_.data());
+  if (fd_ < 0)
+    throw IoError("cannot create a temporary file beside '" + path +
                              "': " + std::strerror(errno));
-  auto fail = [&](const char* what) {
-    const std::string err = std::strerror(errno);
-    ::close(fd);
-    ::unlink(tmpl.c_str());
-    throw std::runtime_error(std::string("cannot save '") + path + "' (" + what + "): " + err);
-  };
-  const char* p = contents.data();
-  std::size_t left = contents.size();
+  buf_.reserve(kBuffer);
+}
+
+AtomicFileWriter::~AtomicFileWriter() { abandon(); }
+
+void AtomicFileWriter::abandon() noexcept {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(tmp_.c_str());
+    fd_ = -1;
+  }
+}
+
+void AtomicFileWriter::fail(const char* what) {
+  const std::string err = std::strerror(errno);
+  abandon();
+  throw IoError(std::string("cannot save '") + path_ + "' (" + what + "): " + err);
+}
+
+void AtomicFileWriter::write_all(const char* p, std::size_t left) {
   while (left > 0) {
-    const ssize_t w = ::write(fd, p, left);
+    const ssize_t w = ::write(fd_, p, left);
     if (w < 0) {
       if (errno == EINTR) continue;
       fail("write");
@@ -84,18 +95,42 @@ void write_file_atomic(const std::string& path, std::string_view contents) {
     p += w;
     left -= static_cast<std::size_t>(w);
   }
-  if (::fchmod(fd, 0644) != 0) fail("chmod");
-  if (::fsync(fd) != 0) fail("fsync");
+}
+
+void AtomicFileWriter::write(std::string_view text) {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: write after commit or failure");
+  if (buf_.size() + text.size() > kBuffer) flush();
+  if (text.size() >= kBuffer)
+    write_all(text.data(), text.size());
+  else
+    buf_.append(text);
+}
+
+void AtomicFileWriter::flush() {
+  write_all(buf_.data(), buf_.size());
+  buf_.clear();
+}
+
+void AtomicFileWriter::commit() {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: commit after commit or failure");
+  flush();
+  if (::fchmod(fd_, 0644) != 0) fail("chmod");
+  if (::fsync(fd_) != 0) fail("fsync");
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0) {
-    ::unlink(tmpl.c_str());
-    throw std::runtime_error("cannot save '" + path + "' (close): " + std::strerror(errno));
-  }
-  if (::rename(tmpl.c_str(), path.c_str()) != 0) {
     const std::string err = std::strerror(errno);
-    ::unlink(tmpl.c_str());
-    throw std::runtime_error("cannot save '" + path + "' (rename): " + err);
+    ::unlink(tmp_.c_str());
+    throw IoError("cannot save '" + path_ + "' (close): " + err);
+  }
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
+    const std::string err = std::strerror(errno);
+    ::unlink(tmp_.c_str());
+    throw IoError("cannot save '" + path_ + "' (rename): " + err);
   }
   // Make the rename itself durable.
+  const fs::path target(path_);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
   if (dfd >= 0) {
     ::fsync(dfd);
@@ -103,11 +138,17 @@ void write_file_atomic(const std::string& path, std::string_view contents) {
   }
 }
 
+void write_file_atomic(const std::string& path, std::string_view contents) {
+  AtomicFileWriter w(path);
+  w.write(contents);
+  w.commit();
+}
+
 std::string set_aside(const std::string& path) {
   std::string to = path + ".unreadable";
   for (int i = 2; fs::exists(to); ++i) to = path + ".unreadable-" + std::to_string(i);
   if (::rename(path.c_str(), to.c_str()) != 0)
-    throw std::runtime_error("cannot move '" + path + "' aside to '" + to +
+    throw IoError("cannot move '" + path + "' aside to '" + to +
                              "': " + std::strerror(errno));
   return to;
 }

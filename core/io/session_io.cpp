@@ -6,6 +6,21 @@
 
 namespace gmslab {
 
+const char* to_string(DesignReference r) {
+  switch (r) {
+    case DesignReference::Step: return "step";
+    case DesignReference::Ramp: return "ramp";
+    case DesignReference::Sine: return "sine";
+  }
+  return "sine";
+}
+
+std::optional<DesignReference> design_reference_from_string(std::string_view s) {
+  for (auto r : {DesignReference::Step, DesignReference::Ramp, DesignReference::Sine})
+    if (s == to_string(r)) return r;
+  return std::nullopt;
+}
+
 using nlohmann::json;
 
 json to_json(const Session& s) {
@@ -27,7 +42,7 @@ json to_json(const Session& s) {
                  {"use_K", d.use_K},
                  {"K", d.K},
                  {"max_ratio", d.max_ratio},
-                 {"reference", d.reference},
+                 {"reference", to_string(d.reference)},
                  {"amplitude", d.amplitude},
                  {"slope", d.slope},
                  {"frequency", d.frequency},
@@ -74,7 +89,7 @@ DesignSettings design_from_json(JsonReader& r) {
   d.use_K = r.boolean("use_K");
   d.K = r.number("K", 0, 1e7, "", true);
   d.max_ratio = r.number("max_ratio", 1.5, 100);
-  d.reference = r.choice("reference", {"step", "ramp", "sine"});
+  d.reference = *design_reference_from_string(r.choice("reference", {"step", "ramp", "sine"}));
   d.amplitude = r.number("amplitude", 0, 1, "m", true);
   d.slope = r.number("slope", 0, 1, "m/s", true);
   d.frequency = r.number("frequency", 0, 100, "Hz", true);

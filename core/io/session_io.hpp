@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "core/sim/scenario.hpp"
 
@@ -47,6 +48,12 @@ struct ViewSettings {
   bool operator==(const ViewSettings&) const = default;
 };
 
+// The design loop's reference signal; saved as "step" | "ramp" | "sine".
+enum class DesignReference { Step, Ramp, Sine };
+const char* to_string(DesignReference r);
+// nullopt for any other text.
+std::optional<DesignReference> design_reference_from_string(std::string_view s);
+
 // The root-locus design view's settings (the Design tab); ranges are those of its fields.
 struct DesignSettings {
   std::string regime = "sliding";   // plant regime: "presliding" | "sliding"
@@ -56,7 +63,7 @@ struct DesignSettings {
   bool use_K = false;               // target `K` (else the usable maximum)
   double K = 1000.0;                // desired error constant (Kp / Kv / Ka by plant type), (0, 1e7]
   double max_ratio = 20.0;          // bound on the lead's p / z [-], [1.5, 100]
-  std::string reference = "sine";   // loop reference: "step" | "ramp" | "sine"
+  DesignReference reference = DesignReference::Sine;  // loop reference
   double amplitude = 0.01;          // step height / sine amplitude [m], (0, 1]
   double slope = 0.01;              // ramp velocity [m/s], (0, 1]
   double frequency = 2.0;           // sine frequency [Hz], (0, 100]

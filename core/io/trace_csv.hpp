@@ -1,9 +1,13 @@
 // gmslab core: a simulation trace as CSV, header with units:
 //   t_s,x_m,v_mps,F_friction_N,F_applied_N[,F1_N,...,FN_N,slip1,...,slipN]
+// Numbers are written as printf's %.10g.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <ostream>
 #include <string>
+#include <string_view>
 
 #include "core/sim/simulation.hpp"
 
@@ -11,5 +15,21 @@ namespace gmslab {
 
 void write_trace_csv(const Trace& tr, std::ostream& out);
 void save_trace_csv(const Trace& tr, const std::string& path);  // atomic
+
+// The element columns a trace's CSV has: n_elements when every sample has them, else 0.
+std::size_t trace_csv_elements(const Trace& tr);
+// Appends the header line for `n_elements` element columns, and the rows of every sample of `tr`
+// (with `n_elements` element columns, which must be trace_csv_elements(tr) or 0).
+void append_trace_csv_header(std::size_t n_elements, std::string& out);
+void append_trace_csv_rows(const Trace& tr, std::size_t n_elements, std::string& out);
+
+// Simulates `scenario` and streams its trace as CSV into `sink` as it goes, a chunk of samples at
+// a time: memory stays constant (one chunk of the trace and of its text) whatever the length of
+// the run. Returns the number of samples written. Throws what Simulation throws (InputError,
+// SimulationError); the samples before a divergence have been passed to the sink by then.
+std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink);
+// The same into a file, atomically: the text streams to a temporary file beside `path`, renamed
+// over it once the run is complete (a failed run leaves `path` as it was).
+std::size_t save_trace_csv_streamed(const Scenario& scenario, const std::string& path);
 
 }  // namespace gmslab

@@ -1,5 +1,6 @@
 #include "core/sim/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -38,6 +39,7 @@ void Trace::clear() {
   applied.clear();
   element_force.clear();
   element_slip.clear();
+  ++revision;
 }
 
 namespace {
@@ -74,7 +76,7 @@ void check_scenario(const Scenario& s) {
 }
 }  // namespace
 
-Simulation::Simulation(const Scenario& scenario) : sc_(scenario) {
+Simulation::Simulation(const Scenario& scenario, TraceOptions trace) : sc_(scenario), trace_opts_(trace) {
   check_scenario(sc_);
   model_ = build_model(sc_.friction);
   reset();
@@ -88,7 +90,11 @@ void Simulation::reset() {
   step_ = 0;
   total_steps_ = static_cast<std::uint64_t>(std::llround(sc_.run.duration / sc_.run.dt));
   until_record_ = static_cast<std::uint64_t>(sc_.run.record_every);
-  const std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  set_history_limit();
+  bucket_steps_ = 0;
+  std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  expected = std::min(expected, trace_opts_.reserve_samples);
+  if (max_samples_ > 0) expected = std::min(expected, max_samples_);
   for (auto* vec : {&trace_.t, &trace_.x, &trace_.v, &trace_.friction, &trace_.applied})
     vec->reserve(expected);
   trace_.element_force.reserve(expected * trace_.n_elements);
@@ -113,6 +119,9 @@ void Simulation::set_friction(const ModelParams& p) {
     trace_.n_elements = std::min(model_->element_count(), kMaxRecordedElements);
     trace_.element_force.assign(trace_.size() * trace_.n_elements, 0.0);
     trace_.element_slip.assign(trace_.size() * trace_.n_elements, 0);
+    ++trace_.revision;
+    set_history_limit();
+    if (max_samples_ > 0 && trace_.size() >= max_samples_) compact_trace();
   }
   rebase_energy();
 }
@@ -139,6 +148,79 @@ void Simulation::record(double ff, double fapp) {
       trace_.element_slip.push_back(e.slipping ? 1 : 0);
     }
   }
+  if (max_samples_ > 0 && trace_.t.size() >= max_samples_) compact_trace();
+}
+
+void Simulation::set_history_limit() {
+  max_samples_ = 0;
+  if (trace_opts_.max_bytes == 0) return;
+  // At least 64 samples: a bucket keeps at most 10, so compaction always gets below half.
+  max_samples_ = std::max<std::size_t>(64, trace_opts_.max_bytes / trace_sample_bytes(trace_.n_elements));
+}
+
+void Simulation::compact_trace() {
+  // The current width first (the samples since the last compaction are still raw), then doubled
+  // until half the room is free: the width grows with the run's length, the buckets stay nested.
+  // A single bucket keeps at most 10 samples and max_samples_ >= 64, so this ends.
+  std::uint64_t w = bucket_steps_ ? bucket_steps_ : static_cast<std::uint64_t>(sc_.run.record_every);
+  if (bucket_steps_) compact_minmax(trace_, sc_.run.dt, w);
+  while (trace_.size() > max_samples_ / 2) {
+    w *= 2;
+    compact_minmax(trace_, sc_.run.dt, w);
+  }
+  bucket_steps_ = w;
+}
+
+void Simulation::clear_trace() { trace_.clear(); }
+
+void compact_minmax(Trace& tr, double dt, std::uint64_t bucket_steps) {
+  const std::size_t n = tr.size();
+  const std::size_t ne = tr.element_force.size() == n * tr.n_elements && tr.element_slip.size() == n * tr.n_elements
+                             ? tr.n_elements
+                             : 0;
+  if (ne == 0) {
+    tr.element_force.clear();
+    tr.element_slip.clear();
+  }
+  auto bucket = [&](std::size_t k) { return static_cast<std::uint64_t>(std::llround(tr.t[k] / dt)) / bucket_steps; };
+  const std::vector<double>* cols[4] = {&tr.x, &tr.v, &tr.friction, &tr.applied};
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < n;) {
+    const std::uint64_t b = bucket(i);
+    std::size_t j = i + 1;
+    while (j < n && bucket(j) == b) ++j;
+    std::size_t keep[10];
+    int nk = 0;
+    keep[nk++] = i;
+    keep[nk++] = j - 1;
+    for (const auto* c : cols) {
+      const double* y = c->data();
+      std::size_t lo = i, hi = i;
+      for (std::size_t k = i + 1; k < j; ++k) {
+        if (y[k] < y[lo]) lo = k;
+        if (y[k] > y[hi]) hi = k;
+      }
+      keep[nk++] = lo;
+      keep[nk++] = hi;
+    }
+    std::sort(keep, keep + nk);
+    nk = static_cast<int>(std::unique(keep, keep + nk) - keep);
+    for (int q = 0; q < nk; ++q, ++out) {  // out <= keep[q]: moving forward in place is safe
+      const std::size_t k = keep[q];
+      if (k == out) continue;
+      tr.t[out] = tr.t[k];
+      for (auto* c : {&tr.x, &tr.v, &tr.friction, &tr.applied}) (*c)[out] = (*c)[k];
+      for (std::size_t e = 0; e < ne; ++e) {
+        tr.element_force[out * ne + e] = tr.element_force[k * ne + e];
+        tr.element_slip[out * ne + e] = tr.element_slip[k * ne + e];
+      }
+    }
+    i = j;
+  }
+  for (auto* c : {&tr.t, &tr.x, &tr.v, &tr.friction, &tr.applied}) c->resize(out);
+  tr.element_force.resize(out * ne);
+  tr.element_slip.resize(out * ne);
+  ++tr.revision;
 }
 
 std::size_t Simulation::advance(std::size_t n) {

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "core/sim/scenario.hpp"
@@ -26,17 +27,43 @@ struct Trace {
   std::vector<double> applied;        // drive force on the body [N] (prescribed motion: F_f)
   std::vector<double> element_force;  // [sample * n_elements + i], F_i [N]
   std::vector<std::uint8_t> element_slip;  // same layout, 1 = slipping
+  // Bumped whenever samples already recorded change (clear, compaction, re-laid element
+  // columns); appending samples keeps it. Derived series (core/sim/phases.hpp) key on it.
+  std::uint64_t revision = 0;
 
   std::size_t size() const { return t.size(); }
   void clear();
 };
+
+// How a simulation keeps its trace.
+struct TraceOptions {
+  // Largest memory the trace may take [bytes]; 0 = unbounded, every recorded sample is kept. When
+  // a bounded trace fills up it is compacted (compact_minmax) into time buckets of a power-of-two
+  // number of recorded samples, aligned at t = 0, until at most half of it is used: each bucket
+  // keeps its first and last sample and the samples of the smallest and largest x, v, F_f and
+  // F_applied, so the plots still show every extreme. A sample takes 40 + 9 n_elements bytes.
+  std::size_t max_bytes = 0;
+  // Samples reserved at reset (at most the run's sample count; at most max_bytes' worth). A
+  // consumer that takes the samples as they come (clear_trace()) reserves one chunk.
+  std::size_t reserve_samples = static_cast<std::size_t>(-1);
+};
+
+// Bytes one trace sample takes with n recorded elements (t, x, v, F_f, F_applied, F_i, slip_i).
+constexpr std::size_t trace_sample_bytes(std::size_t n_elements) { return 5 * sizeof(double) + n_elements * 9; }
+
+// Compacts `tr` in place: samples are grouped into buckets of `bucket_steps` integration steps
+// (sample k in bucket round(t_k / dt) / bucket_steps); each bucket keeps, in order and without
+// duplicates, its first and last sample and the first sample of the smallest and of the largest
+// x, v, friction and applied force (at most 10 samples). Buckets of nested widths (multiples of
+// each other) compose: compacting twice keeps every bucket extreme of the original trace.
+void compact_minmax(Trace& tr, double dt, std::uint64_t bucket_steps);
 
 class Simulation {
  public:
   // Up to this many elements are recorded per sample in the trace.
   static constexpr std::size_t kMaxRecordedElements = 64;
 
-  explicit Simulation(const Scenario& scenario);  // validates; throws InputError
+  explicit Simulation(const Scenario& scenario, TraceOptions trace = {});  // validates; throws InputError
   void reset();
   // Advance by n steps of scenario.run.dt (stops early at the end of the run). Returns steps done.
   // Throws SimulationError, naming the likely cause (step vs stiffness / damping limits), when the
@@ -55,6 +82,12 @@ class Simulation {
   const Scenario& scenario() const { return sc_; }
   const FrictionModel& model() const { return *model_; }
   const Trace& trace() const { return trace_; }
+  // Drops the recorded samples (a streaming consumer has taken them); the run goes on.
+  void clear_trace();
+  // Integration steps per bucket of a compacted trace (TraceOptions::max_bytes); 0 while every
+  // recorded sample is kept.
+  std::uint64_t trace_bucket_steps() const { return bucket_steps_; }
+  std::size_t trace_max_samples() const { return max_samples_; }
   // Moves the trace out (no copy of a long run); reset() before advancing again.
   Trace take_trace() { return std::move(trace_); }
   double time() const { return static_cast<double>(step_) * sc_.run.dt; }
@@ -64,6 +97,8 @@ class Simulation {
 
  private:
   void record(double ff, double fapp);
+  void set_history_limit();  // max_samples_ from the options and the recorded element count
+  void compact_trace();
   template <Drive::Kind K>
   std::size_t advance_as(std::size_t n);
   [[noreturn]] void diverged(double ff) const;
@@ -79,6 +114,9 @@ class Simulation {
   std::unique_ptr<FrictionModel> model_;
   std::vector<double> state_;
   Trace trace_;
+  TraceOptions trace_opts_;
+  std::size_t max_samples_ = 0;     // 0: unbounded
+  std::uint64_t bucket_steps_ = 0;  // current compaction bucket width (0: none yet)
   std::uint64_t step_ = 0;
   std::uint64_t total_steps_ = 0;
   std::uint64_t until_record_ = 1;  // steps until the next trace sample

@@ -28,7 +28,7 @@ Session sample() {
   s.design.wn = 250.0;
   s.design.use_K = true;
   s.design.K = 3.5e4;
-  s.design.reference = "ramp";
+  s.design.reference = DesignReference::Ramp;
   s.design.compensation = "coulomb";
   s.design.mismatch_stiffness = 0.5;
   s.design.sample_time = 1e-3;
@@ -157,4 +157,22 @@ TEST(SessionIo, VersionTwoSessionsLoadWithDefaultIdentifySettings) {
   EXPECT_EQ(s.design, sample().design);
   j["identify"] = to_json(sample())["identify"];
   EXPECT_NE(expect_rejected(j).find("identify"), std::string::npos);
+}
+
+// The design reference is an enum saved by name; every name reads back, anything else is refused.
+TEST(SessionIo, DesignReferenceIsAnEnumSavedByName) {
+  for (auto r : {DesignReference::Step, DesignReference::Ramp, DesignReference::Sine}) {
+    ASSERT_EQ(design_reference_from_string(to_string(r)), r);
+    Session s = sample();
+    s.design.reference = r;
+    EXPECT_EQ(to_json(s)["design"]["reference"], to_string(r));
+  }
+  EXPECT_STREQ(to_string(DesignReference::Ramp), "ramp");
+  EXPECT_FALSE(design_reference_from_string("Sine").has_value());
+  EXPECT_FALSE(design_reference_from_string("square").has_value());
+  auto j = to_json(sample());
+  j["design"]["reference"] = "square";
+  const std::string msg = expect_rejected(j);
+  EXPECT_NE(msg.find("design.reference"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("sine"), std::string::npos) << msg;
 }

@@ -10,6 +10,7 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/design_view.hpp"
+#include "ui/plot.hpp"
 
 using namespace gmslab;
 using gmslab::control::cplx;
@@ -17,6 +18,7 @@ using gmslab::control::cplx;
 namespace {
 struct Harness {
   ui::AppState s;
+  ui::ScopedPlotContext plots;
   Harness() {
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
@@ -39,7 +41,7 @@ struct Harness {
     ui::draw_frame(s);
     ImGui::Render();
   }
-  ui::DesignViewState& d() { return s.slot<ui::DesignViewState>("design"); }
+  ui::DesignViewState& d() { return s.design; }
   ImVec2 px(cplx z) {
     const auto& t = d().canvas;
     return ImVec2(static_cast<float>(t.to_px_x(z.real())), static_cast<float>(t.to_px_y(z.imag())));

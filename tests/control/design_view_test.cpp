@@ -30,6 +30,7 @@ TEST(DesignSession, UsableMaximumDesignPlacesSdAndFeedsBothLoops) {
   in.reference = Signal::sine(0.0, 0.01, 2.0);
   const DesignOutputs out = compute_design(in);
   ASSERT_TRUE(out.error.empty()) << out.error;
+  EXPECT_FALSE(out.error_kind.has_value());
   ASSERT_TRUE(out.compensator.has_value());
   EXPECT_EQ(out.compensator_kind, "usable_maximum");
   EXPECT_NEAR(out.compensator->p / out.compensator->z, 20.0, 1e-6);
@@ -62,6 +63,7 @@ TEST(DesignSession, FailuresAreReportedNotThrown) {
   in.K = -3.0;
   const DesignOutputs out = compute_design(in);
   EXPECT_NE(out.error.find("design"), std::string::npos) << out.error;
+  EXPECT_EQ(out.error_kind, ErrorKind::Input);  // typed: a bad desired K is bad input
   EXPECT_FALSE(out.compensator.has_value());
   // The plant's own locus is still there: 1/(s^2 + 0.4 s), two branches from 0 and -0.4.
   ASSERT_EQ(out.locus.branches.size(), 2u);

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "tests/ident/synthetic.hpp"
+#include "ui/app.hpp"
 #include "ui/identify_panel.hpp"
 
 using namespace gmslab;

@@ -3,6 +3,7 @@
 // diverging run stops with its message instead of crashing the window.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/io/scenario_io.hpp"
@@ -129,12 +130,12 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   ui::AppState a;
   ui::load_scenario_into(a, stick_slip(), "");
   EXPECT_EQ(ui::make_session(a).design, DesignSettings{});  // design tab never opened
-  auto& d = a.slot<ui::DesignViewState>("design");
+  auto& d = a.design;
   d.in.root = {0.35, 140.0};
   d.in.regime = control::Regime::Presliding;
   d.use_K = true;
   d.K = 2.5e4;
-  d.reference = 1;
+  d.reference = DesignReference::Ramp;
   d.slope = 0.02;
   d.in.compensation = control::Compensation::Coulomb;
   d.in.mismatch.force = 0.8;
@@ -142,10 +143,10 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   d.in.other_regime = true;
   const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
   EXPECT_EQ(sess.design.zeta, 0.35);
-  EXPECT_EQ(sess.design.reference, "ramp");
+  EXPECT_EQ(sess.design.reference, DesignReference::Ramp);
   ui::AppState b;
   ui::restore_session(b, sess);
-  const auto& e = b.slot<ui::DesignViewState>("design");
+  const auto& e = b.design;
   EXPECT_EQ(ui::design_settings(e), ui::design_settings(d));
   EXPECT_EQ(e.in.root.wn, 140.0);
   EXPECT_EQ(e.in.regime, control::Regime::Presliding);
@@ -176,4 +177,49 @@ TEST(AppState, SessionRestoresTheIdentifyFields) {
   EXPECT_EQ(ui::identify_settings(b), sess.identify);
   EXPECT_EQ(ui::identify_settings(b).elements, 9);
   EXPECT_TRUE(ui::identify_settings(b).compare);
+}
+
+// A slip threshold changed in the Simulation panel after a run applies to the whole recorded trace
+// (the phases are computed from the trace, not appended as it grows).
+TEST(AppState, ChangedSlipThresholdReclassifiesTheRecordedTrace) {
+  ui::AppState s;
+  ui::load_scenario_into(s, stick_slip(), "");
+  s.view.slip_velocity = 1e-4;
+  ui::run_until(s, 12.0);
+  const auto before = s.main.phases(s.view.slip_velocity);
+  std::vector<std::uint8_t> low(before.begin(), before.end());
+  s.view.slip_velocity = 10.0;  // no |v| in this run comes near: only all-elements-slipping counts
+  const auto after = s.main.phases(s.view.slip_velocity);
+  const Trace& tr = s.main.sim->trace();
+  ASSERT_EQ(after.size(), tr.size());
+  std::size_t changed = 0;
+  for (std::size_t k = 0; k < tr.size(); ++k) {
+    bool all = true;
+    for (std::size_t i = 0; i < tr.n_elements; ++i) all = all && tr.element_slip[k * tr.n_elements + i];
+    ASSERT_EQ(after[k], all ? 1 : 0) << k;
+    changed += after[k] != low[k];
+  }
+  EXPECT_GT(changed, 100u);
+}
+
+// The window's (and render's) live runs keep a bounded trace: main and overlay stay within
+// history_bytes each, and the recorded extremes of the friction force survive.
+TEST(AppState, LiveRunsKeepABoundedHistoryWithTheExtremes) {
+  ui::AppState s;
+  s.history_bytes = 2000 * trace_sample_bytes(4);
+  ui::load_scenario_into(s, stick_slip(), "");
+  s.pending.compare = s.scenario.friction;
+  ui::apply_pending(s);
+  ASSERT_TRUE(s.overlay.sim);
+  ui::run_until(s, -1.0);
+  const Trace full = simulate(s.scenario);
+  for (const ui::LiveRun* r : {&s.main, &s.overlay}) {
+    const Trace& tr = r->sim->trace();
+    EXPECT_LE(tr.size(), 2000u);
+    EXPECT_GT(r->sim->trace_bucket_steps(), 0u);
+    EXPECT_EQ(*std::max_element(tr.friction.begin(), tr.friction.end()),
+              *std::max_element(full.friction.begin(), full.friction.end()));
+    EXPECT_EQ(*std::min_element(tr.v.begin(), tr.v.end()), *std::min_element(full.v.begin(), full.v.end()));
+    EXPECT_EQ(tr.t.back(), full.t.back());
+  }
 }

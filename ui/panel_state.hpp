@@ -1,0 +1,117 @@
+// gmslab ui: each panel's state, held by AppState as typed members (ui/app.hpp) - no string-keyed
+// slots. A panel's settings that a session saves are the core/io/session_io.hpp structs
+// (DesignSettings, IdentifySettings), shared by the panel, the session file and the headless
+// renderer. Pure data: no ImGui, no app.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/control/design_session.hpp"
+#include "core/figures/figure.hpp"
+#include "core/ident/dataset.hpp"
+#include "core/ident/loop.hpp"
+#include "core/io/session_io.hpp"
+#include "core/sim/scenario.hpp"
+#include "ui/plot_transform.hpp"
+
+namespace gmslab::ui {
+
+// The Simulation panel: a scratch copy of the scenario being edited (a valid edit becomes a
+// pending request; an invalid one stays here with its message shown inline).
+struct SimPanelState {
+  int generation = -1;
+  std::string path;
+  ModelParams friction, compare;
+  Plant plant;
+  Drive drive;
+  RunSettings run;
+  std::string friction_msg, plant_msg, drive_msg, compare_msg;
+};
+
+// The Figures panel.
+struct FiguresState {
+  std::string id;       // figure shown
+  Figure figure;        // its data
+  std::string error;    // why it could not be built
+};
+
+// The Design panel (root-locus design view, ui/design_view.hpp).
+struct DesignViewState {
+  int generation = -1;               // scenario generation the inputs were taken from
+  control::DesignInputs in;          // what the design is computed from
+  control::DesignOutputs out;        // the last computation
+  bool dirty = true;
+  double compute_ms = 0.0;           // wall time of the last computation [ms]
+  bool use_K = false;                // target a desired error constant (else the usable maximum)
+  double K = 1000.0;                 // desired error constant
+  DesignReference reference = DesignReference::Sine;  // loop reference signal
+  double amplitude = 0.01;           // step height / sine amplitude [m]
+  double slope = 0.01;               // ramp velocity [m/s]
+  double frequency = 2.0;            // sine frequency [Hz]
+  double max_overshoot = 10.0;       // requirement [%] -> zeta_min
+  double settling_time = 0.15;       // requirement (2 % band) [s] -> sigma_min = 4 / Ts
+  // Root-locus canvas
+  // The user's zoom of the canvas is in.locus_view (none: fit the computed locus), kept once.
+  enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
+  bool picked = false;               // a clicked point of a branch
+  double picked_k = 0.0;
+  control::cplx picked_s;
+  std::vector<control::cplx> picked_poles;
+  PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
+};
+
+// The Identify panel (ui/identify_panel.hpp).
+struct IdentifyResult {
+  ident::IdentReport report;
+  ident::Dataset train, val;
+  Figure figure;
+};
+
+// The worker: runs identify() on its own copies, reports progress under a mutex.
+struct IdentifyJob {
+  std::atomic<bool> cancel{false};
+  std::atomic<bool> done{false};
+  std::mutex m;
+  ident::FitProgress progress;     // guarded by m
+  std::string error;               // guarded by m
+  std::unique_ptr<IdentifyResult> result;  // guarded by m
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+  std::thread thread;
+  ~IdentifyJob() {
+    cancel = true;
+    if (thread.joinable()) thread.join();
+  }
+};
+
+// The records as loaded for the preview (before a run), or why they could not be loaded.
+struct IdentifyPreview {
+  std::string key;  // the inputs it was loaded from
+  ident::Dataset train, val;
+  std::string error;
+  std::vector<std::string> notes;
+};
+
+struct IdentifyState : IdentifySettings {  // the fields are the session's settings
+  std::unique_ptr<IdentifyJob> job;
+  std::unique_ptr<IdentifyResult> result;
+  IdentifyPreview preview;
+  std::string error, status;
+};
+
+// Each panel's settings as a session saves them, and back. The app builds and restores the
+// session through these alone (it includes no panel). Defaults agree:
+// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings marks the
+// design dirty; applying identify settings leaves a run in progress (and its fields) alone.
+DesignSettings design_settings(const DesignViewState& d);
+void apply_design_settings(DesignViewState& d, const DesignSettings& s);
+IdentifySettings identify_settings(const IdentifyState& st);
+void apply_identify_settings(IdentifyState& st, const IdentifySettings& s);
+
+}  // namespace gmslab::ui
