@@ -140,8 +140,9 @@ void inputs(IdentifyState& st, bool busy) {
   ImGui::SameLine();
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 6.0f);
   ImGui::InputInt("elements", &st.elements);
-  st.elements = std::clamp(st.elements, 1, 64);
-  tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64)");
+  st.elements = std::clamp(st.elements, 0, 64);
+  tooltip("Element count N of multi-element models (GMS: alpha_i, k_i per element; 1..64);\n"
+          "0 = auto: the validation record chooses (GMS, Maxwell-slip; the CLI's --elements auto)");
   ImGui::SameLine();
   ImGui::Checkbox("compare", &st.compare);
   if (ImGui::IsItemHovered())

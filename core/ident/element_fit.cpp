@@ -341,7 +341,7 @@ void finish_grid(ElementEvaluator& ev, const std::vector<double>& best_u, GridSo
 }  // namespace
 
 GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
-                      const FitOptions& o) {
+                      const FitOptions& o, const std::vector<double>* shape_hint) {
   ElementEvaluator ev(spec, train, c, kGridRows);
   const auto [x_lo, x_hi] = element_x_range(c);
   GridSolution g;
@@ -354,6 +354,7 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   search.budget = g.budget;
   // Start candidates: the data-based guess and a small design over the shape box.
   std::vector<std::vector<double>> cands{ev.initial_scalars()};
+  if (shape_hint && shape_hint->size() == ev.scalar_count()) cands.push_back(*shape_hint);
   if (ns > 0) {
     std::vector<std::vector<double>> levels;
     for (const auto& p : ev.scalars()) {
@@ -388,7 +389,7 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   std::sort(scored.begin(), scored.end());
   double best = scored.front().first;
   std::vector<double> best_u = cands[scored.front().second];
-  const int starts = ns == 0 ? 0 : std::min<int>(3, static_cast<int>(scored.size()));
+  const int starts = ns == 0 ? 0 : std::min<int>(std::clamp(o.starts, 1, 3), static_cast<int>(scored.size()));
   for (int s = 0; s < starts; ++s) {
     std::vector<double> x = cands[scored[static_cast<std::size_t>(s)].second];
     auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
@@ -511,8 +512,8 @@ int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOpt
   std::size_t ns = 0;
   for (const auto& p : par.params()) ns += p.scalar >= 0;
   // Design points + up to 3 grid starts + the polish and its two restarts.
-  const int design = ns == 0 ? 1 : 1 + 3 * 4 * 3 * 2;
-  const int grid = ns == 0 ? 0 : 3 * (o.max_evaluations / 2 + 1);
+  const int design = ns == 0 ? 1 : 2 + 3 * 4 * 3 * 2;  // + a shape hint
+  const int grid = ns == 0 ? 0 : std::clamp(o.starts, 1, 3) * (o.max_evaluations / 2 + 1);
   return design + grid + 2 * (o.max_evaluations + 1) + 1;
 }
 
@@ -526,18 +527,10 @@ FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const Effec
                           const FitOptions& o, const std::vector<double>& warm) {
   const Parameterization par(model_info(spec.model), spec.elements, c);
   if (warm.size() != par.size()) throw InputError("internal: warm start of the wrong size");
-  ElementEvaluator ev(spec, train, c, kGridRows);
-  const auto [x_lo, x_hi] = element_x_range(c);
-  GridSolution g;
-  g.model = spec.model;
-  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo, kGridPoints);
-  g.started = std::chrono::steady_clock::now();
-  g.budget = 2 * (o.max_evaluations + 1) + 2;
   std::vector<double> shape;
   for (std::size_t i = 0; i < par.size(); ++i)
     if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
-  finish_grid(ev, shape, g);
-  g.evaluations = 1;
+  const GridSolution g = fit_grid(spec, train, c, o, &shape);
   return reduce_and_polish(g, spec, train, c, o);
 }
 

@@ -58,8 +58,10 @@ struct GridSolution {
   std::chrono::steady_clock::time_point started;  // FitOptions::max_seconds counts from here
 };
 
+// Grid starts: min(o.starts, 3) BOBYQA runs from the best design points; shape_hint (unit-box
+// scalar shape, e.g. of the previous stage) joins the design.
 GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
-                      const FitOptions& o);
+                      const FitOptions& o, const std::vector<double>* shape_hint = nullptr);
 // Stages 2 and 3 for `elements` elements; a FitResult in the standard parameterization.
 FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
                             const EffectContext& c, const FitOptions& o);
@@ -67,8 +69,8 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
 // the refit after an effect was added. Budget 2 max_evaluations + 1.
 FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                           const FitOptions& o, const std::vector<double>& warm);
-// Stages 1-3 at the warm start's shape: the grid weights solved once at that shape (no shape
-// search), grouped, polished. Frees the element table after an effect was added.
+// Stages 1-3 again with the warm start's shape among the design points: after an effect was
+// added the shape and element table can leave what they had bent into to mimic it.
 FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                           const FitOptions& o, const std::vector<double>& warm);
 // The evaluation budget of fit_elements (what FitProgress::budget reports).

@@ -120,7 +120,7 @@ IdentifySettings identify_from_json(JsonReader& r) {
   std::vector<std::string> tags;
   for (const auto& m : model_registry()) tags.emplace_back(m.tag);
   i.model = r.choice("model", tags);
-  i.elements = static_cast<int>(r.integer("elements", 1, 64));
+  i.elements = static_cast<int>(r.integer("elements", 0, 64));  // 0 = auto
   i.compare = r.boolean("compare");
   r.finish();
   return i;

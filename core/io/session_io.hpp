@@ -87,7 +87,7 @@ struct IdentifySettings {
   std::string validate_mask;  // validation time windows [s]
   std::string mask_edges;     // COLUMN:BEFORE:AFTER [s]; "" = none (as the CLI's --mask-edges)
   std::string model = "gms";  // base model: a registry tag
-  int elements = 4;           // element count of multi-element models, [1, 64]
+  int elements = 4;           // element count of multi-element models, [1, 64]; 0 = auto
   bool compare = false;       // compare every model after the loop
   bool operator==(const IdentifySettings&) const = default;
 };
