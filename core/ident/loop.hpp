@@ -24,6 +24,7 @@
 
 #include "core/figures/figure.hpp"
 #include "core/ident/fit.hpp"
+#include "core/ident/structure.hpp"
 #include "core/sim/scenario.hpp"
 
 namespace gmslab::ident {
@@ -33,6 +34,9 @@ struct LoopOptions {
   FitOptions refit;             // refits after adding an effect (warm start)
   double min_gain = 0.03;       // relative validation RMS drop needed to keep an effect [-]
   double min_explained = 0.002; // smallest explained training variance worth a refit [-]
+  double max_p = 1e-3;          // largest chance (training F-test of the effect's columns, times
+                                // the candidates screened) that still counts as a signature [-]
+  double min_size = 0.5;        // smallest effect contribution (RMS on training) / noise sigma [-]
   int tries_per_round = 3;
   int max_rounds = 9;
   std::vector<Effect> candidates;  // empty = the whole catalog
@@ -40,10 +44,13 @@ struct LoopOptions {
 };
 
 struct Attempt {
-  Effect effect;
+  Effect effect = Effect::Offset;
   double rms_train = 0, rms_validation = 0;  // after the refit [N]
   bool kept = false;
   std::vector<LinearTerm> terms;             // the effect's fitted coefficients
+  double size = 0;                           // RMS of the effect's contribution (training) [N]
+  double bic_change = 0;                     // BIC(with) - BIC(without), validation SSR [-]
+  std::string verdict;                       // why kept or not
 };
 
 struct Candidate {
@@ -51,6 +58,8 @@ struct Candidate {
   double explained = 0;           // fraction of training residual variance explained (screen)
   double screen_rms_train = 0;    // [N]
   double screen_rms_validation = 0;
+  double p_value = 1;             // training F-test of the columns at the current shape [-]
+  std::size_t columns = 0;        // columns the effect adds
   nlohmann::json evidence;
 };
 
@@ -64,6 +73,15 @@ struct Round {
 
 // Default time limit of each comparison fit [s] (FitOptions::max_seconds for compare_models).
 inline constexpr double kCompareSeconds = 60.0;
+
+// A parameter of the final model with its standard error from the linearised least squares at
+// the fitted shape (the shape itself held fixed; residual taken as white: a lower bound when
+// structure remains). Scalars of the measurement effects (tau, T, b) and ripple wavelengths get
+// theirs from the derivative of their columns.
+struct ParameterEstimate {
+  std::string effect, name, unit;
+  double value = 0, std_error = 0;
+};
 
 // One model of a comparison: fitted on the same training record, with the same effects.
 struct ModelComparison {
@@ -88,6 +106,12 @@ struct IdentReport {
   std::vector<Effect> effects_added;
   std::vector<Round> rounds;
   std::vector<ModelComparison> comparison;  // compare_models(); empty unless asked for
+  NoiseEstimate noise;                      // force noise sigma estimated from the training record
+  RippleSearch ripples;                     // ripple search on the base fit's residual
+  std::vector<ParameterEstimate> parameters;  // final model's linear terms and effect scalars
+  ResidualStructure remaining;              // what the final validation residual still holds;
+                                            // remaining.summary is one line for CLI and panel
+  std::vector<std::string> notes;           // undecided choices, said in words
   const FitResult& final_fit() const { return stages.back(); }
 };
 
