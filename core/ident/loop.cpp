@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <sstream>
 #include <limits>
+#include <map>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <Eigen/Dense>
@@ -71,10 +73,10 @@ double chi2_tail_large(double x, double dof) {
 }
 
 Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dataset& val,
-                 const EffectContext& c) {
+                 const EffectContext& c, const std::vector<double>* shape = nullptr) {
   Candidate k;
   k.effect = e;
-  const auto lin = refit_linear(with(cur.spec, e), train, c, cur.u);
+  const auto lin = refit_linear(with(cur.spec, e), train, c, shape ? *shape : cur.u);
   k.screen_rms_train = lin.rms_train;
   k.explained = cur.rms_train > 0 ? 1.0 - std::pow(lin.rms_train / cur.rms_train, 2) : 0.0;
   k.screen_rms_validation = rms_on(lin, val, c);
@@ -132,26 +134,55 @@ void tune_scalar(const FitResult& cur, const Dataset& train, EffectContext& c, E
   c.*field = std::min(f1, f2) < best ? xr : grid[bi];
 }
 
-void tune_measurement_effects(const FitResult& cur, const Dataset& train, EffectContext& c,
-                              const std::vector<Effect>& candidates) {
+// The measurement effects' scalars. A channel effect changes what shape fits best (a lagging
+// force looks like softer presliding), so with `deep` each coarse grid value gets a short refit of
+// the shape first; the scalar is then refined by linear refits at the best of those shapes, which
+// is returned as the effect's warm start. Without `deep`: linear refits at the current shape.
+std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& cur, const Dataset& train,
+                                                               EffectContext& c,
+                                                               const std::vector<Effect>& candidates,
+                                                               bool deep, const FitOptions& refit) {
+  std::map<Effect, std::vector<double>> shapes;
   const double h = c.h_med;
   auto want = [&](Effect e) { return contains(candidates, e) && !contains(cur.spec.effects, e); };
-  if (want(Effect::TimeShift)) {
-    std::vector<double> grid;
-    for (double m : {30.0, 20.0, 12.0, 8.0, 5.0, 3.0, 2.0, 1.0, 0.5, 0.2}) grid.push_back(-m * h);
-    for (double m : {0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 20.0, 30.0}) grid.push_back(m * h);
-    tune_scalar(cur, train, c, Effect::TimeShift, &EffectContext::time_shift, grid);
-  }
-  if (want(Effect::SensorFilter)) {
-    std::vector<double> grid;
-    for (double m : {0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 20.0, 30.0}) grid.push_back(m * h);
-    tune_scalar(cur, train, c, Effect::SensorFilter, &EffectContext::filter_T, grid);
-  }
-  if (want(Effect::Backlash)) {
-    std::vector<double> grid;
-    for (double m : {0.05, 0.1, 0.2, 0.4, 0.7, 1.0, 1.5, 2.5, 4.0, 6.0}) grid.push_back(m * c.x_ba);
-    tune_scalar(cur, train, c, Effect::Backlash, &EffectContext::backlash, grid);
-  }
+  auto run = [&](Effect e, double EffectContext::*field, const std::vector<double>& coarse,
+                 const std::vector<double>& fine) {
+    if (!want(e)) return;
+    if (!deep) {
+      tune_scalar(cur, train, c, e, field, fine);
+      return;
+    }
+    FitOptions fo = refit;
+    fo.starts = 1;
+    fo.data_start = false;
+    fo.max_evaluations = std::min(refit.max_evaluations, 120);
+    fo.stage = "search " + std::string(effect_name(e));
+    double best = std::numeric_limits<double>::infinity();
+    std::optional<FitResult> bf;
+    double bv = coarse.front();
+    for (double v : coarse) {
+      c.*field = v;
+      FitResult f = fit_model(with(cur.spec, e), train, c, fo, &cur.u);
+      if (f.rms_train < best) best = f.rms_train, bv = v, bf = std::move(f);
+    }
+    std::vector<double> grid;  // fine grid within the neighbours of the best coarse value
+    for (double m : {0.4, 0.55, 0.75, 0.9, 1.0, 1.12, 1.3, 1.6, 2.0}) grid.push_back(bv * m);
+    tune_scalar(*bf, train, c, e, field, grid);
+    shapes[e] = bf->u;
+  };
+  run(Effect::TimeShift, &EffectContext::time_shift, {-h, h, 2 * h, 4 * h, 8 * h},
+      [&] {
+        std::vector<double> g;
+        for (double m : {30.0, 20.0, 12.0, 8.0, 5.0, 3.0, 2.0, 1.0, 0.5, 0.2}) g.push_back(-m * h);
+        for (double m : {0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 20.0, 30.0}) g.push_back(m * h);
+        return g;
+      }());
+  run(Effect::SensorFilter, &EffectContext::filter_T, {h, 3 * h, 9 * h},
+      {0.2 * h, 0.5 * h, h, 2 * h, 3 * h, 5 * h, 8 * h, 12 * h, 20 * h, 30 * h});
+  const double xb = c.x_ba;
+  run(Effect::Backlash, &EffectContext::backlash, {0.2 * xb, xb, 5 * xb},
+      {0.05 * xb, 0.1 * xb, 0.2 * xb, 0.4 * xb, 0.7 * xb, xb, 1.5 * xb, 2.5 * xb, 4 * xb, 6 * xb});
+  return shapes;
 }
 
 // Standard errors of the final model's linear terms (and the effects' scalars) from the
@@ -283,15 +314,31 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     if (!contains(cur.spec.effects, Effect::DwellStiction) &&
         effect_applicable(Effect::DwellStiction, train, c))
       choose_dwell_length(cur, train, c);
-    tune_measurement_effects(cur, train, c, o.candidates);
+    // Something above the noise left to explain: then the channel effects get shape refits.
+    auto shapes = tune_measurement_effects(cur, train, c, o.candidates, false, o.refit);
+    auto shape_of = [&](Effect e) { const auto it = shapes.find(e); return it == shapes.end() ? &cur.u : &it->second; };
     std::size_t screened = 0;
+    double best_val = cur_val;
     for (Effect e : o.candidates) {
       if (contains(cur.spec.effects, e) || !effect_applicable(e, train, c)) continue;
       if (o.base.cancel && o.base.cancel->load()) throw Cancelled();
-      Candidate k = screen(e, cur, train, val, c);
+      Candidate k = screen(e, cur, train, val, c, shape_of(e));
       k.evidence = effect_evidence(e, train, c, r, g, rs);
+      best_val = std::min(best_val, k.screen_rms_validation);
       rd.candidates.push_back(std::move(k));
       ++screened;
+    }
+    // No screened effect brings the validation error near the noise: the channel effects, which
+    // the current shape partly mimics, get shape refits in their scalar search and are screened
+    // again at their own shapes.
+    if (rep.noise.sigma > 0 && best_val > 1.15 * rep.noise.sigma) {
+      shapes = tune_measurement_effects(cur, train, c, o.candidates, true, o.refit);
+      for (auto& k : rd.candidates)
+        if (shapes.count(k.effect)) {
+          Candidate k2 = screen(k.effect, cur, train, val, c, shape_of(k.effect));
+          k2.evidence = effect_evidence(k.effect, train, c, r, g, rs);
+          k = std::move(k2);
+        }
     }
     // Most promising first: the lowest validation RMS of the screening fit (held-out data decides
     // between effects that look alike on the training record, e.g. offset and a level asymmetry).
@@ -311,7 +358,7 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       ++tries;
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));
-      FitResult f = fit_model(with(cur.spec, k.effect), train, c, fo, &cur.u);
+      FitResult f = fit_model(with(cur.spec, k.effect), train, c, fo, shape_of(k.effect));
       Attempt a;
       a.effect = k.effect, a.rms_train = f.rms_train, a.rms_validation = rms_on(f, val, c);
       a.terms = terms_of(f, k.effect);

@@ -138,6 +138,42 @@ TEST(IdentNoise, EstimatedFromRestsWithinTenPercent) {
   }
 }
 
+// The force channel lags by 4 ms (2 samples): named time_shift, not inertia, tau within 20 %.
+TEST(IdentMeasurement, ForceChannelLagIsATimeShiftNotInertia) {
+  for (double level : {0.1, 10.0}) {
+    synth::SynthOptions so;
+    so.time_shift = 0.004;
+    so.level = level;
+    const auto r = run(so);
+    ASSERT_FALSE(r.rep.effects_added.empty());
+    EXPECT_EQ(r.rep.effects_added.front(), Effect::TimeShift);
+    EXPECT_NEAR(r.rep.context.time_shift, so.time_shift, 0.2 * so.time_shift);
+    EXPECT_LT(r.rep.rms_after_validation, 1.5 * so.noise * level);
+    const auto* tau = estimate(r.rep, "time_shift", "tau");
+    ASSERT_NE(tau, nullptr);
+    EXPECT_GT(tau->std_error, 0.0);
+  }
+}
+
+TEST(IdentMeasurement, FirstOrderSensorFilterIsNamedWithItsTimeConstant) {
+  synth::SynthOptions so;
+  so.filter_T = 0.006;
+  const auto r = run(so);
+  ASSERT_FALSE(r.rep.effects_added.empty());
+  EXPECT_EQ(r.rep.effects_added.front(), Effect::SensorFilter);
+  EXPECT_NEAR(r.rep.context.filter_T, so.filter_T, 0.25 * so.filter_T);
+  EXPECT_LT(r.rep.rms_after_validation, 1.5 * so.noise);
+}
+
+TEST(IdentMeasurement, LostMotionAtReversalsIsNamedBacklash) {
+  synth::SynthOptions so;
+  so.backlash = 10e-6;
+  const auto r = run(so);
+  ASSERT_FALSE(r.rep.effects_added.empty());
+  EXPECT_EQ(r.rep.effects_added.front(), Effect::Backlash);
+  EXPECT_NEAR(r.rep.context.backlash, so.backlash, 0.3 * so.backlash);
+}
+
 // Friction 8 % higher in one direction: direction_asymmetry, not offset.
 TEST(IdentMeasurement, MultiplicativeDirectionAsymmetryIsNotAnOffset) {
   synth::SynthOptions so;
