@@ -1,19 +1,30 @@
 // gmslab identification: the residual loop that finds what the base model lacks.
 //
-//   1. Fit the base model (several starts) on the training record.
-//   2. Each round: residual r on training; for every applicable catalog effect not yet in the
-//      model: evidence (evidence.hpp) and a screening fit (linear terms re-solved at the current
-//      shape) -> fraction of the residual variance it explains. The position_periodic wavelength
-//      is the peak of the residual's position spectrum (needs peak / median >= 4), the dwell
-//      decay length the best of a few multiples of the break-away displacement.
-//   3. Candidates in order of explained variance (at least min_explained) whose screening fit
-//      lowers the validation RMS at all: add the effect, refit
-//      everything (shape warm-started + linear terms), and keep it only when the validation RMS
-//      drops by at least min_gain (relative) - also against a control refit of the current model
-//      with the same budget, so that better optimisation is never credited to an effect. The
-//      first kept candidate ends the round; at most
-//      tries_per_round candidates are tried. No candidate kept: stop. The training error alone
-//      never decides.
+//   1. Fit the base model (several starts) on the training record; estimate the force noise from
+//      the data (structure.hpp: second differences during rests).
+//   2. Each round: residual r on training. The ripple search (structure.hpp) gives the
+//      position_periodic wavelengths (significant peaks only); the dwell decay length and the
+//      channel effects' scalars (time_shift tau, sensor_filter T, backlash b) are searched by
+//      linear refits. Every applicable catalog effect not yet in the model is screened: its
+//      columns re-solved at the current shape -> explained training variance, validation RMS and
+//      a training F-test of its columns (the signature). When no screened effect brings the
+//      validation RMS within 1.15x the noise, the channel effects are searched again with short
+//      shape refits (a lagging force channel looks like softer presliding to the base model) and
+//      screened at their own shapes.
+//   3. Candidates in order of screening validation RMS (held-out data decides between effects
+//      that look alike on training, e.g. offset and a level asymmetry; inertia and a force lag):
+//      refit everything with the effect (shape warm-started + linear terms). An effect is kept
+//      only when all hold: the validation RMS drops by at least min_gain (relative), also against
+//      a control refit of the current model with the same budget (better optimisation is never
+//      credited to an effect); its training F-test p-value times the number of candidates is
+//      below max_p; the validation BIC (n ln SSR/n + p ln n) drops; its contribution's RMS is at
+//      least min_size x the noise sigma. A close second candidate (screening validation RMS
+//      within 2 %) is also refitted and the better one kept; when two fit the validation record
+//      alike the report says the data cannot tell them apart (notes). No candidate kept: stop.
+//   4. The final model gets one more refit (as the control), the standard errors of its linear
+//      terms and effect scalars (linearised least squares at the fitted shape), and the final
+//      validation residual is tested for remaining structure (by velocity, position, time, after
+//      reversals, position spectrum), each against the noise (IdentReport::remaining).
 // Validation: a second record, or the hold-out of the training record (dataset.hpp).
 #pragma once
 
