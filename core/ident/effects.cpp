@@ -382,13 +382,17 @@ std::vector<Column> effect_columns(Effect e) {
     case Effect::TimeShift:
       v.push_back(col("shift_level", "N", true, [](D d, C c, G g, O o) {
         shifted(d, g, c.time_shift, o);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
+        std::vector<double> v(d.size());
+        shifted(d, d.v, c.time_shift, v);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
       }));
       break;
     case Effect::SensorFilter:
       v.push_back(col("filter_level", "N", true, [](D d, C c, G g, O o) {
         lowpass(d, g, c.filter_T, o);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
+        std::vector<double> v(d.size());
+        lowpass(d, d.v, c.filter_T, v);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
       }));
       break;
     case Effect::Backlash:

@@ -24,10 +24,13 @@
 // Measurement and transmission effects: the model seen through the channel; each adds one column
 // (model through the channel - model) whose coefficient is the force level (about Fc when the
 // effect is all there is), and one scalar found by a 1-D search on the training residual:
-//   time_shift           g(t - tau) - g(t): the force channel lags the position channel by tau
-//                        (sub-sample, linear interpolation of g in time)               [N], tau [s]
-//   sensor_filter        lowpass_T(g) - g: first-order force sensor (filter) with time constant
+//   time_shift           u(t - tau) - u(t), u = g + rho v: the force channel lags the position (tau > 0)
+//                        channel by tau (sub-sample, linear interpolation in time)     [N], tau [s]
+//   sensor_filter        lowpass_T(u) - u: first-order force sensor (filter) with time constant
 //                        T, exact for a piecewise-constant input on the record's grid  [N], T [s]
+//                        (rho = sigma2 / Fc of the current fit, held in the context: the lagged
+//                        viscous force, about -sigma2 tau a, comes along and is not read as a
+//                        negative inertia; a free viscous column would mimic inertia itself)
 //   backlash             g_b - g: lost motion b between the encoder and the contact: after each
 //                        reversal the contact stays until the motor has travelled b, then follows
 //                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b [m]
@@ -78,6 +81,7 @@ struct EffectContext {
   double filter_T = 0.0;             // sensor_filter time constant T [s] (0: not searched yet)
   double backlash = 0.0;             // backlash lost motion b [m] (0: not searched yet)
   double h_med = 1e-3;               // median sampling step [s]
+  double viscous_ratio = 0.0;        // sigma2 / Fc of the fit the channel effects were found on [s/m]
   double Fn0 = 0.0;                  // mean normal force [N] (0: no Fn column)
   double v_rest = 0.0;               // |v| below this is rest [m/s]
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]

@@ -170,13 +170,10 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
     tune_scalar(*bf, train, c, e, field, grid);
     shapes[e] = bf->u;
   };
-  run(Effect::TimeShift, &EffectContext::time_shift, {-h, h, 2 * h, 4 * h, 8 * h},
-      [&] {
-        std::vector<double> g;
-        for (double m : {30.0, 20.0, 12.0, 8.0, 5.0, 3.0, 2.0, 1.0, 0.5, 0.2}) g.push_back(-m * h);
-        for (double m : {0.2, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 20.0, 30.0}) g.push_back(m * h);
-        return g;
-      }());
+  // Positive shifts only (the force channel lags): a leading force would be read from the
+  // viscous share of the shift (about -sigma2 tau a) as a stand-in for inertia.
+  run(Effect::TimeShift, &EffectContext::time_shift, {0.5 * h, h, 2 * h, 4 * h, 8 * h},
+      {0.1 * h, 0.2 * h, 0.5 * h, h, 2 * h, 3 * h, 5 * h, 8 * h, 12 * h, 20 * h, 30 * h});
   run(Effect::SensorFilter, &EffectContext::filter_T, {h, 3 * h, 9 * h},
       {0.2 * h, 0.5 * h, h, 2 * h, 3 * h, 5 * h, 8 * h, 12 * h, 20 * h, 30 * h});
   const double xb = c.x_ba;
@@ -293,6 +290,15 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
   EffectContext c = make_context(train);
   rep.noise = noise_level(train, c);
   FitResult cur = fit_model(base, train, c, o.base);
+  // The quantisation share of the floor, through the base fit's stiffness (updated at the end).
+  auto friction_force = [&](const FitResult& f, const Dataset& d) {
+    auto g = unit_friction(f, d, c);
+    const double fc = f.theta.empty() ? 1.0 : f.theta[0];
+    for (auto& x : g) x *= fc;
+    return g;
+  };
+  add_quantisation(rep.noise, train, c, friction_force(cur, train));
+  const double floor = rep.noise.floor();
   double cur_val = rms_on(cur, val, c);
   rep.stages.push_back(cur);
   rep.rms_before_train = cur.rms_train;
@@ -315,6 +321,9 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
         effect_applicable(Effect::DwellStiction, train, c))
       choose_dwell_length(cur, train, c);
     // Something above the noise left to explain: then the channel effects get shape refits.
+    for (const auto& t : cur.terms)  // the viscous share the channel effects carry along
+      if (t.effect == "base" && t.name == "sigma2" && !cur.theta.empty() && cur.theta[0] > 0)
+        c.viscous_ratio = t.value / cur.theta[0];
     auto shapes = tune_measurement_effects(cur, train, c, o.candidates, false, o.refit);
     auto shape_of = [&](Effect e) { const auto it = shapes.find(e); return it == shapes.end() ? &cur.u : &it->second; };
     std::size_t screened = 0;
@@ -331,7 +340,7 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     // No screened effect brings the validation error near the noise: the channel effects, which
     // the current shape partly mimics, get shape refits in their scalar search and are screened
     // again at their own shapes.
-    if (rep.noise.sigma > 0 && best_val > 1.15 * rep.noise.sigma) {
+    if (floor > 0 && best_val > 1.15 * floor) {
       shapes = tune_measurement_effects(cur, train, c, o.candidates, true, o.refit);
       for (auto& k : rd.candidates)
         if (shapes.count(k.effect)) {
@@ -384,13 +393,21 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       // BIC on the validation record: n ln(SSR / n) + p ln n with the effect's columns.
       a.bic_change = n_val * std::log(std::pow(a.rms_validation / std::max(cur_val, 1e-300), 2)) +
                      static_cast<double>(k.columns) * std::log(n_val);
-      const bool big = rep.noise.sigma <= 0 || a.size >= o.min_size * rep.noise.sigma;
+      const bool big = floor <= 0 || a.size >= o.min_size * floor;
       const bool signature = k.p_value * static_cast<double>(screened) <= o.max_p;
       if (!a.kept) a.verdict = "validation RMS not lowered by " + std::to_string(o.min_gain * 100).substr(0, 4) + " %";
       else if (!signature) a.kept = false, a.verdict = "no signature in the training residual (F-test)";
       else if (a.bic_change >= 0) a.kept = false, a.verdict = "validation BIC not lowered";
-      else if (!big) a.kept = false, a.verdict = "contribution below " + std::to_string(o.min_size).substr(0, 4) + " x noise";
-      else a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
+      else if (!big) a.kept = false, a.verdict = "contribution below " + std::to_string(o.min_size).substr(0, 4) + " x the noise floor";
+      else if (floor > 0 && a.size < o.sure_size * floor) {
+        // A small contribution must explain a good share of what lies above the floor.
+        const double e0 = cur_val * cur_val - floor * floor, e1 = a.rms_validation * a.rms_validation - floor * floor;
+        if (!(e0 > 0) || (e0 - e1) / e0 < o.min_excess)
+          a.kept = false, a.verdict = "small (below " + std::to_string(o.sure_size).substr(0, 3) +
+                                      " x the floor) and explains less than " + std::to_string(o.min_excess).substr(0, 4) +
+                                      " of the validation error above the floor";
+      }
+      if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
       rd.attempts.push_back(a);
       if (a.kept && (!best || a.rms_validation < best->second.rms_validation)) {
         if (!best) best_screen = k.screen_rms_validation;
@@ -457,6 +474,7 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     const auto gv = unit_friction(cur, val, c);
     NoiseEstimate nv = noise_level(val, c);
     if (nv.sigma <= 0 || (!nv.from_rests && rep.noise.from_rests)) nv = rep.noise;
+    add_quantisation(nv, val, c, friction_force(cur, val));
     rep.remaining = residual_structure(val, c, rv, gv, nv);
   }
   return rep;
@@ -622,7 +640,9 @@ nlohmann::json to_json(const IdentReport& r) {
                      {"time_limited", c.time_limited}});
     j["model_comparison"] = cmp;
   }
-  j["noise"] = {{"sigma_N", r.noise.sigma}, {"from_rests", r.noise.from_rests}, {"samples", r.noise.samples}};
+  j["noise"] = {{"sigma_N", r.noise.sigma},          {"from_rests", r.noise.from_rests},
+                {"samples", r.noise.samples},         {"encoder_step_m", r.noise.quantum},
+                {"quantisation_N", r.noise.quantisation}, {"floor_N", r.noise.floor()}};
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)

@@ -18,7 +18,8 @@
 //      a control refit of the current model with the same budget (better optimisation is never
 //      credited to an effect); its training F-test p-value times the number of candidates is
 //      below max_p; the validation BIC (n ln SSR/n + p ln n) drops; its contribution's RMS is at
-//      least min_size x the noise sigma. A close second candidate (screening validation RMS
+//      least min_size x the noise floor (noise and encoder quantisation), and below sure_size x the
+//      floor it explains min_excess of the validation MSE above the floor. A close second candidate (screening validation RMS
 //      within 2 %) is also refitted and the better one kept; when two fit the validation record
 //      alike the report says the data cannot tell them apart (notes). No candidate kept: stop.
 //   4. The final model gets one more refit (as the control), the standard errors of its linear
@@ -47,7 +48,9 @@ struct LoopOptions {
   double min_explained = 0.002; // smallest explained training variance worth a refit [-]
   double max_p = 1e-3;          // largest chance (training F-test of the effect's columns, times
                                 // the candidates screened) that still counts as a signature [-]
-  double min_size = 0.5;        // smallest effect contribution (RMS on training) / noise sigma [-]
+  double min_size = 0.5;        // smallest effect contribution (RMS on training) / noise floor [-]
+  double sure_size = 1.5;       // below this contribution / floor, an effect must also explain
+  double min_excess = 0.4;      // this share of the validation MSE above the floor [-]
   int tries_per_round = 3;
   int max_rounds = 9;
   std::vector<Effect> candidates;  // empty = the whole catalog

@@ -127,6 +127,24 @@ NoiseEstimate noise_level(const Dataset& d, const EffectContext& c) {
   return e;
 }
 
+void add_quantisation(NoiseEstimate& e, const Dataset& d, const EffectContext& c, const std::vector<double>& f) {
+  double q = 0;
+  for (std::size_t k = 1; k < d.size(); ++k) {
+    const double dx = std::abs(d.x[k] - d.x[k - 1]);
+    if (dx > 0 && (q == 0 || dx < q)) q = dx;
+  }
+  e.quantum = q;
+  double s = 0, n = 0;
+  for (std::size_t k = 1; k + 1 < d.size(); ++k) {
+    if (!d.use[k]) continue;
+    n += 1;
+    if (std::abs(d.v[k]) < c.v_rest) continue;
+    const double dfdx = (f[k + 1] - f[k - 1]) / (d.t[k + 1] - d.t[k - 1]) / d.v[k];
+    s += dfdx * dfdx;
+  }
+  e.quantisation = n > 0 ? std::sqrt(s / n) * q / std::sqrt(12.0) : 0.0;
+}
+
 RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::vector<double>& r,
                            const std::vector<double>& g_in, double fap, int max_peaks) {
   RippleSearch out;
@@ -346,7 +364,7 @@ ResidualStructure residual_structure(const Dataset& d, const EffectContext& c,
   for (std::size_t k = 0; k < d.size(); ++k)
     if (d.use[k]) ss += r[k] * r[k], nu += 1;
   out.rms = nu > 0 ? std::sqrt(ss / nu) : 0.0;
-  const double sigma = noise.sigma;
+  const double sigma = noise.floor();
   out.rms_to_noise = sigma > 0 ? out.rms / sigma : 0.0;
   const double alpha = 1e-4 / 5;  // five families of tests
   auto add = [&](std::string where, std::string detail, const BinTest& t) {
@@ -432,8 +450,10 @@ ResidualStructure residual_structure(const Dataset& d, const EffectContext& c,
   std::sort(out.findings.begin(), out.findings.end(),
             [](const auto& a, const auto& b) { return a.size > b.size; });
   std::ostringstream s;
-  s << "residual RMS " << num(out.rms) << " N = " << num(out.rms_to_noise) << "x the noise (sigma "
-    << num(sigma) << " N, " << (noise.from_rests ? "from rests" : "upper bound: no rests") << ")";
+  s << "residual RMS " << num(out.rms) << " N = " << num(out.rms_to_noise) << "x the noise floor ("
+    << num(sigma) << " N: noise " << num(noise.sigma) << " N "
+    << (noise.from_rests ? "from rests" : "(upper bound: no rests)") << ", encoder quantisation "
+    << num(noise.quantisation) << " N)";
   if (out.findings.empty()) {
     s << "; no structure above the noise";
   } else {
@@ -441,7 +461,7 @@ ResidualStructure residual_structure(const Dataset& d, const EffectContext& c,
     for (std::size_t i = 0; i < out.findings.size(); ++i) {
       const auto& f = out.findings[i];
       s << (i ? ";" : "") << ' ' << f.where << " (" << f.detail << ") " << num(f.size) << " N RMS = "
-        << num(f.size_to_noise) << "x noise";
+        << num(f.size_to_noise) << "x the floor";
     }
   }
   out.summary = s.str();
@@ -453,6 +473,9 @@ nlohmann::json to_json(const ResidualStructure& s) {
   j["noise_sigma_N"] = s.noise.sigma;
   j["noise_from_rests"] = s.noise.from_rests;
   j["noise_samples"] = s.noise.samples;
+  j["encoder_step_m"] = s.noise.quantum;
+  j["quantisation_N"] = s.noise.quantisation;
+  j["floor_N"] = s.noise.floor();
   j["rms_N"] = s.rms;
   j["rms_to_noise"] = s.rms_to_noise;
   nlohmann::json f = nlohmann::json::array();

@@ -32,8 +32,15 @@ struct NoiseEstimate {
   double sigma = 0;          // force noise standard deviation [N]
   std::size_t samples = 0;   // second differences used
   bool from_rests = false;   // false: from all used samples (includes signal; an upper bound)
+  double quantum = 0;        // encoder step found in x (smallest position step) [m]
+  double quantisation = 0;   // RMS force error that step gives through the model's stiffness [N]
+  // What noise and quantisation alone leave [N].
+  double floor() const { return std::sqrt(sigma * sigma + quantisation * quantisation); }
 };
 NoiseEstimate noise_level(const Dataset& d, const EffectContext& c);
+// Adds the quantisation share: x is known to +-q/2, so the force is known to Fc |dg/dx| q / sqrt(12)
+// while moving (f = the fitted friction force along d, physical units).
+void add_quantisation(NoiseEstimate& e, const Dataset& d, const EffectContext& c, const std::vector<double>& f);
 
 struct RipplePeak {
   double wavelength = 0;       // [m]
@@ -64,14 +71,14 @@ struct StructureFinding {
   std::string where;       // "velocity", "position", "time", "after_reversal", "position_spectrum"
   std::string detail;      // e.g. "|v| 10-20 mm/s", "wavelength 1.3 mm"
   double size = 0;         // RMS (or amplitude) of the structure [N]
-  double size_to_noise = 0;  // size / noise sigma [-]
+  double size_to_noise = 0;  // size / noise floor (noise and quantisation) [-]
   double p_value = 1;      // chance of this under noise alone (after the number of bins tried)
 };
 
 struct ResidualStructure {
   NoiseEstimate noise;
   double rms = 0;                  // residual RMS on used samples [N]
-  double rms_to_noise = 0;         // [-]
+  double rms_to_noise = 0;         // rms / noise floor (noise and quantisation) [-]
   std::vector<StructureFinding> findings;  // significant ones, largest first
   std::string summary;             // one line for a person (CLI, panel)
 };
