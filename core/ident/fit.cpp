@@ -9,6 +9,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/ident/element_fit.hpp"
 
 namespace gmslab::ident {
 
@@ -90,10 +91,21 @@ Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
   if (ref_ < 0)
     for (std::size_t j = 0; j < info.columns.size(); ++j)
       if (info.columns[j].unit == "N" && ref_col < 0) ref_col = static_cast<int>(j);
-  const double n = static_cast<double>(elements_);
+  // Element stiffnesses are searched as kappa = k / (element level) [1/m]: the inverse of the
+  // element's break-away displacement at Fc, independent of its weight (element_fit.hpp); the
+  // unit model multiplies by the normalised weight (GMS alpha) or the slip force (Maxwell-slip,
+  // Leuven W). Bounds: the grid range of break-away displacements (element_fit.cpp).
+  for (std::size_t j = 0; j < info.columns.size(); ++j) {
+    if (info.columns[j].unit == "N/m") stiff_ = static_cast<int>(j);
+    if (info.columns[j].unit == "N" && level_col_ < 0) level_col_ = static_cast<int>(j);
+  }
+  if (alpha_ >= 0) level_col_ = alpha_;
+  const auto [x_lo, x_hi] = element_x_range(c);
   for (std::size_t r = 0; r < elements_; ++r) {
     // Element break-away displacements spread geometrically from 0.15 x_ba to x_ba.
-    const double frac = elements_ > 1 ? static_cast<double>(elements_ - 1 - r) / (n - 1) : 0.0;
+    const double frac = elements_ > 1 ? static_cast<double>(elements_ - 1 - r) /
+                                            (static_cast<double>(elements_) - 1)
+                                      : 0.0;
     const double xr = 0.5 * c.x_ba * std::pow(0.15, frac);  // x_ba spans a full swing
     for (std::size_t j = 0; j < info.columns.size(); ++j) {
       const auto& s = info.columns[j];
@@ -102,7 +114,7 @@ Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
       if (jj == alpha_) {
         cell = 1.0;
         if (r == 0) continue;
-        ShapeParam p{"w[" + std::to_string(r) + "]/w[0]", "-", 0.05, 20.0, 1.0, true};
+        ShapeParam p{"w[" + std::to_string(r) + "]/w[0]", "-", 1e-3, 1e2, 1.0, true};
         p.row = static_cast<int>(r), p.column = jj;
         params_.push_back(p);
         continue;
@@ -110,14 +122,32 @@ Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
       if (s.key == "sigma") { cell = 0.0; continue; }
       if (jj == ref_col && r == 0) { cell = 1.0; continue; }
       auto p = shape_for(s, cell, def_ref, c);
-      if (s.unit == "N/m") p.init = 1.0 / (n * xr), p.lo = p.init / 300, p.hi = p.init * 300;
-      if (s.unit == "N") p.init = 1.0 / n, p.lo = p.init / 100, p.hi = p.init * 100;
-      p.name = std::string(s.key) + "[" + std::to_string(r) + "]" +
-               (force_like(s.unit) ? "/Fc" : "");
+      if (jj == stiff_) {
+        p.unit = "1/m";
+        p.init = std::clamp(1.0 / xr, 1.0 / x_hi, 1.0 / x_lo);
+        p.lo = 1.0 / x_hi, p.hi = 1.0 / x_lo;
+        p.name = "kappa[" + std::to_string(r) + "]";
+      } else {
+        if (s.unit == "N") p.init = 1.0, p.lo = 1e-3, p.hi = 1e2;
+        p.name = std::string(s.key) + "[" + std::to_string(r) + "]" +
+                 (force_like(s.unit) ? "/" + std::string(s.key) + "[0]" : "");
+      }
       p.row = static_cast<int>(r), p.column = jj;
       params_.push_back(p);
     }
   }
+}
+
+std::pair<double, double> element_x_range(const EffectContext& c) {
+  const double hi = std::max(20.0 * c.x_ba, 1e-9);
+  return {std::max(hi * 2e-5, 1e-10), hi};
+}
+
+double Parameterization::box(std::size_t i, double value) const {
+  const auto& p = params_[i];
+  const double u = p.log ? std::log(std::max(value, 1e-300) / p.lo) / std::log(p.hi / p.lo)
+                         : (value - p.lo) / (p.hi - p.lo);
+  return std::clamp(u, 0.0, 1.0);
 }
 
 double Parameterization::value(std::size_t i, double u) const {
@@ -128,9 +158,7 @@ double Parameterization::value(std::size_t i, double u) const {
 
 std::vector<double> Parameterization::initial() const {
   std::vector<double> u;
-  for (const auto& p : params_)
-    u.push_back(p.log ? std::log(p.init / p.lo) / std::log(p.hi / p.lo)
-                      : (p.init - p.lo) / (p.hi - p.lo));
+  for (std::size_t i = 0; i < params_.size(); ++i) u.push_back(box(i, params_[i].init));
   return u;
 }
 
@@ -147,6 +175,9 @@ ModelParams Parameterization::unit_model(const std::vector<double>& u) const {
     for (const auto& row : m.elements) s += row[static_cast<std::size_t>(alpha_)];
     for (auto& row : m.elements) row[static_cast<std::size_t>(alpha_)] /= s;
   }
+  if (stiff_ >= 0 && level_col_ >= 0)  // k = kappa x element level
+    for (auto& row : m.elements)
+      row[static_cast<std::size_t>(stiff_)] *= row[static_cast<std::size_t>(level_col_)];
   return m;
 }
 
@@ -349,6 +380,13 @@ nlopt::algorithm algorithm_of(const std::string& m) {
 
 FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                     const FitOptions& o, const std::vector<double>* warm) {
+  // Element models without a warm start: variable projection over an element grid.
+  if (has_linear_elements(spec.model) && !warm) {
+    bool g_free = true;
+    for (Effect e : spec.effects)
+      for (const auto& col : effect_columns(e)) g_free &= !col.uses_g;
+    if (g_free) return fit_elements(spec, train, c, o);
+  }
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);

@@ -87,6 +87,7 @@ class Parameterization {
   ModelParams physical(const std::vector<double>& u, double level, double viscous) const;
   bool has_viscous() const { return viscous_ >= 0; }
   double value(std::size_t i, double u) const;  // searched value of parameter i at box coord u
+  double box(std::size_t i, double value) const;  // inverse of value() (clamped to the box)
 
  private:
   const ModelInfo& info_;
@@ -96,7 +97,13 @@ class Parameterization {
   int ref_ = -1;      // reference force scalar
   int viscous_ = -1;  // sigma2 scalar
   int alpha_ = -1;    // weight column
+  int stiff_ = -1;    // stiffness column (searched as kappa = k / element level)
+  int level_col_ = -1;  // the element level column (alpha, or the slip force W)
 };
+
+// Break-away displacements [m] the element stiffnesses may span on this record: from
+// 20 x_ba (beyond any swing the record shows) down 5 decades (below any encoder step).
+std::pair<double, double> element_x_range(const EffectContext& c);
 
 struct LinearTerm {
   std::string effect;  // "base" or a catalog name

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <Eigen/Dense>
 
+#include "core/ident/element_fit.hpp"
 #include "core/ident/evidence.hpp"
 #include "core/io/scenario_io.hpp"
 
@@ -278,6 +279,18 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
 
 }  // namespace
 
+FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val,
+                   const EffectContext& c, const FitOptions& o) {
+  const ModelInfo& info = model_info(base.model);
+  if (base.elements == 0 && !info.columns.empty()) {
+    if (has_linear_elements(base.model)) return fit_elements_auto(base, train, val, c, o);
+    FitSpec s = base;
+    s.elements = 4;  // no grid fit for this model: its default element count
+    return fit_model(s, train, c, o);
+  }
+  return fit_model(base, train, c, o);
+}
+
 IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& base,
                      const LoopOptions& o) {
   IdentReport rep;
@@ -289,7 +302,8 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
   rep.validation_samples = val.used();
   EffectContext c = make_context(train);
   rep.noise = noise_level(train, c);
-  FitResult cur = fit_model(base, train, c, o.base);
+  FitResult cur = fit_base(base, train, val, c, o.base);
+  rep.elements = cur.spec.elements;
   // The quantisation share of the floor, through the base fit's stiffness (updated at the end).
   auto friction_force = [&](const FitResult& f, const Dataset& d) {
     auto g = unit_friction(f, d, c);
@@ -320,7 +334,6 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     if (!contains(cur.spec.effects, Effect::DwellStiction) &&
         effect_applicable(Effect::DwellStiction, train, c))
       choose_dwell_length(cur, train, c);
-    // Something above the noise left to explain: then the channel effects get shape refits.
     for (const auto& t : cur.terms)  // the viscous share the channel effects carry along
       if (t.effect == "base" && t.name == "sigma2" && !cur.theta.empty() && cur.theta[0] > 0)
         c.viscous_ratio = t.value / cur.theta[0];
@@ -363,7 +376,11 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       if (k.explained < o.min_explained) continue;
       if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
       // A close second is tried too once one is kept; otherwise the first kept ends the round.
-      if (best && k.screen_rms_validation > best_screen * 1.02) break;
+      // The channel effects time_shift and sensor_filter agree to first order: when one is kept
+      // the other is always refitted too, and the validation record decides.
+      auto channel = [](Effect e) { return e == Effect::TimeShift || e == Effect::SensorFilter; };
+      if (best && k.screen_rms_validation > best_screen * 1.02 && !(channel(best->second.effect) && channel(k.effect)))
+        continue;
       ++tries;
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));

@@ -129,6 +129,11 @@ struct IdentReport {
   const FitResult& final_fit() const { return stages.back(); }
 };
 
+// The base fit: fit_model, or with base.elements == 0 (--elements auto) the element count chosen
+// by the validation record (element_fit.hpp).
+FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& validation,
+                   const EffectContext& c, const FitOptions& o);
+
 IdentReport identify(const Dataset& train, const Dataset& validation, const FitSpec& base,
                      const LoopOptions& o);
 

@@ -1,0 +1,503 @@
+#include "core/ident/element_fit.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <nlopt.hpp>
+#include <functional>
+#include <numeric>
+
+#include "core/error.hpp"
+
+namespace gmslab::ident {
+
+bool has_linear_elements(std::string_view model) { return model == "gms" || model == "maxwell_slip"; }
+
+std::pair<double, double> grid_range(const EffectContext& c) { return element_x_range(c); }
+
+// ------------------------------------------------------------------------------------------------
+// NNLS (Lawson-Hanson) on the normal equations
+// ------------------------------------------------------------------------------------------------
+
+Eigen::VectorXd nnls_gram(const Eigen::MatrixXd& G, const Eigen::VectorXd& b,
+                          const std::vector<bool>& nonneg) {
+  const Eigen::Index m = G.rows();
+  Eigen::VectorXd diag = G.diagonal().cwiseMax(1e-300);
+  Eigen::VectorXd s = diag.cwiseSqrt().cwiseInverse();  // column scaling
+  Eigen::MatrixXd Gs = s.asDiagonal() * G * s.asDiagonal();
+  Gs.diagonal().array() += 1e-11;
+  const Eigen::VectorXd bs = s.asDiagonal() * b;
+  std::vector<bool> passive(static_cast<std::size_t>(m), false);
+  for (Eigen::Index j = 0; j < m; ++j) passive[static_cast<std::size_t>(j)] = !nonneg[static_cast<std::size_t>(j)];
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(m);
+  auto solve_passive = [&](Eigen::VectorXd& z) {
+    std::vector<Eigen::Index> P;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (passive[static_cast<std::size_t>(j)]) P.push_back(j);
+    z.setZero(m);
+    if (P.empty()) return;
+    const auto p = static_cast<Eigen::Index>(P.size());
+    Eigen::MatrixXd A(p, p);
+    Eigen::VectorXd r(p);
+    for (Eigen::Index i = 0; i < p; ++i) {
+      r(i) = bs(P[static_cast<std::size_t>(i)]);
+      for (Eigen::Index j = 0; j < p; ++j) A(i, j) = Gs(P[static_cast<std::size_t>(i)], P[static_cast<std::size_t>(j)]);
+    }
+    const Eigen::VectorXd zz = A.ldlt().solve(r);
+    for (Eigen::Index i = 0; i < p; ++i) z(P[static_cast<std::size_t>(i)]) = zz(i);
+  };
+  // Free variables first.
+  Eigen::VectorXd z;
+  solve_passive(z);
+  x = z;
+  const double tol = 1e-12 * std::max(1.0, bs.cwiseAbs().maxCoeff());
+  for (int outer = 0; outer < 3 * static_cast<int>(m) + 10; ++outer) {
+    const Eigen::VectorXd w = bs - Gs * x;  // negative gradient
+    Eigen::Index jmax = -1;
+    double wmax = tol;
+    for (Eigen::Index j = 0; j < m; ++j)
+      if (!passive[static_cast<std::size_t>(j)] && w(j) > wmax) wmax = w(j), jmax = j;
+    if (jmax < 0) break;
+    passive[static_cast<std::size_t>(jmax)] = true;
+    for (int inner = 0; inner < 3 * static_cast<int>(m) + 10; ++inner) {
+      solve_passive(z);
+      bool feasible = true;
+      for (Eigen::Index j = 0; j < m; ++j)
+        if (passive[static_cast<std::size_t>(j)] && nonneg[static_cast<std::size_t>(j)] && z(j) <= 0) feasible = false;
+      if (feasible) {
+        x = z;
+        break;
+      }
+      // Step from x towards z as far as feasibility allows; drop the variables that hit zero.
+      double alpha = 1.0;
+      for (Eigen::Index j = 0; j < m; ++j)
+        if (passive[static_cast<std::size_t>(j)] && nonneg[static_cast<std::size_t>(j)] && z(j) <= 0)
+          alpha = std::min(alpha, x(j) / std::max(x(j) - z(j), 1e-300));
+      x += alpha * (z - x);
+      for (Eigen::Index j = 0; j < m; ++j)
+        if (passive[static_cast<std::size_t>(j)] && nonneg[static_cast<std::size_t>(j)] && x(j) <= 1e-15 * (1 + std::abs(z(j))))
+          passive[static_cast<std::size_t>(j)] = false, x(j) = 0.0;
+    }
+  }
+  for (Eigen::Index j = 0; j < m; ++j)
+    if (nonneg[static_cast<std::size_t>(j)]) x(j) = std::max(0.0, x(j));
+  return s.asDiagonal() * x;
+}
+
+// ------------------------------------------------------------------------------------------------
+// The variable-projection evaluator: unit elements at given kappas, NNLS weights
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+class ElementEvaluator {
+ public:
+  ElementEvaluator(const FitSpec& spec, const Dataset& d, const EffectContext& c)
+      : info_(model_info(spec.model)), d_(d), par_(info_, 1, c) {
+    for (const auto& p : par_.params())
+      if (p.scalar >= 0) scalars_.push_back(p);
+    for (std::size_t k = 0; k < d.size(); ++k)
+      if (d.use[k]) rows_.push_back(k);
+    row_of_.assign(d.size(), -1);
+    for (std::size_t i = 0; i < rows_.size(); ++i) row_of_[rows_[i]] = static_cast<long>(i);
+    const auto nu = static_cast<Eigen::Index>(rows_.size());
+    y_.resize(nu);
+    for (Eigen::Index i = 0; i < nu; ++i) y_(i) = d.F[rows_[static_cast<std::size_t>(i)]];
+    yy_ = y_.squaredNorm();
+    // Fixed columns: sigma2 v (if the model has it, non-negative), then the effects' columns.
+    std::vector<std::vector<double>> cols;
+    std::vector<double> full(d.size());
+    if (info_.scalar_index("sigma2") >= 0) {
+      cols.push_back(d.v);
+      fixed_nonneg_.push_back(true);
+    }
+    for (Effect e : spec.effects)
+      for (auto& col : effect_columns(e)) {
+        if (col.uses_g) throw InputError("internal: the grid fit takes effects without g columns");
+        col.fill(d, c, {}, full);
+        cols.push_back(full);
+        fixed_nonneg_.push_back(false);
+      }
+    Af_.resize(nu, static_cast<Eigen::Index>(cols.size()));
+    for (std::size_t j = 0; j < cols.size(); ++j)
+      for (Eigen::Index i = 0; i < nu; ++i)
+        Af_(i, static_cast<Eigen::Index>(j)) = cols[j][rows_[static_cast<std::size_t>(i)]];
+    Gff_ = Af_.transpose() * Af_;
+    bf_ = Af_.transpose() * y_;
+  }
+
+  std::size_t scalar_count() const { return scalars_.size(); }
+  const std::vector<ShapeParam>& scalars() const { return scalars_; }
+  double scalar_value(std::size_t i, double u) const {
+    const auto& p = scalars_[i];
+    u = std::clamp(u, 0.0, 1.0);
+    return p.log ? p.lo * std::pow(p.hi / p.lo, u) : p.lo + (p.hi - p.lo) * u;
+  }
+  std::vector<double> initial_scalars() const {
+    std::vector<double> u;
+    for (std::size_t i = 0; i < scalars_.size(); ++i) u.push_back(par_.box(i, scalars_[i].init));
+    return u;
+  }
+  double null_rms() const { return std::sqrt(yy_ / static_cast<double>(std::max<std::size_t>(rows_.size(), 1))); }
+
+  // Unit elements at kappa: fills E_ (used rows x K); false when the model cannot be built.
+  bool simulate(const std::vector<double>& shape, const std::vector<double>& kappa) {
+    const std::size_t K = kappa.size();
+    ModelParams m = info_.defaults();
+    m.model = std::string(info_.tag);
+    // Scalars: the reference level 1, sigma2 0, searched ones from the shape.
+    for (std::size_t i = 0; i < m.scalars.size(); ++i) {
+      const auto& s = info_.scalars[i];
+      if (s.key == "Fc") m.scalars[i] = 1.0;
+      if (s.key == "sigma2") m.scalars[i] = 0.0;
+    }
+    for (std::size_t i = 0; i < scalars_.size(); ++i)
+      m.scalars[static_cast<std::size_t>(scalars_[i].scalar)] = scalar_value(i, shape[i]);
+    double scale = 1.0;
+    m.elements.assign(K, std::vector<double>(info_.columns.size(), 0.0));
+    const auto a = info_.column_index("alpha"), k = info_.column_index("k"), W = info_.column_index("W");
+    for (std::size_t j = 0; j < K; ++j) {
+      auto& row = m.elements[j];
+      if (a >= 0) {  // GMS: alpha = 1 / K, element force = f / K
+        row[static_cast<std::size_t>(a)] = 1.0 / static_cast<double>(K);
+        row[static_cast<std::size_t>(k)] = kappa[j] / static_cast<double>(K);
+        scale = static_cast<double>(K);
+      } else {  // Maxwell-slip: W = 1
+        row[static_cast<std::size_t>(W)] = 1.0;
+        row[static_cast<std::size_t>(k)] = kappa[j];
+      }
+    }
+    std::unique_ptr<FrictionModel> model;
+    try {
+      model = build_model(m);
+    } catch (const std::exception&) {
+      return false;
+    }
+    std::vector<double> state(model->state_size());
+    model->reset(state);
+    E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
+    for (std::size_t t = 1; t < d_.size(); ++t) {
+      model->step(state, {d_.vstep[t], d_.h[t], 0.0, 0.0});
+      const long r = row_of_[t];
+      if (r < 0) continue;
+      double* out = E_.row(r).data();
+      for (std::size_t j = 0; j < K; ++j) out[j] = scale * state[j];
+    }
+    if (row_of_[0] >= 0) E_.row(row_of_[0]).setZero();
+    return E_.allFinite();
+  }
+
+  // NNLS on [E | fixed]; returns the RMS [N] and the coefficients (K element weights, then fixed).
+  double solve(Eigen::VectorXd* theta = nullptr) {
+    const Eigen::Index K = E_.cols(), pf = Af_.cols(), p = K + pf;
+    Eigen::MatrixXd G(p, p);
+    Eigen::VectorXd b(p);
+    G.topLeftCorner(K, K).noalias() = E_.transpose() * E_;
+    G.topRightCorner(K, pf).noalias() = E_.transpose() * Af_;
+    G.bottomLeftCorner(pf, K) = G.topRightCorner(K, pf).transpose();
+    G.bottomRightCorner(pf, pf) = Gff_;
+    b.head(K).noalias() = E_.transpose() * y_;
+    b.tail(pf) = bf_;
+    std::vector<bool> nonneg(static_cast<std::size_t>(p), true);
+    for (Eigen::Index j = 0; j < pf; ++j) nonneg[static_cast<std::size_t>(K + j)] = fixed_nonneg_[static_cast<std::size_t>(j)];
+    const Eigen::VectorXd th = nnls_gram(G, b, nonneg);
+    if (theta) *theta = th;
+    if (!th.allFinite() || !(th.head(K).sum() > 0)) return bad();
+    const double sse = yy_ - 2 * th.dot(b) + th.dot(G * th);
+    return std::sqrt(std::max(0.0, sse) / static_cast<double>(rows_.size()));
+  }
+
+  double cost(const std::vector<double>& shape, const std::vector<double>& kappa,
+              Eigen::VectorXd* theta = nullptr) {
+    if (!simulate(shape, kappa)) return bad();
+    return solve(theta);
+  }
+
+ private:
+  double bad() const { return 2.0 * null_rms() + 1.0; }
+  const ModelInfo& info_;
+  const Dataset& d_;
+  Parameterization par_;
+  std::vector<ShapeParam> scalars_;
+  std::vector<std::size_t> rows_;
+  std::vector<long> row_of_;
+  Eigen::VectorXd y_, bf_;
+  RowMat E_;
+  Eigen::MatrixXd Af_, Gff_;
+  std::vector<bool> fixed_nonneg_;
+  double yy_ = 0;
+};
+
+// Bounded derivative-free minimisation of f over the unit box from x (NLopt BOBYQA); keeps the
+// best point seen. Honors cancel and the deadline (steady_clock); returns the best value.
+struct Search {
+  const FitOptions& o;
+  std::chrono::steady_clock::time_point t0;
+  int evals = 0;
+  int budget = 0;
+  bool time_limited = false;
+
+  double seconds_left() const {
+    if (o.max_seconds <= 0) return 0;
+    return o.max_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  using F = std::function<double(const std::vector<double>&)>;
+  double run(const F& f, std::vector<double>& x, int max_eval, double step, const std::string& stage) {
+    const std::size_t n = x.size();
+    double best = f(x);
+    ++evals;
+    if (n == 0) return best;
+    std::vector<double> best_x = x;
+    nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+    opt.set_lower_bounds(std::vector<double>(n, 0.0));
+    opt.set_upper_bounds(std::vector<double>(n, 1.0));
+    opt.set_maxeval(max_eval);
+    opt.set_ftol_rel(o.rel_tol);
+    opt.set_initial_step(std::vector<double>(n, step));
+    if (o.max_seconds > 0) {
+      const double left = seconds_left();
+      if (left <= 0) {
+        time_limited = true;
+        return best;
+      }
+      opt.set_maxtime(left);
+    }
+    struct Ctx {
+      const F* f;
+      Search* s;
+      double* best;
+      std::vector<double>* best_x;
+      const std::string* stage;
+    } ctx{&f, this, &best, &best_x, &stage};
+    opt.set_min_objective(
+        [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
+          auto& c = *static_cast<Ctx*>(p);
+          if (c.s->o.cancel && c.s->o.cancel->load()) throw nlopt::forced_stop();
+          const double v = (*c.f)(u);
+          ++c.s->evals;
+          if (v < *c.best) *c.best = v, *c.best_x = u;
+          if (c.s->o.progress && c.s->evals % 25 == 0)
+            c.s->o.progress({*c.stage, c.s->evals, *c.best, c.s->budget});
+          return v;
+        },
+        &ctx);
+    double fv = 0;
+    try {
+      if (opt.optimize(x, fv) == nlopt::MAXTIME_REACHED) time_limited = true;
+    } catch (const nlopt::forced_stop&) {
+    } catch (const std::runtime_error&) {  // roundoff-limited: keep the best seen
+    }
+    if (o.cancel && o.cancel->load()) throw Cancelled();
+    x = best_x;
+    return best;
+  }
+};
+
+std::vector<double> log_grid(double lo, double hi, std::size_t n) {
+  std::vector<double> g(n);
+  for (std::size_t i = 0; i < n; ++i)
+    g[i] = lo * std::pow(hi / lo, n > 1 ? static_cast<double>(i) / static_cast<double>(n - 1) : 0.5);
+  return g;
+}
+
+constexpr std::size_t kGridPoints = 30;
+
+}  // namespace
+
+GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                      const FitOptions& o) {
+  ElementEvaluator ev(spec, train, c);
+  const auto [x_lo, x_hi] = element_x_range(c);
+  GridSolution g;
+  g.model = spec.model;
+  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo, kGridPoints);
+  Search search{o, std::chrono::steady_clock::now()};
+  const std::size_t ns = ev.scalar_count();
+  search.budget = 40 + 3 * o.max_evaluations / 2 + o.max_evaluations;
+  // Start candidates: the data-based guess and a small design over the shape box.
+  std::vector<std::vector<double>> cands{ev.initial_scalars()};
+  if (ns > 0) {
+    std::vector<std::vector<double>> levels;
+    for (const auto& p : ev.scalars()) {
+      const std::string_view key = p.name;
+      if (key == "Fs/Fc") levels.push_back({1.1, 1.5, 2.5});
+      else if (key == "Vs") levels.push_back({0.02 * c.v_ref, 0.1 * c.v_ref, 0.5 * c.v_ref});
+      else if (key == "C/Fc") levels.push_back({20.0, 300.0, 5000.0});
+      else levels.push_back({p.init});
+    }
+    std::vector<std::size_t> idx(ns, 0);
+    for (;;) {
+      std::vector<double> u(ns);
+      const auto& sc = ev.scalars();
+      for (std::size_t i = 0; i < ns; ++i) {
+        const auto& p = sc[i];
+        const double v = levels[i][idx[i]];
+        u[i] = std::clamp(p.log ? std::log(v / p.lo) / std::log(p.hi / p.lo) : (v - p.lo) / (p.hi - p.lo), 0.0, 1.0);
+      }
+      cands.push_back(u);
+      std::size_t i = 0;
+      while (i < ns && ++idx[i] == levels[i].size()) idx[i++] = 0;
+      if (i == ns) break;
+    }
+  }
+  std::vector<std::pair<double, std::size_t>> scored;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (o.cancel && o.cancel->load()) throw Cancelled();
+    scored.push_back({ev.cost(cands[i], g.kappa), i});
+    ++search.evals;
+  }
+  std::sort(scored.begin(), scored.end());
+  double best = scored.front().first;
+  std::vector<double> best_u = cands[scored.front().second];
+  const int starts = ns == 0 ? 0 : std::min<int>(3, static_cast<int>(scored.size()));
+  for (int s = 0; s < starts; ++s) {
+    std::vector<double> x = cands[scored[static_cast<std::size_t>(s)].second];
+    auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
+    const double v = search.run(f, x, o.max_evaluations / 2, 0.1,
+                                o.stage + ", grid start " + std::to_string(s + 1) + "/" + std::to_string(starts));
+    if (v < best) best = v, best_u = x;
+  }
+  Eigen::VectorXd th;
+  g.rms = ev.cost(best_u, g.kappa, &th);
+  g.shape = best_u;
+  g.weight.assign(th.data(), th.data() + static_cast<Eigen::Index>(g.kappa.size()));
+  g.evaluations = search.evals;
+  // Groups of neighbouring active grid points.
+  const double wsum = std::accumulate(g.weight.begin(), g.weight.end(), 0.0);
+  for (std::size_t j = 0; j < g.kappa.size();) {
+    if (!(g.weight[j] > 1e-9 * wsum)) { ++j; continue; }
+    double w = 0, lk = 0;
+    while (j < g.kappa.size() && g.weight[j] > 1e-9 * wsum) w += g.weight[j], lk += g.weight[j] * std::log(g.kappa[j]), ++j;
+    g.active.push_back({std::exp(lk / w), w});
+  }
+  std::sort(g.active.begin(), g.active.end(), [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
+  return g;
+}
+
+namespace {
+
+// Groups grid points into exactly n elements where possible: start from single active grid
+// points, merge the pair of neighbours (in log kappa) with the smallest Ward cost until n remain.
+std::vector<GridElement> group(const GridSolution& g, std::size_t n) {
+  std::vector<GridElement> pts;
+  const double wsum = std::accumulate(g.weight.begin(), g.weight.end(), 0.0);
+  for (std::size_t j = 0; j < g.kappa.size(); ++j)
+    if (g.weight[j] > 1e-6 * wsum) pts.push_back({g.kappa[j], g.weight[j]});
+  if (pts.empty()) pts.push_back({g.kappa[g.kappa.size() / 2], std::max(wsum, 1e-12)});
+  while (pts.size() > n) {
+    std::size_t best = 0;
+    double cost = 1e300;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+      const double d = std::log(pts[i + 1].kappa / pts[i].kappa);
+      const double c = pts[i].weight * pts[i + 1].weight / (pts[i].weight + pts[i + 1].weight) * d * d;
+      if (c < cost) cost = c, best = i;
+    }
+    auto& a = pts[best];
+    const auto& b = pts[best + 1];
+    const double w = a.weight + b.weight;
+    a.kappa = std::exp((a.weight * std::log(a.kappa) + b.weight * std::log(b.kappa)) / w);
+    a.weight = w;
+    pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(best) + 1);
+  }
+  return pts;
+}
+
+}  // namespace
+
+FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
+                            const EffectContext& c, const FitOptions& o) {
+  ElementEvaluator ev(spec, train, c);
+  const auto [x_lo, x_hi] = element_x_range(c);
+  const double k_lo = 1.0 / x_hi, k_hi = 1.0 / x_lo;
+  std::vector<GridElement> els = group(g, std::max<std::size_t>(1, spec.elements));
+  const std::size_t ns = ev.scalar_count(), n = els.size();
+  // Free knots: shape + log kappa per element, in the unit box.
+  auto to_u = [&](double kappa) { return std::clamp(std::log(kappa / k_lo) / std::log(k_hi / k_lo), 0.0, 1.0); };
+  auto from_u = [&](double u) { return k_lo * std::pow(k_hi / k_lo, std::clamp(u, 0.0, 1.0)); };
+  std::vector<double> x = g.shape;
+  for (const auto& e : els) x.push_back(to_u(e.kappa));
+  auto split = [&](const std::vector<double>& u, std::vector<double>& shape, std::vector<double>& kappa) {
+    shape.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(ns));
+    kappa.clear();
+    for (std::size_t i = 0; i < n; ++i) kappa.push_back(from_u(u[ns + i]));
+  };
+  std::vector<double> shape, kappa;
+  auto f = [&](const std::vector<double>& u) {
+    split(u, shape, kappa);
+    return ev.cost(shape, kappa);
+  };
+  Search search{o, std::chrono::steady_clock::now()};
+  search.budget = o.max_evaluations;
+  search.evals = 0;
+  search.run(f, x, o.max_evaluations, 0.03, o.stage + ", " + std::to_string(n) + " elements");
+  split(x, shape, kappa);
+  Eigen::VectorXd th;
+  ev.cost(shape, kappa, &th);
+  // Elements, heaviest first; drop elements carrying less than 0.1 % of the heaviest.
+  std::vector<GridElement> found;
+  for (std::size_t i = 0; i < n; ++i) found.push_back({kappa[i], th(static_cast<Eigen::Index>(i))});
+  std::sort(found.begin(), found.end(), [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
+  while (found.size() > 1 && !(found.back().weight > 1e-3 * found.front().weight)) found.pop_back();
+  // The standard parameterization with the element count found.
+  FitSpec out = spec;
+  out.elements = found.size();
+  const ModelInfo& info = model_info(spec.model);
+  const Parameterization par(info, out.elements, c);
+  const auto a = info.column_index("alpha"), kc = info.column_index("k"), W = info.column_index("W");
+  std::vector<double> u(par.size(), 0.5);
+  std::size_t si = 0;
+  for (std::size_t i = 0; i < par.size(); ++i) {
+    const auto& p = par.params()[i];
+    if (p.scalar >= 0) {
+      u[i] = shape[si++];
+      continue;
+    }
+    const auto& e = found[static_cast<std::size_t>(p.row)];
+    if (p.column == kc) u[i] = par.box(i, e.kappa);
+    else if (p.column == a || p.column == W) u[i] = par.box(i, e.weight / found.front().weight);
+  }
+  FitResult r = refit_linear(out, train, c, u);
+  r.evaluations = g.evaluations + search.evals;
+  r.time_limited = search.time_limited;
+  return r;
+}
+
+FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                       const FitOptions& o) {
+  const GridSolution g = fit_grid(spec, train, c, o);
+  FitResult r = reduce_and_polish(g, spec, train, c, o);
+  r.evaluations = r.evaluations;  // both stages counted in reduce_and_polish
+  if (o.progress) o.progress({o.stage + ", done", r.evaluations, r.rms_train, r.evaluations});
+  return r;
+}
+
+FitResult fit_elements_auto(const FitSpec& spec, const Dataset& train, const Dataset& validation,
+                            const EffectContext& c, const FitOptions& o, std::size_t max_elements) {
+  const GridSolution g = fit_grid(spec, train, c, o);
+  std::size_t points = 0;
+  for (double w : g.weight) points += w > 0;
+  const std::size_t top = std::clamp<std::size_t>(points, 1, max_elements);
+  std::vector<FitResult> fits;
+  std::vector<double> val;
+  for (std::size_t n = 1; n <= top; ++n) {
+    FitSpec s = spec;
+    s.elements = n;
+    FitOptions so = o;
+    so.stage = o.stage + ", elements auto";
+    fits.push_back(reduce_and_polish(g, s, train, c, so));
+    val.push_back(rms_on(fits.back(), validation, c));
+    if (fits.back().spec.elements < n) break;  // the grid holds no more distinct elements
+  }
+  const double best = *std::min_element(val.begin(), val.end());
+  std::size_t pick = 0;
+  while (val[pick] > 1.02 * best) ++pick;
+  FitResult r = fits[pick];
+  for (const auto& f : fits) r.evaluations += f.evaluations - g.evaluations;
+  r.evaluations -= fits[pick].evaluations - g.evaluations;
+  return r;
+}
+
+}  // namespace gmslab::ident
