@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "core/ident/dataset.hpp"
+#include "core/ident/job.hpp"
 #include "core/ident/loop.hpp"
 #include "ui/figure_view.hpp"
 #include "ui/plot.hpp"
@@ -103,31 +104,20 @@ void start(IdentifyState& st) {
   j->thread = std::thread([j, cfg] {
     try {
       auto r = std::make_unique<Result>();
-      r->train = ident::load_dataset(train_spec(cfg));
-      if (cfg.validate.empty()) {
-        auto split = ident::split_holdout(r->train);
-        r->train = std::move(split.first);
-        r->val = std::move(split.second);
-      } else {
-        r->val = ident::load_dataset(validation_spec(cfg));
-      }
-      ident::LoopOptions lo;
+      ident::IdentifyJob job;  // the CLI's job, with the CLI's defaults
+      job.train = train_spec(cfg);
+      job.validation = validation_spec(cfg);
+      job.spec.model = cfg.model;
+      job.spec.elements = static_cast<std::size_t>(cfg.elements);
+      if (cfg.compare) job.compare = ident::parse_model_list("all");
       auto progress = [j](const ident::FitProgress& p) {
         std::lock_guard<std::mutex> lock(j->m);
         j->progress = p;
       };
-      lo.base.progress = lo.refit.progress = progress;
-      lo.base.cancel = lo.refit.cancel = &j->cancel;
-      ident::FitSpec spec;
-      spec.model = cfg.model;
-      spec.elements = static_cast<std::size_t>(cfg.elements);
-      r->report = ident::identify(r->train, r->val, spec, lo);
-      if (cfg.compare) {
-        ident::FitOptions co = lo.base;
-        co.max_seconds = ident::kCompareSeconds;
-        r->report.comparison =
-            ident::compare_models(r->report, r->train, r->val, ident::parse_model_list("all"), co);
-      }
+      auto out = ident::run_identification(job, progress, &j->cancel);
+      r->train = std::move(out.train);
+      r->val = std::move(out.validation);
+      r->report = std::move(out.report);
       r->figure = ident::report_figure(r->report, r->train, r->val);
       std::lock_guard<std::mutex> lock(j->m);
       j->result = std::move(r);

@@ -18,6 +18,7 @@
 #include "app/cli/cli.hpp"
 #include "core/error.hpp"
 #include "core/ident/figure_json.hpp"
+#include "core/ident/job.hpp"
 #include "core/ident/loop.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
@@ -28,11 +29,11 @@ namespace gmslab::cli {
 
 namespace {
 
+// The job's own fields and defaults (core/ident/job.hpp), plus what only the CLI has.
 struct IdentifyOptions {
-  std::string data, validate, columns, model = "gms", mask, validate_mask, mask_edges;
-  std::string report, plot, scenario, method = "bobyqa", effects, compare, size = "1600x1000";
-  int elements = 4, starts = 3, max_evals = 500;
-  double holdout = 0.25, min_gain = 0.03, compare_seconds = ident::kCompareSeconds;
+  ident::IdentifyJob job;
+  std::string columns, mask_edges, elements = "4", effects, compare;
+  std::string report, plot, scenario, size = "1600x1000";
 };
 
 std::string self_dir() {
@@ -72,39 +73,18 @@ std::string stem_path(const std::string& path, const std::string& suffix) {
 }
 
 int run_identify(const IdentifyOptions& o) {
-  ident::FitSpec spec;
-  spec.model = std::string(model_info(o.model).tag);
-  spec.elements = static_cast<std::size_t>(o.elements);
-  const std::vector<std::string> compare = ident::parse_model_list(o.compare);  // fail before the run
-  std::string note;
-  ident::Dataset train = ident::load_dataset({o.data, o.columns, o.mask, o.mask_edges}, &note);
-  if (!note.empty()) std::cerr << "identify: " << note << '\n';
-  ident::Dataset val;
-  if (!o.validate.empty()) {
-    note.clear();
-    val = ident::load_dataset({o.validate, o.columns, o.validate_mask, o.mask_edges, "--validate-mask"}, &note);
-    if (!note.empty()) std::cerr << "identify: " << note << '\n';
-  } else {
-    auto split = ident::split_holdout(train, o.holdout);
-    train = std::move(split.first);
-    val = std::move(split.second);
-  }
-  std::cerr << "identify: " << train.source << " (" << train.used() << " samples used), validation "
-            << val.source << " (" << val.used() << ")\n";
-  ident::LoopOptions lo;
-  lo.base.method = lo.refit.method = o.method;
-  lo.base.starts = o.starts;
-  lo.base.max_evaluations = o.max_evals;
-  lo.min_gain = o.min_gain;
-  if (!o.effects.empty()) {
-    lo.candidates.clear();
-    std::size_t a = 0;
-    while (a <= o.effects.size()) {
-      auto b = o.effects.find(',', a);
-      if (b == std::string::npos) b = o.effects.size();
-      if (b > a) lo.candidates.push_back(ident::effect_from_name(o.effects.substr(a, b - a)));
-      a = b + 1;
-    }
+  ident::IdentifyJob job = o.job;
+  job.train.columns = job.validation.columns = o.columns;
+  job.train.mask_edges = job.validation.mask_edges = o.mask_edges;
+  job.validation.mask_what = "--validate-mask";
+  job.spec.elements = ident::parse_element_count(o.elements);
+  if (!o.compare.empty()) job.compare = ident::parse_model_list(o.compare);  // fail before the run
+  std::size_t a = 0;
+  while (a < o.effects.size()) {
+    auto b = o.effects.find(',', a);
+    if (b == std::string::npos) b = o.effects.size();
+    if (b > a) job.candidates.push_back(ident::effect_from_name(o.effects.substr(a, b - a)));
+    a = b + 1;
   }
   std::string last_stage;
   auto progress = [&](const ident::FitProgress& p) {
@@ -113,13 +93,13 @@ int run_identify(const IdentifyOptions& o) {
     std::cerr << "\r  " << p.stage << ": " << p.evaluations << " evaluations, RMS " << p.best_rms
               << " N   " << std::flush;
   };
-  lo.base.progress = lo.refit.progress = progress;
-  auto rep = ident::identify(train, val, spec, lo);
+  auto out = ident::run_identification(job, progress);
+  for (const auto& n : out.notes) std::cerr << "identify: " << n << '\n';
+  const ident::Dataset& train = out.train;
+  const ident::Dataset& val = out.validation;
+  auto& rep = out.report;
   std::cerr << '\n';
-  if (!compare.empty()) {
-    ident::FitOptions co = lo.base;
-    co.max_seconds = o.compare_seconds;
-    rep.comparison = ident::compare_models(rep, train, val, compare, co);
+  if (!rep.comparison.empty()) {
     std::cerr << "\nmodel comparison (each with the effects added: " << rep.effects_added.size() << ")\n";
     std::fprintf(stderr, "  %-14s %8s %8s %14s %19s %9s\n", "model", "elements", "shape", "RMS train [N]",
                  "RMS validation [N]", "time [s]");
@@ -133,7 +113,10 @@ int run_identify(const IdentifyOptions& o) {
   j["scenario_file"] = scenario;
   save_scenario(ident::identified_scenario(rep, train), scenario);
   write_file_atomic(o.report, j.dump(2) + "\n");
-  std::cerr << "identify: validation RMS " << rep.rms_before_validation << " -> "
+  std::cerr << "identify: " << train.source << " (" << train.used() << " samples used), validation "
+            << val.source << " (" << val.used() << ")\n";
+  std::cerr << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
+            << " elements; validation RMS " << rep.rms_before_validation << " -> "
             << rep.rms_after_validation << " N; effects added:";
   for (auto e : rep.effects_added) std::cerr << ' ' << ident::effect_name(e);
   if (rep.effects_added.empty()) std::cerr << " none";
@@ -173,37 +156,38 @@ void register_identify(CLI::App& app, Action& action) {
   auto* sub = app.add_subcommand(
       "identify",
       "Fit a friction model to measured data, then find the effects it lacks (residual loop)");
-  sub->add_option("--data", o->data, "Training record (CSV: t, x, F [, v, Fn], units in the header)")
+  sub->add_option("--data", o->job.train.path, "Training record (CSV: t, x, F [, v, Fn], units in the header)")
       ->required();
-  sub->add_option("--validate", o->validate,
+  sub->add_option("--validate", o->job.validation.path,
                   "Validation record (CSV); default: a hold-out part of --data");
   sub->add_option("--columns", o->columns, "Explicit column names, e.g. t=t_s,x=x_m,F=F_N");
-  sub->add_option("--model", o->model, "Base friction model (registry tag)")->capture_default_str();
-  sub->add_option("--elements", o->elements, "Element count of multi-element models")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 64));
-  sub->add_option("--mask", o->mask, "Time windows of --data to ignore, t0:t1,... [s]");
-  sub->add_option("--validate-mask", o->validate_mask, "Time windows of --validate to ignore [s]");
+  sub->add_option("--model", o->job.spec.model, "Base friction model (registry tag)")->capture_default_str();
+  sub->add_option("--elements", o->elements,
+                  "Element count of multi-element models (1..64), or 'auto': the validation record "
+                  "chooses (GMS, Maxwell-slip)")
+      ->capture_default_str();
+  sub->add_option("--mask", o->job.train.mask, "Time windows of --data to ignore, t0:t1,... [s]");
+  sub->add_option("--validate-mask", o->job.validation.mask, "Time windows of --validate to ignore [s]");
   sub->add_option("--mask-edges", o->mask_edges,
                   "COLUMN:BEFORE:AFTER [s]: ignore windows around every change of COLUMN "
                   "(e.g. pulse_code:0.005:0.060)");
-  sub->add_option("--holdout", o->holdout, "Fraction held out for validation without --validate")
+  sub->add_option("--holdout", o->job.holdout, "Fraction held out for validation without --validate")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 0.5));
   sub->add_option("--compare", o->compare,
                   "Also fit these models (comma-separated tags, or 'all') with the effects found, and "
                   "report their RMS (model_comparison)");
-  sub->add_option("--compare-seconds", o->compare_seconds, "Time limit of each comparison fit [s]")
+  sub->add_option("--compare-seconds", o->job.compare_seconds, "Time limit of each comparison fit [s]")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 3600.0));
-  sub->add_option("--method", o->method, "Optimiser: bobyqa, sbplx or neldermead")
+  sub->add_option("--method", o->job.method, "Optimiser: bobyqa, sbplx or neldermead")
       ->capture_default_str()
       ->check(CLI::IsMember({"bobyqa", "sbplx", "neldermead"}));
-  sub->add_option("--starts", o->starts, "Starts of the base fit")->capture_default_str()->check(CLI::Range(1, 50));
-  sub->add_option("--max-evals", o->max_evals, "Cost evaluations per start")
+  sub->add_option("--starts", o->job.starts, "Starts of the base fit")->capture_default_str()->check(CLI::Range(1, 50));
+  sub->add_option("--max-evals", o->job.max_evaluations, "Cost evaluations per start")
       ->capture_default_str()
       ->check(CLI::Range(20, 100000));
-  sub->add_option("--min-gain", o->min_gain,
+  sub->add_option("--min-gain", o->job.min_gain,
                   "Relative validation RMS drop needed to keep an effect [-]")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.9));

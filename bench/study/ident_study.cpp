@@ -33,7 +33,7 @@ std::string truth_line(const Truth& t) {
   return b;
 }
 
-int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n) {
+int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool detail) {
   int pass = 0;
   double worst = 0, total_s = 0;
   std::printf("%-4s %-68s %10s %10s %6s %5s %6s\n", "rec", "truth", "floor", "val RMS", "ratio", "N fit", "s");
@@ -56,6 +56,18 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n) {
     pass += ratio <= 1.2;
     std::printf("%-4u %-68s %10.4g %10.4g %6.3f %5zu %6.2f\n", seed, truth_line(tr).c_str(), floor,
                 rep.rms_after_validation, ratio, rep.final_fit().spec.elements, s);
+    if (detail) {
+      std::printf("  truth: Fs %.4g Fc %.4g Vs %.3g delta %.3g C %.4g sigma2 %.4g | elements (alpha, x_ba um):",
+                  tr.Fs, tr.Fc, tr.Vs, tr.delta, tr.C, tr.sigma2);
+      for (std::size_t e = 0; e < tr.elements(); ++e) std::printf(" (%.3f, %.3g)", tr.alpha[e], 1e6 * tr.x_break(e));
+      const auto& f = rep.final_fit().friction;
+      std::printf("\n  fit:  ");
+      for (std::size_t j = 0; j < f.scalars.size(); ++j) std::printf(" %.4g", f.scalars[j]);
+      std::printf(" | elements (alpha, x_ba um at Fs):");
+      const double fs = f.model == "gms" ? f.scalar("Fs") : 1.0;
+      for (const auto& row : f.elements) std::printf(" (%.3f, %.3g)", row[0], 1e6 * row[0] * fs / row[1]);
+      std::printf("\n  train rms %.4g, noise sd %.4g\n", rep.rms_after_train, tr.noise);
+    }
     std::fflush(stdout);
   }
   std::printf("\nbase fit: %d / %d records within 1.2x the floor (%.0f %%); worst %.3f; %.1f s per record\n",
@@ -71,13 +83,14 @@ int main(int argc, char** argv) {
   int records = 50;
   unsigned seed = 1;
   std::size_t samples = 6000;
-  bool auto_n = false;
+  bool auto_n = false, detail = false;
   app.add_option("mode", mode, "base | loop")->check(CLI::IsMember({"base", "loop"}));
   app.add_option("--records", records, "number of records")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "first seed");
   app.add_option("--samples", samples, "samples per record")->check(CLI::Range(500, 1000000));
   app.add_flag("--auto", auto_n, "let the validation choose the element count (--elements auto)");
+  app.add_flag("--detail", detail, "print the truth and the fitted parameters of each record");
   CLI11_PARSE(app, argc, argv);
-  if (mode == "base") return run_base(records, seed, samples, auto_n);
-  return run_base(records, seed, samples, auto_n);
+  if (mode == "base") return run_base(records, seed, samples, auto_n, detail);
+  return run_base(records, seed, samples, auto_n, detail);
 }

@@ -314,9 +314,11 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   GridSolution g;
   g.model = spec.model;
   g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo, kGridPoints);
-  Search search{o, std::chrono::steady_clock::now()};
+  g.started = std::chrono::steady_clock::now();
+  g.budget = element_fit_budget(spec, c, o);
+  Search search{o, g.started};
   const std::size_t ns = ev.scalar_count();
-  search.budget = 40 + 3 * o.max_evaluations / 2 + o.max_evaluations;
+  search.budget = g.budget;
   // Start candidates: the data-based guess and a small design over the shape box.
   std::vector<std::vector<double>> cands{ev.initial_scalars()};
   if (ns > 0) {
@@ -324,7 +326,8 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
     for (const auto& p : ev.scalars()) {
       const std::string_view key = p.name;
       if (key == "Fs/Fc") levels.push_back({1.1, 1.5, 2.5});
-      else if (key == "Vs") levels.push_back({0.02 * c.v_ref, 0.1 * c.v_ref, 0.5 * c.v_ref});
+      else if (key == "Vs") levels.push_back({0.005 * c.v_ref, 0.03 * c.v_ref, 0.15 * c.v_ref, 0.6 * c.v_ref});
+      else if (key == "delta") levels.push_back({0.8, 2.0});
       else if (key == "C/Fc") levels.push_back({20.0, 300.0, 5000.0});
       else levels.push_back({p.init});
     }
@@ -352,10 +355,11 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   std::sort(scored.begin(), scored.end());
   double best = scored.front().first;
   std::vector<double> best_u = cands[scored.front().second];
-  const int starts = ns == 0 ? 0 : std::min<int>(3, static_cast<int>(scored.size()));
+  const int starts = ns == 0 ? 0 : std::min<int>(5, static_cast<int>(scored.size()));
   for (int s = 0; s < starts; ++s) {
     std::vector<double> x = cands[scored[static_cast<std::size_t>(s)].second];
     auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
+    if (search.time_limited) break;
     const double v = search.run(f, x, o.max_evaluations / 2, 0.1,
                                 o.stage + ", grid start " + std::to_string(s + 1) + "/" + std::to_string(starts));
     if (v < best) best = v, best_u = x;
@@ -407,17 +411,21 @@ std::vector<GridElement> group(const GridSolution& g, std::size_t n) {
 
 }  // namespace
 
-FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
-                            const EffectContext& c, const FitOptions& o) {
+namespace {
+
+// Stage 3 from a start (shape coordinates + element kappas); returns the FitResult in the
+// standard parameterization. `evals0` evaluations were spent before (progress), t0 the fit's start.
+FitResult polish(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                 const FitOptions& o, std::vector<double> x_shape, std::vector<GridElement> els,
+                 int evals0, std::chrono::steady_clock::time_point t0, int budget) {
   ElementEvaluator ev(spec, train, c);
   const auto [x_lo, x_hi] = element_x_range(c);
   const double k_lo = 1.0 / x_hi, k_hi = 1.0 / x_lo;
-  std::vector<GridElement> els = group(g, std::max<std::size_t>(1, spec.elements));
   const std::size_t ns = ev.scalar_count(), n = els.size();
   // Free knots: shape + log kappa per element, in the unit box.
   auto to_u = [&](double kappa) { return std::clamp(std::log(kappa / k_lo) / std::log(k_hi / k_lo), 0.0, 1.0); };
   auto from_u = [&](double u) { return k_lo * std::pow(k_hi / k_lo, std::clamp(u, 0.0, 1.0)); };
-  std::vector<double> x = g.shape;
+  std::vector<double> x = x_shape;
   for (const auto& e : els) x.push_back(to_u(e.kappa));
   auto split = [&](const std::vector<double>& u, std::vector<double>& shape, std::vector<double>& kappa) {
     shape.assign(u.begin(), u.begin() + static_cast<std::ptrdiff_t>(ns));
@@ -429,10 +437,18 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
     split(u, shape, kappa);
     return ev.cost(shape, kappa);
   };
-  Search search{o, std::chrono::steady_clock::now()};
-  search.budget = o.max_evaluations;
-  search.evals = 0;
-  search.run(f, x, o.max_evaluations, 0.03, o.stage + ", " + std::to_string(n) + " elements");
+  Search search{o, t0};
+  search.budget = budget;
+  search.evals = evals0;
+  const std::string stage = o.stage + ", " + std::to_string(n) + " elements";
+  double prev = search.run(f, x, o.max_evaluations, 0.03, stage);
+  // Restarts with a fresh trust region while they still gain (BOBYQA's model degrades in the
+  // narrow valleys of element tables).
+  for (int again = 0; again < 2 && !search.time_limited; ++again) {
+    const double v = search.run(f, x, o.max_evaluations / 2, 0.01, stage + ", restart");
+    if (!(v < prev * (1 - 1e-4))) break;
+    prev = v;
+  }
   split(x, shape, kappa);
   Eigen::VectorXd th;
   ev.cost(shape, kappa, &th);
@@ -441,6 +457,7 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
   for (std::size_t i = 0; i < n; ++i) found.push_back({kappa[i], th(static_cast<Eigen::Index>(i))});
   std::sort(found.begin(), found.end(), [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
   while (found.size() > 1 && !(found.back().weight > 1e-3 * found.front().weight)) found.pop_back();
+  if (!(found.front().weight > 0)) found.front().weight = 1.0;  // degenerate: no friction at all
   // The standard parameterization with the element count found.
   FitSpec out = spec;
   out.elements = found.size();
@@ -460,18 +477,52 @@ FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Da
     else if (p.column == a || p.column == W) u[i] = par.box(i, e.weight / found.front().weight);
   }
   FitResult r = refit_linear(out, train, c, u);
-  r.evaluations = g.evaluations + search.evals;
+  r.evaluations = search.evals;
   r.time_limited = search.time_limited;
+  if (o.progress) o.progress({o.stage + ", done", r.evaluations, r.rms_train, budget});
   return r;
+}
+
+}  // namespace
+
+int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOptions& o) {
+  const Parameterization par(model_info(spec.model), 1, c);
+  std::size_t ns = 0;
+  for (const auto& p : par.params()) ns += p.scalar >= 0;
+  // Design points + up to 5 grid starts + the polish and its two restarts.
+  const int design = ns == 0 ? 1 : 1 + 3 * 4 * 3 * 2;
+  const int grid = ns == 0 ? 0 : 5 * (o.max_evaluations / 2 + 1);
+  return design + grid + 2 * (o.max_evaluations + 1) + 1;
+}
+
+FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
+                            const EffectContext& c, const FitOptions& o) {
+  return polish(spec, train, c, o, g.shape, group(g, std::max<std::size_t>(1, spec.elements)),
+                g.evaluations, g.started, g.budget);
+}
+
+FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                          const FitOptions& o, const std::vector<double>& warm) {
+  const ModelInfo& info = model_info(spec.model);
+  const Parameterization par(info, spec.elements, c);
+  if (warm.size() != par.size()) throw InputError("internal: warm start of the wrong size");
+  const auto m = par.unit_model(warm);  // k = kappa x level, level = alpha or W
+  const auto a = info.column_index("alpha"), kc = info.column_index("k"), W = info.column_index("W");
+  const auto lev = static_cast<std::size_t>(a >= 0 ? a : W);
+  std::vector<double> shape;
+  std::vector<GridElement> els;
+  for (std::size_t i = 0; i < par.size(); ++i)
+    if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
+  for (const auto& row : m.elements)
+    els.push_back({row[static_cast<std::size_t>(kc)] / row[lev], row[lev]});
+  const int budget = 2 * (o.max_evaluations + 1) + 1;
+  return polish(spec, train, c, o, shape, els, 0, std::chrono::steady_clock::now(), budget);
 }
 
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const FitOptions& o) {
   const GridSolution g = fit_grid(spec, train, c, o);
-  FitResult r = reduce_and_polish(g, spec, train, c, o);
-  r.evaluations = r.evaluations;  // both stages counted in reduce_and_polish
-  if (o.progress) o.progress({o.stage + ", done", r.evaluations, r.rms_train, r.evaluations});
-  return r;
+  return reduce_and_polish(g, spec, train, c, o);
 }
 
 FitResult fit_elements_auto(const FitSpec& spec, const Dataset& train, const Dataset& validation,

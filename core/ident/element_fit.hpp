@@ -22,6 +22,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <chrono>
 #include <string_view>
 #include <vector>
 
@@ -53,6 +54,8 @@ struct GridSolution {
   std::vector<GridElement> active;     // grouped by grid neighbours, heaviest first
   double rms = 0;                      // training RMS at the grid solution [N]
   int evaluations = 0;
+  int budget = 0;                      // evaluation budget of the whole fit (progress)
+  std::chrono::steady_clock::time_point started;  // FitOptions::max_seconds counts from here
 };
 
 GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
@@ -60,6 +63,12 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
 // Stages 2 and 3 for `elements` elements; a FitResult in the standard parameterization.
 FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
                             const EffectContext& c, const FitOptions& o);
+// Stage 3 alone from a fit of the same spec (unit-box shape `warm`, standard parameterization):
+// the refit after an effect was added. Budget 2 max_evaluations + 1.
+FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                          const FitOptions& o, const std::vector<double>& warm);
+// The evaluation budget of fit_elements (what FitProgress::budget reports).
+int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOptions& o);
 // fit_grid + reduce_and_polish.
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const FitOptions& o);

@@ -380,12 +380,24 @@ nlopt::algorithm algorithm_of(const std::string& m) {
 
 FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                     const FitOptions& o, const std::vector<double>* warm) {
-  // Element models without a warm start: variable projection over an element grid.
-  if (has_linear_elements(spec.model) && !warm) {
+  // Element models whose effects do not multiply g: variable projection with the element
+  // weights linear (element_fit.hpp): over an element grid, or from the warm start.
+  if (has_linear_elements(spec.model) && spec.elements > 0) {
     bool g_free = true;
     for (Effect e : spec.effects)
       for (const auto& col : effect_columns(e)) g_free &= !col.uses_g;
-    if (g_free) return fit_elements(spec, train, c, o);
+    if (g_free && !warm) return fit_elements(spec, train, c, o);
+    if (g_free && warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
+      // From the warm start, and afresh over the grid: a new effect can free the element table
+      // from what it had bent itself into (e.g. a soft element standing in for an offset).
+      FitResult w = polish_elements(spec, train, c, o, *warm);
+      if (!o.data_start) return w;
+      FitResult g = fit_elements(spec, train, c, o);
+      const int evals = w.evaluations + g.evaluations;
+      FitResult& best = g.rms_train < w.rms_train ? g : w;
+      best.evaluations = evals;
+      return best;
+    }
   }
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);

@@ -14,7 +14,7 @@
 //              "mismatch_stiffness": 1, "sample_time": 0, "max_overshoot": 10,
 //              "settling_time": 0.15, "other_regime": false, "zero_degree": false},
 //   "identify": {"data": "", "validate": "", "columns": "", "mask": "", "validate_mask": "",
-//                "mask_edges": "pulse_code:0.005:0.060", "model": "gms", "elements": 4,
+//                "mask_edges": "", "model": "gms", "elements": 4,
 //                "compare": false}
 // }
 // Every key is required. Versions 1 (no "design", no "identify") and 2 (no "identify") are still
@@ -78,7 +78,7 @@ struct IdentifySettings {
   std::string columns;        // column map "t=t_s,x=x_m,F=F_N"; "" = found by name
   std::string mask;           // training time windows "t0:t1,..." [s]
   std::string validate_mask;  // validation time windows [s]
-  std::string mask_edges = "pulse_code:0.005:0.060";  // COLUMN:BEFORE:AFTER [s]
+  std::string mask_edges;     // COLUMN:BEFORE:AFTER [s]; "" = none (as the CLI's --mask-edges)
   std::string model = "gms";  // base model: a registry tag
   int elements = 4;           // element count of multi-element models, [1, 64]
   bool compare = false;       // compare every model after the loop

@@ -134,7 +134,11 @@ inline Truth draw_truth(unsigned seed, const DrawRanges& R = {}) {
     xs.push_back(std::exp(start + width * std::clamp(frac, 0.0, 1.0)));
   }
   std::sort(xs.begin(), xs.end());
-  for (int i = 1; i < n; ++i) xs[i] = std::max(xs[i], 1.6 * xs[i - 1]);
+  // Neighbours at least 1.6x apart (less when the range is too narrow for that).
+  const double gap = n > 1 ? std::min(1.6, std::pow(R.xba_hi / R.xba_lo, 1.0 / (n - 1))) : 1.0;
+  for (int i = 1; i < n; ++i) xs[i] = std::max(xs[i], gap * xs[i - 1]);
+  if (xs.back() > R.xba_hi)  // spreading pushed the top beyond the range: shift all down
+    for (auto& x : xs) x *= R.xba_hi / xs.back();
   double sum = 0;
   for (int i = 0; i < n; ++i) {
     t.alpha.push_back(0.2 + U(rng));

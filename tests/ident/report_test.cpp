@@ -1,6 +1,7 @@
 // Report, scenario export, masks, hold-out, cancellation and figure JSON of the identification.
 #include <gtest/gtest.h>
 
+
 #include <chrono>
 #include <cmath>
 
@@ -8,6 +9,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "core/ident/element_fit.hpp"
 #include "core/ident/figure_json.hpp"
 #include "core/ident/loop.hpp"
 #include "core/io/scenario_io.hpp"
@@ -68,9 +70,9 @@ TEST(IdentReport, CancelFlagStopsTheFit) {
   EXPECT_THROW(fit_model(FitSpec{}, d, c, o), Cancelled);
 }
 
-// The progress the panel's bar shows: the evaluations so far against the fit's budget (starts x
-// max_evaluations + the polishing restart), never beyond it, and a time limit that stops the fit
-// and says so.
+// The progress the panel's bar shows: the evaluations so far against the fit's budget (for the
+// GMS grid fit: design points, grid starts, polish and restarts; element_fit_budget), never beyond
+// it, and a time limit that stops the fit and says so.
 TEST(IdentReport, ProgressReportsTheBudgetAndATimeLimitStopsTheFit) {
   synth::SynthOptions so;
   so.moves = 4;
@@ -83,7 +85,8 @@ TEST(IdentReport, ProgressReportsTheBudgetAndATimeLimitStopsTheFit) {
   o.progress = [&](const FitProgress& p) { seen.push_back(p); };
   const FitResult r = fit_model(FitSpec{}, d, c, o);
   ASSERT_FALSE(seen.empty());
-  const int budget = 2 * 150 + std::max(100, 150 / 3);
+  const int budget = element_fit_budget(FitSpec{}, c, o);
+  EXPECT_GT(budget, 3 * 150);  // at least the polish and its restarts
   for (const auto& p : seen) {
     EXPECT_EQ(p.budget, budget);
     EXPECT_LE(p.evaluations, budget + 1);  // + the first guess's evaluation

@@ -1,0 +1,171 @@
+// The grid (variable projection) base fit on random records from an independent GMS
+// implementation (tests/ident/random_records.hpp): the validation error must reach the floor that
+// noise, quantisation and sampling leave (the true model along the measured positions), across
+// force scales, break-away displacements, sampling rates and element counts; expectations come
+// from the generating truth only.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/error.hpp"
+#include "core/ident/element_fit.hpp"
+#include "core/ident/job.hpp"
+#include "core/ident/loop.hpp"
+#include "core/io/session_io.hpp"
+#include "tests/ident/random_records.hpp"
+
+using namespace gmslab;
+using namespace gmslab::ident;
+using namespace gmslab::records;
+
+// NNLS against brute force: every subset of the constrained variables as the active set; the
+// best feasible stationary point is the optimum of the convex problem.
+TEST(Nnls, MatchesExhaustiveActiveSetsOnRandomProblems) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> N(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int m = 2 + trial % 5, n = 30;
+    Eigen::MatrixXd A(n, m);
+    Eigen::VectorXd y(n);
+    for (int i = 0; i < n; ++i) {
+      y(i) = N(rng);
+      for (int j = 0; j < m; ++j) A(i, j) = N(rng) + (j == 0 ? 0.5 : 0.0);
+    }
+    std::vector<bool> nonneg(static_cast<std::size_t>(m), true);
+    nonneg[0] = trial % 2 == 0;  // sometimes one free variable
+    const Eigen::MatrixXd G = A.transpose() * A;
+    const Eigen::VectorXd b = A.transpose() * y;
+    const Eigen::VectorXd x = nnls_gram(G, b, nonneg);
+    double best = 1e300;
+    for (int mask = 0; mask < (1 << m); ++mask) {
+      std::vector<int> P;
+      for (int j = 0; j < m; ++j)
+        if ((mask >> j & 1) || !nonneg[static_cast<std::size_t>(j)]) P.push_back(j);
+      Eigen::VectorXd z = Eigen::VectorXd::Zero(m);
+      if (!P.empty()) {
+        Eigen::MatrixXd Ap(n, static_cast<int>(P.size()));
+        for (std::size_t k = 0; k < P.size(); ++k) Ap.col(static_cast<int>(k)) = A.col(P[k]);
+        const Eigen::VectorXd zp = Ap.colPivHouseholderQr().solve(y);
+        for (std::size_t k = 0; k < P.size(); ++k) z(P[k]) = zp(static_cast<int>(k));
+      }
+      bool ok = true;
+      for (int j = 0; j < m; ++j) ok &= !nonneg[static_cast<std::size_t>(j)] || z(j) >= -1e-12;
+      if (ok) best = std::min(best, (A * z - y).squaredNorm());
+    }
+    for (int j = 0; j < m; ++j)
+      if (nonneg[static_cast<std::size_t>(j)]) EXPECT_GE(x(j), 0.0);
+    EXPECT_NEAR((A * x - y).squaredNorm(), best, 1e-8 * (1 + best)) << "trial " << trial;
+  }
+}
+
+namespace {
+
+struct Case {
+  unsigned seed;
+  DrawRanges ranges;
+};
+
+// Records at three force scales and three break-away scales (random within each).
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  const double fs[][2] = {{0.1, 1.0}, {5.0, 50.0}, {200.0, 1000.0}};
+  const double xb[][2] = {{0.5e-6, 5e-6}, {3e-6, 40e-6}, {20e-6, 200e-6}};
+  unsigned seed = 500;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      if ((i + j) % 2) continue;  // 5 of the 9 combinations keep the suite fast
+      DrawRanges r;
+      r.fs_lo = fs[i][0], r.fs_hi = fs[i][1];
+      r.xba_lo = xb[j][0], r.xba_hi = xb[j][1];
+      out.push_back({seed++, r});
+    }
+  return out;
+}
+
+}  // namespace
+
+TEST(ElementGridFit, ReachesTheNoiseFloorOnRandomRecordsAcrossScales) {
+  for (const auto& cs : cases()) {
+    Truth tr = draw_truth(cs.seed, cs.ranges);
+    auto [gt, gv] = synthesize_pair(tr, cs.seed, 3000);
+    const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
+    const double floor = floor_rms(tr, gv);
+    FitSpec spec;
+    spec.elements = tr.elements();
+    const EffectContext c = make_context(train);
+    const FitResult f = fit_model(spec, train, c, FitOptions{});
+    const double v = rms_on(f, val, c);
+    SCOPED_TRACE("seed " + std::to_string(cs.seed) + ": N " + std::to_string(tr.elements()) +
+                 ", Fs " + std::to_string(tr.Fs) + " N, x_ba " + std::to_string(1e6 * tr.x_min()) +
+                 ".." + std::to_string(1e6 * tr.x_max()) + " um, " + std::to_string(tr.rate) + " Hz");
+    // Per record a margin of 1.4x; the study (gmslab_study base) measures the 1.2x rate.
+    EXPECT_LE(v, 1.4 * floor) << "validation " << v << " N, floor " << floor << " N";
+    // The Coulomb level of the truth (a physical quantity, not a fit artefact).
+    EXPECT_NEAR(f.friction.scalar("Fc"), tr.Fc, 0.1 * tr.Fc);
+    EXPECT_LE(f.spec.elements, tr.elements());
+  }
+}
+
+TEST(ElementGridFit, MaxwellSlipRecoversItsBreakAwayDisplacements) {
+  // A Maxwell-slip truth is a GMS truth with Fs = Fc and instant attraction.
+  Truth tr = draw_truth(42);
+  tr.Fc = tr.Fs;
+  tr.C = tr.Fs * 1e7;
+  tr.sigma2 = 0;
+  tr.alpha = {0.3, 0.7};
+  tr.k = {0.3 * tr.Fs / 2e-6, 0.7 * tr.Fs / 30e-6};
+  auto [gt, gv] = synthesize_pair(tr, 42, 3000);
+  const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
+  FitSpec spec;
+  spec.model = "maxwell_slip";
+  spec.elements = 2;
+  const EffectContext c = make_context(train);
+  const FitResult f = fit_model(spec, train, c, FitOptions{});
+  EXPECT_LE(rms_on(f, val, c), 1.25 * floor_rms(tr, gv));
+  ASSERT_EQ(f.friction.elements.size(), 2u);
+  std::vector<double> x;  // break-away displacements W / k
+  for (const auto& row : f.friction.elements) x.push_back(row[1] / row[0]);
+  std::sort(x.begin(), x.end());
+  EXPECT_NEAR(x[0], 2e-6, 0.2e-6);
+  EXPECT_NEAR(x[1], 30e-6, 3e-6);
+}
+
+TEST(ElementGridFit, AutoElementCountReachesTheFloorWithAtMostTwiceTheTruth) {
+  Truth tr = draw_truth(77);
+  tr.alpha = {0.5, 0.5};
+  tr.k = {0.5 * tr.Fs / 3e-6, 0.5 * tr.Fs / 40e-6};
+  auto [gt, gv] = synthesize_pair(tr, 77, 3000);
+  const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
+  FitSpec spec;
+  spec.elements = 0;  // auto
+  const EffectContext c = make_context(train);
+  const FitResult f = fit_base(spec, train, val, c, FitOptions{});
+  EXPECT_GE(f.spec.elements, 1u);
+  EXPECT_LE(f.spec.elements, 4u);  // never more than twice what the data holds
+  EXPECT_LE(rms_on(f, val, c), 1.25 * floor_rms(tr, gv));
+}
+
+TEST(IdentifyJob, ElementCountParsesNumbersAndAutoAndNamesTheOption) {
+  EXPECT_EQ(parse_element_count("4"), 4u);
+  EXPECT_EQ(parse_element_count("auto"), 0u);
+  for (const char* bad : {"0", "65", "four", "4x", ""}) {
+    try {
+      parse_element_count(bad);
+      FAIL() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--elements"), std::string::npos);
+      EXPECT_NE(std::string(e.what()).find("1 to 64"), std::string::npos);
+    }
+  }
+}
+
+// The panel's saved settings start from the job's defaults (one set of defaults for every front
+// end; before, the panel masked pulse_code edges by default and the CLI did not).
+TEST(IdentifyJob, PanelSettingsDefaultsAreTheJobDefaults) {
+  const IdentifySettings s;
+  const IdentifyJob j;
+  EXPECT_EQ(s.mask_edges, j.train.mask_edges);
+  EXPECT_EQ(s.mask, j.train.mask);
+  EXPECT_EQ(s.model, j.spec.model);
+  EXPECT_EQ(static_cast<std::size_t>(s.elements), j.spec.elements);
+}
