@@ -370,17 +370,11 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     int tries = 0;
     bool control_done = false;
     std::optional<std::pair<FitResult, Attempt>> best;
-    double best_screen = 0;
     for (const auto& k : rd.candidates) {
       if (tries >= o.tries_per_round) break;
       if (k.explained < o.min_explained) continue;
       if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
       // A close second is tried too once one is kept; otherwise the first kept ends the round.
-      // The channel effects time_shift and sensor_filter agree to first order: when one is kept
-      // the other is always refitted too, and the validation record decides.
-      auto channel = [](Effect e) { return e == Effect::TimeShift || e == Effect::SensorFilter; };
-      if (best && k.screen_rms_validation > best_screen * 1.02 && !(channel(best->second.effect) && channel(k.effect)))
-        continue;
       ++tries;
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));
@@ -427,7 +421,6 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
       rd.attempts.push_back(a);
       if (a.kept && (!best || a.rms_validation < best->second.rms_validation)) {
-        if (!best) best_screen = k.screen_rms_validation;
         best.emplace(std::move(f), a);
       }
     }

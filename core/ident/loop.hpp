@@ -19,9 +19,12 @@
 //      credited to an effect); its training F-test p-value times the number of candidates is
 //      below max_p; the validation BIC (n ln SSR/n + p ln n) drops; its contribution's RMS is at
 //      least min_size x the noise floor (noise and encoder quantisation), and below sure_size x the
-//      floor it explains min_excess of the validation MSE above the floor. A close second candidate (screening validation RMS
-//      within 2 %) is also refitted and the better one kept; when two fit the validation record
-//      alike the report says the data cannot tell them apart (notes). No candidate kept: stop.
+//      floor it explains min_excess of the validation MSE above the floor. The first
+//      tries_per_round candidates are all refitted (the base shape may have absorbed part of an
+//      effect, e.g. an offset taken up by a soft element, so the screening order alone does not
+//      decide) and the kept one with the lowest validation RMS is added; when another fits the
+//      validation record alike the report says the data cannot tell them apart (notes). No
+//      candidate kept: stop.
 //   4. The final model gets one more refit (as the control), the standard errors of its linear
 //      terms and effect scalars (linearised least squares at the fitted shape), and the final
 //      validation residual is tested for remaining structure (by velocity, position, time, after
