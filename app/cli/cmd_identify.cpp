@@ -120,7 +120,17 @@ int run_identify(const IdentifyOptions& o) {
             << rep.rms_after_validation << " N; effects added:";
   for (auto e : rep.effects_added) std::cerr << ' ' << ident::effect_name(e);
   if (rep.effects_added.empty()) std::cerr << " none";
-  std::cerr << "\nwrote " << o.report << " and " << scenario << '\n';
+  std::cerr << '\n';
+  for (const auto& p : rep.parameters)
+    if (p.effect != "base")
+      std::fprintf(stderr, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+                   p.std_error, p.unit.c_str());
+  for (const auto& p : rep.ripples.peaks)
+    std::fprintf(stderr, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
+                 p.wavelength * 1e3, p.amplitude, p.false_alarm);
+  for (const auto& n : rep.notes) std::cerr << "  note: " << n << '\n';
+  std::cerr << "  validation " << rep.remaining.summary << '\n';
+  std::cerr << "wrote " << o.report << " and " << scenario << '\n';
   if (!o.plot.empty()) {
     int w = 0, h = 0;
     parse_size(o.size, w, h);

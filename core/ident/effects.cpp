@@ -30,6 +30,10 @@ const std::vector<Entry>& entries() {
        "velocity dependence beyond the model: quadratic drag, other low-speed (Stribeck) shape"},
       {Effect::DwellStiction, "dwell_stiction", "break-away force growing with the time at rest"},
       {Effect::NormalLoad, "normal_load", "friction proportional to the measured normal force"},
+      {Effect::TimeShift, "time_shift",
+       "force channel shifted in time against the position channel (separate filters, delays)"},
+      {Effect::SensorFilter, "sensor_filter", "first-order low-pass on the force channel (sensor, amplifier)"},
+      {Effect::Backlash, "backlash", "lost motion between encoder and contact at reversals (play, compliance)"},
   };
   return v;
 }
@@ -107,7 +111,56 @@ void estimate_levels(const Dataset& d, EffectContext& c) {
   c.x_ba = std::clamp(c.x_ba, 1e-8, std::max(1e-8, 0.05 * stroke));
 }
 
+
 }  // namespace
+
+void shifted(const Dataset& d, std::span<const double> y, double tau, std::span<double> out) {
+  const std::size_t n = d.size();
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = d.t[k] - tau;
+    if (t <= d.t.front()) { out[k] = y[0]; continue; }
+    if (t >= d.t.back()) { out[k] = y[n - 1]; continue; }
+    if (tau > 0) { while (j + 1 < n && d.t[j + 1] <= t) ++j; }
+    else { j = std::max(j, k); while (j + 1 < n && d.t[j + 1] <= t) ++j; }
+    const double w = (t - d.t[j]) / (d.t[j + 1] - d.t[j]);
+    out[k] = y[j] + w * (y[j + 1] - y[j]);
+  }
+}
+
+void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<double> out) {
+  if (!(T > 0)) {
+    std::copy_n(y.begin(), d.size(), out.begin());
+    return;
+  }
+  double s = y[0];
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    if (k > 0) s = y[k] + (s - y[k]) * std::exp(-(d.t[k] - d.t[k - 1]) / T);
+    out[k] = s;
+  }
+}
+
+void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> g, double b,
+                      std::span<double> out) {
+  const std::size_t n = d.size();
+  std::vector<std::size_t> turn;
+  const auto travel = travel_since_reversal(d, c, &turn);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t seg = turn[k];  // the sample of the last reversal
+    const double want = travel[k] - b;
+    if (want <= 0 || k <= seg) { out[k] = g[seg]; continue; }
+    // The sample of this segment where the travel was `want` (travel grows within a segment).
+    std::size_t lo = seg, hi = k;
+    if (travel[hi] < want) { out[k] = g[seg]; continue; }
+    while (hi - lo > 1) {
+      const std::size_t mid = (lo + hi) / 2;
+      (travel[mid] < want ? lo : hi) = mid;
+    }
+    const double span = travel[hi] - travel[lo];
+    const double w = span > 0 ? std::clamp((want - travel[lo]) / span, 0.0, 1.0) : 1.0;
+    out[k] = g[lo] + w * (g[hi] - g[lo]);
+  }
+}
 
 const std::vector<Effect>& effect_catalog() {
   static const std::vector<Effect> v = [] {
@@ -155,6 +208,11 @@ EffectContext make_context(const Dataset& d) {
   c.t_half = std::max(1e-9, 0.5 * (ts.back() - ts.front()));
   c.v_ref = std::max(1e-9, percentile(vs, 0.95));
   c.v_rest = 0.02 * c.v_ref;
+  {
+    std::vector<double> h;
+    for (std::size_t k = 1; k < d.size(); ++k) h.push_back(d.t[k] - d.t[k - 1]);
+    c.h_med = std::max(1e-9, percentile(h, 0.5));
+  }
   estimate_levels(d, c);
   c.dwell_s0 = 3.0 * c.x_ba;
   if (d.has_Fn) {
@@ -163,6 +221,32 @@ EffectContext make_context(const Dataset& d) {
     c.Fn0 = s / static_cast<double>(d.Fn.size());
   }
   return c;
+}
+
+std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext& c,
+                                          std::vector<std::size_t>* turn) {
+  std::vector<double> s(d.size(), 0.0);
+  if (turn) turn->assign(d.size(), 0);
+  if (d.size() == 0) return s;
+  // The turning points: the extreme position before each change of direction.
+  std::vector<std::size_t> turns = {0};
+  double dir = 0.0, x_ext = d.x.front();
+  std::size_t k_ext = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    if (std::abs(d.v[k]) > c.v_rest) {
+      const double dk = sgn(d.v[k]);
+      if (dir != 0.0 && dk != dir) turns.push_back(k_ext), x_ext = d.x[k], k_ext = k;
+      dir = dk;
+    }
+    if (dir != 0.0 && dir * (d.x[k] - x_ext) > 0) x_ext = d.x[k], k_ext = k;
+  }
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    while (i + 1 < turns.size() && turns[i + 1] <= k) ++i;
+    s[k] = std::abs(d.x[k] - d.x[turns[i]]);
+    if (turn) (*turn)[k] = turns[i];
+  }
+  return s;
 }
 
 std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c) {
@@ -189,7 +273,14 @@ bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c) {
   switch (e) {
     case Effect::NormalLoad: return d.has_Fn && c.Fn0 != 0.0;
     case Effect::DwellStiction: return motion_starts(d, c).size() >= 3;
-    case Effect::PositionPeriodic: return c.wavelength > 0.0;
+    case Effect::PositionPeriodic: return !c.wavelengths.empty();
+    case Effect::TimeShift: return c.time_shift != 0.0;
+    case Effect::SensorFilter: return c.filter_T > 0.0;
+    case Effect::Backlash: {
+      std::vector<std::size_t> turn;
+      travel_since_reversal(d, c, &turn);
+      return c.backlash > 0.0 && !turn.empty() && turn.back() > 0;
+    }
     default: return true;
   }
 }
@@ -210,26 +301,29 @@ std::vector<Column> effect_columns(Effect e) {
       v.push_back(col("F0", "N", false, [](D, C, G, O o) { std::fill(o.begin(), o.end(), 1.0); }));
       break;
     case Effect::DirectionAsymmetry:
+      v.push_back(col("dF", "N", true, [](D d, C, G g, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = std::abs(g[k]);
+      }));
       v.push_back(col("dFv", "N s/m", false, [](D d, C, G, O o) {
         for (std::size_t k = 0; k < d.size(); ++k) o[k] = std::abs(d.v[k]);
       }));
       break;
     case Effect::PositionPeriodic:
-      for (int harm = 1; harm <= 2; ++harm)
-        for (int cs = 0; cs < 2; ++cs)
-          v.push_back(col(std::string(cs ? "ripple_cos" : "ripple_sin") + std::to_string(harm), "N",
-                          false, [harm, cs](D d, C c, G, O o) {
-                            const double w = 2 * std::numbers::pi * harm / c.wavelength;
-                            for (std::size_t k = 0; k < d.size(); ++k)
-                              o[k] = cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]);
-                          }));
-      for (int cs = 0; cs < 2; ++cs)  // friction level modulated along the screw (sign follows g)
-        v.push_back(col(std::string(cs ? "ripple_gcos1" : "ripple_gsin1"), "N", true,
-                        [cs](D d, C c, G g, O o) {
-                          const double w = 2 * std::numbers::pi / c.wavelength;
-                          for (std::size_t k = 0; k < d.size(); ++k)
-                            o[k] = g[k] * (cs ? std::cos(w * d.x[k]) : std::sin(w * d.x[k]));
-                        }));
+      // Four columns per wavelength found (at most 3): additive and friction-level ripple.
+      for (std::size_t i = 0; i < 3; ++i)
+        for (int m = 0; m < 4; ++m) {
+          const std::string nm = std::string(m < 2 ? "ripple" : "ripple_g") + std::to_string(i + 1) +
+                                 (m % 2 ? "_cos" : "_sin");
+          v.push_back(col(nm, "N", m >= 2, [i, m](D d, C c, G g, O o) {
+            std::fill(o.begin(), o.end(), 0.0);
+            if (i >= c.wavelengths.size()) return;
+            const double w = 2 * std::numbers::pi / c.wavelengths[i];
+            for (std::size_t k = 0; k < d.size(); ++k) {
+              const double p = w * (d.x[k] - c.x_mid);
+              o[k] = (m % 2 ? std::cos(p) : std::sin(p)) * (m >= 2 ? g[k] : 1.0);
+            }
+          }));
+        }
       break;
     case Effect::PositionDependent:
       for (int n = 1; n <= 3; ++n)
@@ -283,6 +377,28 @@ std::vector<Column> effect_columns(Effect e) {
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {
         for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.Fn[k] / c.Fn0 - 1.0);
+      }));
+      break;
+    case Effect::TimeShift:
+      v.push_back(col("shift_level", "N", true, [](D d, C c, G g, O o) {
+        shifted(d, g, c.time_shift, o);
+        std::vector<double> v(d.size());
+        shifted(d, d.v, c.time_shift, v);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
+      }));
+      break;
+    case Effect::SensorFilter:
+      v.push_back(col("filter_level", "N", true, [](D d, C c, G g, O o) {
+        lowpass(d, g, c.filter_T, o);
+        std::vector<double> v(d.size());
+        lowpass(d, d.v, c.filter_T, v);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
+      }));
+      break;
+    case Effect::Backlash:
+      v.push_back(col("backlash_level", "N", true, [](D d, C c, G g, O o) {
+        through_backlash(d, c, g, c.backlash, o);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
       }));
       break;
   }

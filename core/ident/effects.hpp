@@ -8,10 +8,11 @@
 // (variable projection). The columns, with the unit of their coefficient:
 //   inertia              a                                               M [kg]
 //   offset               1                                               F0 [N]
-//   direction_asymmetry  |v|  (viscous slope differing per direction;    dFv [N s/m]
-//                        a level difference per direction is an offset: identical while sliding)
-//   position_periodic    sin, cos(2 pi x / L), sin, cos(4 pi x / L)      [N] (L from the residual's
-//                        spectrum in the position domain)
+//   direction_asymmetry  |g|, |v|: friction level and viscous slope differing per direction
+//                        (dF [N], dFv [N s/m]); |g| is an offset while sliding but not in
+//                        presliding and at rest, where |g| < 1: that tells the two apart
+//   position_periodic    per ripple wavelength L_i (ripple_search in structure.hpp, over position
+//                        on sliding samples): sin, cos(2 pi x / L_i), g sin, g cos       [N]
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
@@ -20,6 +21,19 @@
 //                        the start, s0 from the residual) and S = dg / d(Fs/Fc), the model's own
 //                        response to a raised break-away level (fit.cpp computes it)          [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
+// Measurement and transmission effects: the model seen through the channel; each adds one column
+// (model through the channel - model) whose coefficient is the force level (about Fc when the
+// effect is all there is), and one scalar found by a 1-D search on the training residual:
+//   time_shift           u(t - tau) - u(t), u = g + rho v: the force channel lags the position (tau > 0)
+//                        channel by tau (sub-sample, linear interpolation in time)     [N], tau [s]
+//   sensor_filter        lowpass_T(u) - u: first-order force sensor (filter) with time constant
+//                        T, exact for a piecewise-constant input on the record's grid  [N], T [s]
+//                        (rho = sigma2 / Fc of the current fit, held in the context: the lagged
+//                        viscous force, about -sigma2 tau a, comes along and is not read as a
+//                        negative inertia; a free viscous column would mimic inertia itself)
+//   backlash             g_b - g: lost motion b between the encoder and the contact: after each
+//                        reversal the contact stays until the motor has travelled b, then follows
+//                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b [m]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
 #pragma once
@@ -43,7 +57,10 @@ enum class Effect {
   TimeDrift,
   VelocityExtra,
   DwellStiction,
-  NormalLoad
+  NormalLoad,
+  TimeShift,
+  SensorFilter,
+  Backlash
 };
 
 const std::vector<Effect>& effect_catalog();
@@ -59,7 +76,12 @@ struct EffectContext {
   double v_ref = 1.0;                // 95th percentile of |v| on used samples [m/s]
   double x_ba = 1e-5;                // break-away displacement estimated after reversals [m]
   double f_level = 1.0;              // Coulomb level estimated from sliding [N]
-  double wavelength = 0.0;           // position_periodic wavelength L [m] (0: not found yet)
+  std::vector<double> wavelengths;   // position_periodic wavelengths L_i [m] (empty: none found)
+  double time_shift = 0.0;           // time_shift tau [s] (0: not searched yet)
+  double filter_T = 0.0;             // sensor_filter time constant T [s] (0: not searched yet)
+  double backlash = 0.0;             // backlash lost motion b [m] (0: not searched yet)
+  double h_med = 1e-3;               // median sampling step [s]
+  double viscous_ratio = 0.0;        // sigma2 / Fc of the fit the channel effects were found on [s/m]
   double Fn0 = 0.0;                  // mean normal force [N] (0: no Fn column)
   double v_rest = 0.0;               // |v| below this is rest [m/s]
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
@@ -84,8 +106,22 @@ struct Column {
 
 std::vector<Column> effect_columns(Effect e);
 // Whether the effect can be tested on this record (normal_load needs Fn, dwell_stiction dwells,
-// position_periodic a wavelength found in the residual).
+// position_periodic a wavelength found in the residual, backlash reversals).
 bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c);
+
+// Travel since the last reversal of the motion [m] (from the start before the first one).
+// turn (if given): per sample, the index of that reversal (0 before the first).
+std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext& c,
+                                          std::vector<std::size_t>* turn = nullptr);
+
+// The channel transformations of the measurement effects, applied to a series y on d's grid:
+// y(t - tau) (linear interpolation, held at the ends); first-order low-pass with time constant T;
+// y seen through a lost motion b at reversals (held at the reversal value for the first b of
+// travel, then y at travel s - b of the same stroke).
+void shifted(const Dataset& d, std::span<const double> y, double tau, std::span<double> out);
+void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<double> out);
+void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> y, double b,
+                      std::span<double> out);
 
 // Motion starts after rests of at least c.dwell_min: index of the first moving sample, rest
 // duration [s], direction (+-1).

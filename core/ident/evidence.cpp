@@ -1,5 +1,7 @@
 #include "core/ident/evidence.hpp"
 
+#include "core/ident/structure.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -124,7 +126,7 @@ Spectrum position_spectrum(const Dataset& d, const EffectContext& c, const std::
 
 nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& c,
                                const std::vector<double>& r, const std::vector<double>& g,
-                               const Spectrum& sp) {
+                               const RippleSearch& ripples) {
   nlohmann::json j = nlohmann::json::object();
   switch (e) {
     case Effect::Inertia:
@@ -147,18 +149,12 @@ nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& 
       j["mean_residual_sliding_positive_N"] = round3(np ? sp_ / np : 0.0);
       j["mean_residual_sliding_negative_N"] = round3(nn ? sn / nn : 0.0);
       j["corr_abs_velocity"] = round3(corr(d, r, make(d, [&](auto k) { return std::abs(d.v[k]); })));
+      j["corr_abs_friction"] = round3(corr(d, r, make(d, [&](auto k) { return std::abs(g[k]); })));
       break;
     }
-    case Effect::PositionPeriodic: {
-      j["peak_wavelength_m"] = round3(sp.peak_wavelength);
-      j["peak_amplitude_N"] = round3(sp.peak_amplitude);
-      j["peak_to_median"] = round3(sp.peak_to_median);
-      nlohmann::json tab = nlohmann::json::array();
-      for (std::size_t i = 0; i < sp.wavelength.size(); i += 8)
-        tab.push_back({round3(sp.wavelength[i]), round3(sp.amplitude[i])});
-      j["spectrum_wavelength_m_amplitude_N"] = tab;
+    case Effect::PositionPeriodic:
+      j["ripple_search"] = to_json(ripples);
       break;
-    }
     case Effect::PositionDependent:
       j["corr_position"] = round3(corr(d, r, d.x));
       j["corr_friction_times_position"] =
@@ -215,6 +211,40 @@ nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& 
         j["corr_friction_times_normal"] =
             round3(corr(d, r, make(d, [&](auto k) { return g[k] * (d.Fn[k] / c.Fn0 - 1); })));
       break;
+    case Effect::TimeShift: {
+      std::vector<double> z(d.size());
+      shifted(d, g, c.time_shift, z);
+      for (std::size_t k = 0; k < d.size(); ++k) z[k] -= g[k];
+      j["time_shift_s"] = round3(c.time_shift);
+      j["time_shift_samples"] = round3(c.time_shift / c.h_med);
+      j["corr_shifted_model"] = round3(corr(d, r, z));
+      j["corr_acceleration"] = round3(corr(d, r, d.a));
+      break;
+    }
+    case Effect::SensorFilter: {
+      std::vector<double> z(d.size());
+      lowpass(d, g, c.filter_T, z);
+      for (std::size_t k = 0; k < d.size(); ++k) z[k] -= g[k];
+      j["time_constant_s"] = round3(c.filter_T);
+      j["time_constant_samples"] = round3(c.filter_T / c.h_med);
+      j["corr_filtered_model"] = round3(corr(d, r, z));
+      break;
+    }
+    case Effect::Backlash: {
+      std::vector<double> z(d.size());
+      through_backlash(d, c, g, c.backlash, z);
+      for (std::size_t k = 0; k < d.size(); ++k) z[k] -= g[k];
+      j["lost_motion_m"] = round3(c.backlash);
+      j["corr_model_through_backlash"] = round3(corr(d, r, z));
+      // Mean residual along the new direction over the first 2 b after reversals.
+      const auto travel = travel_since_reversal(d, c);
+      double s = 0, n = 0;
+      for (std::size_t k = 0; k < d.size(); ++k)
+        if (d.use[k] && travel[k] < 2 * c.backlash && std::abs(d.v[k]) > c.v_rest)
+          s += r[k] * sgn(d.v[k]), n += 1;
+      j["mean_residual_after_reversal_N"] = round3(n ? s / n : 0.0);
+      break;
+    }
   }
   return j;
 }

@@ -1,19 +1,34 @@
 // gmslab identification: the residual loop that finds what the base model lacks.
 //
-//   1. Fit the base model (several starts) on the training record.
-//   2. Each round: residual r on training; for every applicable catalog effect not yet in the
-//      model: evidence (evidence.hpp) and a screening fit (linear terms re-solved at the current
-//      shape) -> fraction of the residual variance it explains. The position_periodic wavelength
-//      is the peak of the residual's position spectrum (needs peak / median >= 4), the dwell
-//      decay length the best of a few multiples of the break-away displacement.
-//   3. Candidates in order of explained variance (at least min_explained) whose screening fit
-//      lowers the validation RMS at all: add the effect, refit
-//      everything (shape warm-started + linear terms), and keep it only when the validation RMS
-//      drops by at least min_gain (relative) - also against a control refit of the current model
-//      with the same budget, so that better optimisation is never credited to an effect. The
-//      first kept candidate ends the round; at most
-//      tries_per_round candidates are tried. No candidate kept: stop. The training error alone
-//      never decides.
+//   1. Fit the base model (several starts) on the training record; estimate the force noise from
+//      the data (structure.hpp: second differences during rests).
+//   2. Each round: residual r on training. The ripple search (structure.hpp) gives the
+//      position_periodic wavelengths (significant peaks only); the dwell decay length and the
+//      channel effects' scalars (time_shift tau, sensor_filter T, backlash b) are searched by
+//      linear refits. Every applicable catalog effect not yet in the model is screened: its
+//      columns re-solved at the current shape -> explained training variance, validation RMS and
+//      a training F-test of its columns (the signature). When no screened effect brings the
+//      validation RMS within 1.15x the noise, the channel effects are searched again with short
+//      shape refits (a lagging force channel looks like softer presliding to the base model) and
+//      screened at their own shapes.
+//   3. Candidates in order of screening validation RMS (held-out data decides between effects
+//      that look alike on training, e.g. offset and a level asymmetry; inertia and a force lag):
+//      refit everything with the effect (shape warm-started + linear terms). An effect is kept
+//      only when all hold: the validation RMS drops by at least min_gain (relative), also against
+//      a control refit of the current model with the same budget (better optimisation is never
+//      credited to an effect); its training F-test p-value times the number of candidates is
+//      below max_p; the validation BIC (n ln SSR/n + p ln n) drops; its contribution's RMS is at
+//      least min_size x the noise floor (noise and encoder quantisation), and below sure_size x the
+//      floor it explains min_excess of the validation MSE above the floor. The first
+//      tries_per_round candidates are all refitted (the base shape may have absorbed part of an
+//      effect, e.g. an offset taken up by a soft element, so the screening order alone does not
+//      decide) and the kept one with the lowest validation RMS is added; when another fits the
+//      validation record alike the report says the data cannot tell them apart (notes). No
+//      candidate kept: stop.
+//   4. The final model gets one more refit (as the control), the standard errors of its linear
+//      terms and effect scalars (linearised least squares at the fitted shape), and the final
+//      validation residual is tested for remaining structure (by velocity, position, time, after
+//      reversals, position spectrum), each against the noise (IdentReport::remaining).
 // Validation: a second record, or the hold-out of the training record (dataset.hpp).
 #pragma once
 
@@ -24,6 +39,7 @@
 
 #include "core/figures/figure.hpp"
 #include "core/ident/fit.hpp"
+#include "core/ident/structure.hpp"
 #include "core/sim/scenario.hpp"
 
 namespace gmslab::ident {
@@ -33,6 +49,11 @@ struct LoopOptions {
   FitOptions refit;             // refits after adding an effect (warm start)
   double min_gain = 0.03;       // relative validation RMS drop needed to keep an effect [-]
   double min_explained = 0.002; // smallest explained training variance worth a refit [-]
+  double max_p = 1e-3;          // largest chance (training F-test of the effect's columns, times
+                                // the candidates screened) that still counts as a signature [-]
+  double min_size = 0.5;        // smallest effect contribution (RMS on training) / noise floor [-]
+  double sure_size = 1.5;       // below this contribution / floor, an effect must also explain
+  double min_excess = 0.4;      // this share of the validation MSE above the floor [-]
   int tries_per_round = 3;
   int max_rounds = 9;
   std::vector<Effect> candidates;  // empty = the whole catalog
@@ -40,10 +61,13 @@ struct LoopOptions {
 };
 
 struct Attempt {
-  Effect effect;
+  Effect effect = Effect::Offset;
   double rms_train = 0, rms_validation = 0;  // after the refit [N]
   bool kept = false;
   std::vector<LinearTerm> terms;             // the effect's fitted coefficients
+  double size = 0;                           // RMS of the effect's contribution (training) [N]
+  double bic_change = 0;                     // BIC(with) - BIC(without), validation SSR [-]
+  std::string verdict;                       // why kept or not
 };
 
 struct Candidate {
@@ -51,6 +75,8 @@ struct Candidate {
   double explained = 0;           // fraction of training residual variance explained (screen)
   double screen_rms_train = 0;    // [N]
   double screen_rms_validation = 0;
+  double p_value = 1;             // training F-test of the columns at the current shape [-]
+  std::size_t columns = 0;        // columns the effect adds
   nlohmann::json evidence;
 };
 
@@ -64,6 +90,15 @@ struct Round {
 
 // Default time limit of each comparison fit [s] (FitOptions::max_seconds for compare_models).
 inline constexpr double kCompareSeconds = 60.0;
+
+// A parameter of the final model with its standard error from the linearised least squares at
+// the fitted shape (the shape itself held fixed; residual taken as white: a lower bound when
+// structure remains). Scalars of the measurement effects (tau, T, b) and ripple wavelengths get
+// theirs from the derivative of their columns.
+struct ParameterEstimate {
+  std::string effect, name, unit;
+  double value = 0, std_error = 0;
+};
 
 // One model of a comparison: fitted on the same training record, with the same effects.
 struct ModelComparison {
@@ -88,6 +123,12 @@ struct IdentReport {
   std::vector<Effect> effects_added;
   std::vector<Round> rounds;
   std::vector<ModelComparison> comparison;  // compare_models(); empty unless asked for
+  NoiseEstimate noise;                      // force noise sigma estimated from the training record
+  RippleSearch ripples;                     // ripple search on the base fit's residual
+  std::vector<ParameterEstimate> parameters;  // final model's linear terms and effect scalars
+  ResidualStructure remaining;              // what the final validation residual still holds;
+                                            // remaining.summary is one line for CLI and panel
+  std::vector<std::string> notes;           // undecided choices, said in words
   const FitResult& final_fit() const { return stages.back(); }
 };
 

@@ -8,6 +8,7 @@
 // force noise and encoder quantisation of x.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -26,6 +27,14 @@ struct SynthOptions {
   double rate = 500.0;      // sampling [Hz]
   unsigned seed = 1;        // motion and noise variant
   int moves = 12;           // number of moves
+  // Measurement and transmission effects (any combination, on top of `effect`):
+  double ripple_rel = 0.0;  // friction level x (1 + ripple_rel sin(2 pi x / ripple_L + 0.7))
+  double ripple_L = 1.3e-3; // [m]
+  double time_shift = 0.0;  // the force channel lags the position channel by this [s]
+  double filter_T = 0.0;    // first-order low-pass on the force channel [s]
+  double backlash = 0.0;    // lost motion between encoder and contact [m]
+  double dir_rel = 0.0;     // friction level x (1 + dir_rel sgn F): level differs per direction
+  double level = 1.0;       // every force (friction, viscous, effects, noise) scaled by this
 };
 
 inline GmsParams synth_gms() {
@@ -61,9 +70,10 @@ inline MeasuredRecord synthesize(const SynthOptions& o) {
   auto model = std::make_unique<GmsModel>(gp.to_params());
   std::vector<double> state(model->state_size(), 0.0);
   MeasuredRecord r;
+  std::vector<double> noise;
   r.source = "synthetic";
   r.force_column = "F_N";
-  double t = 0.0, x = 0.0;
+  double t = 0.0, x = 0.0, xc = 0.0;  // motor (encoder) and contact positions
   const double x_lo = -0.01, per = 2.5e-3;
   auto vel = [&](const Move& m, double tl) {
     if (tl < m.rest) return 0.0;
@@ -93,8 +103,11 @@ inline MeasuredRecord synthesize(const SynthOptions& o) {
           g2.S.Fs += 1.0 * std::log(1.0 + m.rest / 0.1) * std::exp(-std::abs(x - x_start) / 50e-6);
           model = std::make_unique<GmsModel>(g2.to_params());
         }
-        ff = model->step(state, {v, h / sub, 0.0, 0.0});
-        x += v * h / sub;
+        // The contact follows the motor within a dead band of width `backlash`.
+        const double xn = x + v * h / sub;
+        const double xcn = std::clamp(xc, xn - 0.5 * o.backlash, xn + 0.5 * o.backlash);
+        ff = model->step(state, {o.backlash > 0 ? (xcn - xc) / (h / sub) : v, h / sub, 0.0, 0.0});
+        x = xn, xc = o.backlash > 0 ? xcn : xn;
       }
       t += h;
       const double v = vel(m, tl + h), a = acc(m, tl + h);
@@ -110,17 +123,38 @@ inline MeasuredRecord synthesize(const SynthOptions& o) {
         case Effect::TimeDrift: F *= 1.0 + 0.012 * t; break;
         case Effect::VelocityExtra: F += 1500.0 * v * std::abs(v); break;
         case Effect::DwellStiction: break;
+        default: break;  // measurement effects: not generated here (random_records.hpp has them)
         case Effect::NormalLoad:
           Fn = 100.0 * (1.0 + 0.3 * std::sin(2 * std::numbers::pi * 0.37 * t));
           F *= Fn / 100.0;
           break;
       }
+      if (o.dir_rel != 0.0) F += o.dir_rel * std::abs(ff);
+      if (o.ripple_rel != 0.0) F += o.ripple_rel * ff * std::sin(2 * std::numbers::pi * xc / o.ripple_L + 0.7);
       r.t.push_back(t);
       r.x.push_back(o.quantum > 0 ? o.quantum * std::round(x / o.quantum) : x);
-      r.F.push_back(F + F_visc + o.noise * N(rng));
+      r.F.push_back((F + F_visc) * o.level);
+      noise.push_back(o.noise * o.level * N(rng));
       if (o.effect == Effect::NormalLoad) r.Fn.push_back(Fn + 0.1 * N(rng));
     }
   }
+  const std::size_t n = r.t.size();
+  if (o.time_shift != 0.0) {  // F(t - tau), Catmull-Rom interpolation of the clean force
+    std::vector<double> F = r.F;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double u = static_cast<double>(k) - o.time_shift * o.rate;
+      const auto i = static_cast<long>(std::floor(u));
+      const double w = u - static_cast<double>(i);
+      auto at = [&](long j) { return F[static_cast<std::size_t>(std::clamp<long>(j, 0, static_cast<long>(n) - 1))]; };
+      const double p0 = at(i - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
+      r.F[k] = p1 + 0.5 * w * (p2 - p0 + w * (2 * p0 - 5 * p1 + 4 * p2 - p3 + w * (3 * (p1 - p2) + p3 - p0)));
+    }
+  }
+  if (o.filter_T > 0.0) {
+    double s = r.F.front();
+    for (std::size_t k = 0; k < n; ++k) s = r.F[k] + (s - r.F[k]) * std::exp(-h / o.filter_T), r.F[k] = s;
+  }
+  for (std::size_t k = 0; k < n; ++k) r.F[k] += noise[k];
   return r;
 }
 
