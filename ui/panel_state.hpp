@@ -1,6 +1,6 @@
 // gmslab ui: each panel's state, held by AppState as typed members (ui/app.hpp) - no string-keyed
-// slots. A panel's settings that a session saves are the core/io/session_io.hpp structs
-// (DesignSettings, IdentifySettings), shared by the panel, the session file and the headless
+// slots. A panel's settings that a session saves are one struct each (DesignSettings:
+// core/control/design_settings.hpp; IdentifySettings: core/io/session_io.hpp), shared by the panel, the session file and the headless
 // renderer. Pure data: no ImGui, no app.
 #pragma once
 
@@ -44,19 +44,15 @@ struct FiguresState {
 
 // The Design panel (root-locus design view, ui/design_view.hpp).
 struct DesignViewState {
+  DesignSettings settings;           // what the user chose (the panel edits it; the session saves it)
   int generation = -1;               // scenario generation the inputs were taken from
-  control::DesignInputs in;          // what the design is computed from
+  // What the design is computed from: the scenario, the dragged compensator and the locus zoom
+  // (in.manual, in.locus_view) are the panel's own; every other field is derived from `settings`
+  // (control::set_design_inputs) before each computation.
+  control::DesignInputs in;
   control::DesignOutputs out;        // the last computation
   bool dirty = true;
   double compute_ms = 0.0;           // wall time of the last computation [ms]
-  bool use_K = false;                // target a desired error constant (else the usable maximum)
-  double K = 1000.0;                 // desired error constant
-  DesignReference reference = DesignReference::Sine;  // loop reference signal
-  double amplitude = 0.01;           // step height / sine amplitude [m]
-  double slope = 0.01;               // ramp velocity [m/s]
-  double frequency = 2.0;            // sine frequency [Hz]
-  double max_overshoot = 10.0;       // requirement [%] -> zeta_min
-  double settling_time = 0.15;       // requirement (2 % band) [s] -> sigma_min = 4 / Ts
   // Root-locus canvas
   // The user's zoom of the canvas is in.locus_view (none: fit the computed locus), kept once.
   enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
@@ -107,9 +103,10 @@ struct IdentifyState : IdentifySettings {  // the fields are the session's setti
 
 // Each panel's settings as a session saves them, and back. The app builds and restores the
 // session through these alone (it includes no panel). Defaults agree:
-// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings marks the
-// design dirty; applying identify settings leaves a run in progress (and its fields) alone.
-DesignSettings design_settings(const DesignViewState& d);
+// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings drops a
+// dragged compensator, derives the inputs and marks the design dirty; applying identify settings
+// leaves a run in progress (and its fields) alone.
+inline const DesignSettings& design_settings(const DesignViewState& d) { return d.settings; }
 void apply_design_settings(DesignViewState& d, const DesignSettings& s);
 IdentifySettings identify_settings(const IdentifyState& st);
 void apply_identify_settings(IdentifyState& st, const IdentifySettings& s);
