@@ -60,6 +60,7 @@ void refresh_preview(IdentifyState& st) {
       }
     } catch (const std::exception& e) {
       p.error = e.what();
+      p.error_kind = error_kind_of(e);
     }
   }
   st.preview = std::move(p);
@@ -97,6 +98,7 @@ void start(IdentifyState& st) {
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> lock(j->m);
       j->error = e.what();
+      j->error_kind = error_kind_of(e);
     }
     j->done = true;
   });
@@ -325,6 +327,7 @@ bool collect(IdentifyState& st) {
   std::lock_guard<std::mutex> lock(j.m);
   if (j.result) st.result = std::move(j.result);
   st.error = j.error;
+  st.error_kind = j.error_kind;
   st.job.reset();
   return false;
 }

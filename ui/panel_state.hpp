@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/control/design_session.hpp"
+#include "core/error.hpp"
 #include "core/figures/figure.hpp"
 #include "core/ident/dataset.hpp"
 #include "core/ident/loop.hpp"
@@ -22,6 +23,25 @@
 #include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
+
+// The window's panels, as errors name them (AppState::report: an error shows in its panel and on
+// the one status line).
+enum class Panel { Simulation, Figures, Design, Identify };
+inline constexpr int kPanelCount = 4;
+inline const char* to_string(Panel p) {
+  switch (p) {
+    case Panel::Simulation: return "Simulation";
+    case Panel::Figures: return "Figures";
+    case Panel::Design: return "Design";
+    case Panel::Identify: return "Identify";
+  }
+  return "?";
+}
+// The kind of a caught exception: its ErrorKind for a gmslab::Error, else Internal (a bug).
+inline ErrorKind error_kind_of(const std::exception& e) {
+  const auto* t = dynamic_cast<const Error*>(&e);
+  return t ? t->kind() : ErrorKind::Internal;
+}
 
 // The Simulation panel: a scratch copy of the scenario being edited (a valid edit becomes a
 // pending request; an invalid one stays here with its message shown inline).
@@ -40,6 +60,7 @@ struct FiguresState {
   std::string id;       // figure shown
   Figure figure;        // its data
   std::string error;    // why it could not be built
+  ErrorKind error_kind = ErrorKind::Internal;
 };
 
 // The Design panel (root-locus design view, ui/design_view.hpp).
@@ -77,6 +98,7 @@ struct IdentifyJob {
   std::mutex m;
   ident::FitProgress progress;     // guarded by m
   std::string error;               // guarded by m
+  ErrorKind error_kind = ErrorKind::Internal;  // guarded by m
   std::unique_ptr<IdentifyResult> result;  // guarded by m
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   std::thread thread;
@@ -91,6 +113,7 @@ struct IdentifyPreview {
   std::string key;  // the inputs it was loaded from
   ident::Dataset train, val;
   std::string error;
+  ErrorKind error_kind = ErrorKind::Input;
   std::vector<std::string> notes;
 };
 
@@ -99,6 +122,7 @@ struct IdentifyState : IdentifySettings {  // the fields are the session's setti
   std::unique_ptr<IdentifyResult> result;
   IdentifyPreview preview;
   std::string error, status;
+  ErrorKind error_kind = ErrorKind::Internal;  // of `error`
 };
 
 // Each panel's settings as a session saves them, and back. The app builds and restores the
