@@ -169,15 +169,15 @@ TEST(AppState, SessionRestoresTheIdentifyFields) {
   in.model = "maxwell_slip";
   in.elements = 9;
   in.compare = true;
-  ui::identify_set_inputs(a, in);
+  ui::apply_identify_settings(a.identify, in);
   const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
   EXPECT_EQ(sess.identify.data, in.data);
   EXPECT_EQ(sess.identify.model, "maxwell_slip");
   ui::AppState b;
   ui::restore_session(b, sess);
-  EXPECT_EQ(ui::identify_settings(b), sess.identify);
-  EXPECT_EQ(ui::identify_settings(b).elements, 9);
-  EXPECT_TRUE(ui::identify_settings(b).compare);
+  EXPECT_EQ(ui::identify_settings(b.identify), sess.identify);
+  EXPECT_EQ(ui::identify_settings(b.identify).elements, 9);
+  EXPECT_TRUE(ui::identify_settings(b.identify).compare);
 }
 
 // A slip threshold changed in the Simulation panel after a run applies to the whole recorded trace
