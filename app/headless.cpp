@@ -210,13 +210,13 @@ int render_command(const cli::RenderOptions& o) {
     in.mask_edges = o.mask_edges;
     in.compare = o.compare;
     if (o.no_run) {
-      ui::identify_set_inputs(s, in);
+      ui::apply_identify_settings(s.identify, in);
     } else {
-      ui::identify_start(s, in);
+      ui::identify_start(s.identify, in);
       std::cerr << "identifying " << o.data << " ...\n";
-      while (ui::identify_busy(s)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      while (ui::identify_busy(s.identify)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    if (!ui::identify_error(s).empty()) throw InputError("identification failed: " + ui::identify_error(s));
+    if (!ui::identify_error(s.identify).empty()) throw InputError("identification failed: " + ui::identify_error(s.identify));
   }
   Offscreen off(w, h);
   const auto& rgba = off.render([&] { draw_app(s); }, 4);

@@ -50,15 +50,15 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
   if (std::filesystem::exists(session_path)) {
     try {
       ui::restore_session(s, load_session(session_path));
-      s.status = "restored the session from " + session_path;
+      s.note("restored the session from " + session_path);
       return;
     } catch (const std::exception& e) {
-      s.status = std::string("session not restored: ") + e.what();
+      s.report(ui::Panel::Simulation, e, "session not restored");
       // Keep the user's file: the session saved on exit would otherwise overwrite it.
       try {
-        s.status += "\nthe file was kept as " + set_aside(session_path);
+        s.status += "; the file was kept as " + set_aside(session_path);
       } catch (const std::exception& e2) {
-        s.status += std::string("\n") + e2.what();
+        s.report(ui::Panel::Simulation, e2, "session file not set aside");
       }
     }
   }
@@ -66,7 +66,7 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
   try {
     ui::load_scenario_into(s, load_scenario(preset), preset);
   } catch (const std::exception& e) {
-    s.status += std::string(s.status.empty() ? "" : "\n") + "default preset not loaded: " + e.what();
+    s.report(ui::Panel::Simulation, e, "default preset not loaded");
   }
 }
 

@@ -37,16 +37,16 @@ void rebuild_overlay(AppState& s) {
 
 void stop_with(AppState& s, const std::string& who, const SimulationError& e) {
   s.running = false;
-  s.error = who + ": " + e.what();
+  s.report(Panel::Simulation, e, who);
 }
 
 // Each request in its own function; errors become messages, never exceptions.
 void apply_load(AppState& s, const std::string& path) {
   try {
     load_scenario_into(s, load_scenario(path), path);
-    s.status = "loaded " + path;
+    s.note("loaded " + path);
   } catch (const std::exception& e) {
-    s.status = std::string("load failed: ") + e.what();
+    s.report(Panel::Simulation, e, "load failed");
   }
 }
 
@@ -54,9 +54,9 @@ void apply_save(AppState& s, const std::string& path) {
   try {
     save_scenario(s.scenario, path);
     s.scenario_path = path;
-    s.status = "saved " + path;
+    s.note("saved " + path);
   } catch (const std::exception& e) {
-    s.status = std::string("save failed: ") + e.what();
+    s.report(Panel::Simulation, e, "save failed");
   }
 }
 
@@ -69,12 +69,73 @@ void apply_compare(AppState& s, const ModelParams& p) {
     else
       rebuild_overlay(s);
   } catch (const InputError& e) {
-    s.status = std::string("overlay model rejected: ") + e.what();
+    s.report(Panel::Simulation, e, "overlay model rejected");
   } catch (const SimulationError& e) {
     stop_with(s, "overlay model", e);
   }
 }
 }  // namespace
+
+void AppState::report(Panel p, ErrorKind k, const std::string& what) {
+  const std::string text = std::string(error_label(k)) + ": " + what;
+  switch (p) {
+    case Panel::Simulation: error = text; break;
+    case Panel::Figures: figures.error = text, figures.error_kind = k; break;
+    case Panel::Design: design.out.error = text, design.out.error_kind = k; break;
+    case Panel::Identify: identify.error = text, identify.error_kind = k; break;
+  }
+  on_status_[static_cast<int>(p)] = text;
+  status = std::string(to_string(p)) + ": " + text;
+  status_kind = k;
+  status_panel = p;
+}
+
+void AppState::report(Panel p, const std::exception& e, const std::string& context) {
+  report(p, error_kind_of(e), context.empty() ? std::string(e.what()) : context + ": " + e.what());
+}
+
+void AppState::note(const std::string& text) {
+  status = text;
+  status_kind.reset();
+  status_panel.reset();
+}
+
+void AppState::clear_error(Panel p) {
+  switch (p) {
+    case Panel::Simulation: error.clear(); break;
+    case Panel::Figures: figures.error.clear(); break;
+    case Panel::Design: design.out.error.clear(), design.out.error_kind.reset(); break;
+    case Panel::Identify: identify.error.clear(); break;
+  }
+  forward_error(p);
+}
+
+void AppState::forward_error(Panel p) {
+  std::string text;
+  ErrorKind kind = ErrorKind::Internal;
+  switch (p) {
+    case Panel::Simulation: text = error, kind = status_kind.value_or(ErrorKind::Input); break;
+    case Panel::Figures: text = figures.error, kind = figures.error_kind; break;
+    case Panel::Design:
+      text = design.out.error, kind = design.out.error_kind.value_or(ErrorKind::Internal);
+      break;
+    case Panel::Identify:
+      // The run's error, else why the records could not be loaded.
+      if (!identify.error.empty()) text = identify.error, kind = identify.error_kind;
+      else text = identify.preview.error, kind = identify.preview.error_kind;
+      break;
+  }
+  std::string& shown = on_status_[static_cast<int>(p)];
+  if (text == shown) return;
+  shown = text;
+  if (!text.empty()) {
+    status = std::string(to_string(p)) + ": " + text;
+    status_kind = kind;
+    status_panel = p;
+  } else if (status_panel == p) {
+    note("");
+  }
+}
 
 std::string presets_dir() {
   const char* env = std::getenv("GMSLAB_PRESETS");
@@ -90,14 +151,14 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
   s.main = {};
   s.main.sim = std::move(sim);
   s.running = false;
-  s.error.clear();
+  s.clear_error(Panel::Simulation);
   if (s.compare) {
     try {
       rebuild_overlay(s);
     } catch (const std::exception& e) {
       s.compare.reset();
       s.overlay = {};
-      s.status = std::string("overlay removed: ") + e.what();
+      s.report(Panel::Simulation, e, "overlay removed");
     }
   }
 }
@@ -129,7 +190,7 @@ void apply_pending(AppState& s) {
       load_scenario_into(s, *p.scenario, s.scenario_path);
       s.running = was_running;
     } catch (const InputError& e) {
-      s.status = std::string("scenario rejected: ") + e.what();
+      s.report(Panel::Simulation, e, "scenario rejected");
     }
   }
   if (p.friction && s.main.sim) {
@@ -137,7 +198,7 @@ void apply_pending(AppState& s) {
       s.main.sim->set_friction(*p.friction);
       s.scenario.friction = *p.friction;
     } catch (const InputError& e) {
-      s.status = std::string("friction rejected: ") + e.what();
+      s.report(Panel::Simulation, e, "friction rejected");
     }
   }
   if (p.plant && s.main.sim) {
@@ -146,7 +207,7 @@ void apply_pending(AppState& s) {
       if (s.overlay.sim) s.overlay.sim->set_plant(*p.plant);
       s.scenario.plant = *p.plant;
     } catch (const InputError& e) {
-      s.status = std::string("plant rejected: ") + e.what();
+      s.report(Panel::Simulation, e, "plant rejected");
     }
   }
   if (p.clear_compare) {
@@ -157,14 +218,14 @@ void apply_pending(AppState& s) {
   if (p.reset && s.main.sim) {
     s.main.sim->reset();
     if (s.overlay.sim) s.overlay.sim->reset();
-    s.error.clear();
+    s.clear_error(Panel::Simulation);
   }
   if (p.run && s.main.sim) {
     if (s.main.sim->finished()) {  // run again from the start
       s.main.sim->reset();
       if (s.overlay.sim) s.overlay.sim->reset();
     }
-    s.error.clear();
+    s.clear_error(Panel::Simulation);
     s.running = true;
   }
   if (p.pause) s.running = false;
@@ -213,6 +274,10 @@ void draw_frame(AppState& s) {
                                  ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_NoBringToFrontOnFocus;
   ImGui::Begin("gmslab", nullptr, flags);
+  // The panels above, the status line (when there is one) below.
+  const float status_h = s.status.empty() ? 0.0f
+                                          : ImGui::CalcTextSize(s.status.c_str()).y + ImGui::GetStyle().ItemSpacing.y;
+  ImGui::BeginChild("##tabs", ImVec2(0, -status_h), false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   if (ImGui::BeginTabBar("##panels")) {
     for (const PanelEntry& e : panels()) {
       const bool select = s.select_tab > 0 && s.view.tab == e.name;
@@ -227,6 +292,10 @@ void draw_frame(AppState& s) {
     if (s.select_tab > 0) --s.select_tab;
     ImGui::EndTabBar();
   }
+  ImGui::EndChild();
+  if (!s.status.empty())
+    ImGui::TextColored(s.status_kind ? ImVec4(0.75f, 0.10f, 0.10f, 1.0f) : ImVec4(0.35f, 0.35f, 0.38f, 1.0f), "%s",
+                       s.status.c_str());
   ImGui::End();
   apply_pending(s);
   advance(s);

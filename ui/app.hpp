@@ -9,6 +9,7 @@
 // Panels (tabs) are listed in ui/panels.cpp; see ui/panels.hpp for how to add one.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,8 +57,13 @@ struct AppState {
   bool running = false;
   bool sim_limited = false;         // the step budget per frame capped the speed
   ViewSettings view;
-  std::string status;               // last load / save message
-  std::string error;                // why the run stopped (SimulationError) or load failed
+  // The one status line (under every tab, when not empty): the last error reported, named by its
+  // panel and kind ("Simulation: error: load failed: ..."), or the last note ("saved PATH").
+  std::string status;
+  std::optional<ErrorKind> status_kind;  // the kind of the error on the status line; none: a note
+  std::optional<Panel> status_panel;     // the panel of that error
+  // The Simulation panel's error: a rejected load, save or edit, or why the run stopped.
+  std::string error;
   double frame_dt = 1.0 / 60.0;     // wall-clock seconds of this frame (host sets it)
   std::size_t max_steps_per_frame = 400000;  // keeps the window responsive
   // Memory bound of each live run's trace (main and overlay) [bytes]: a longer run is kept as
@@ -73,6 +79,20 @@ struct AppState {
   FiguresState figures;
   DesignViewState design;
   IdentifyState identify;
+
+  // Errors reach the user in one place: every failure is reported here, with its panel. The
+  // error is shown in that panel (its error field) and on the status line.
+  void report(Panel p, ErrorKind k, const std::string& what);
+  // The kind of `e` (Internal unless a gmslab::Error); the message is "context: what".
+  void report(Panel p, const std::exception& e, const std::string& context);
+  void note(const std::string& text);  // a status message that is not an error
+  void clear_error(Panel p);           // the panel's error is gone (and from the status line)
+  // Puts a panel's own error field (set by a panel that does not take the app: Figures, Design,
+  // Identify) on the status line when it changed; the panel table calls it after each draw.
+  void forward_error(Panel p);
+
+ private:
+  std::array<std::string, kPanelCount> on_status_{};  // per panel, the error last put on the line
 };
 
 // Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets".

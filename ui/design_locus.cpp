@@ -167,7 +167,7 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
   ImGuiIO& io = ImGui::GetIO();
   const ImVec2 m = io.MousePos;
   const control::DesignOutputs& out = d.out;
-  const cplx sd = d.in.root.s();
+  const cplx sd = control::design_root(d.settings).s();
   const float grab = 9.0f;
   if (hovered && ImGui::IsMouseClicked(0)) {
     d.drag = DesignViewState::Drag::None;
@@ -206,8 +206,8 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
   switch (d.drag) {
     case DesignViewState::Drag::Root: {
       const cplx u(std::min(s.real(), -1e-9), std::max(std::abs(s.imag()), 1e-9));
-      d.in.root.wn = std::abs(u);
-      d.in.root.zeta = std::clamp(-u.real() / std::abs(u), 0.01, 0.99);
+      d.settings.wn = std::abs(u);
+      d.settings.zeta = std::clamp(-u.real() / std::abs(u), 0.01, 0.99);
       d.dirty = true;
       break;
     }
@@ -274,7 +274,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
   dl->PushClipRect(p0, p1, true);
-  draw_requirements(dl, t, zeta_for_overshoot(d.max_overshoot), 4.0 / d.settling_time);
+  draw_requirements(dl, t, zeta_for_overshoot(d.settings.max_overshoot), 4.0 / d.settings.settling_time);
   draw_grid(dl, t);
   if (d.out.other_locus) draw_other_locus(dl, t, *d.out.other_locus);
   if (d.out.zero_degree_locus) draw_other_locus(dl, t, *d.out.zero_degree_locus, IM_COL32(86, 180, 233, 170));
@@ -310,7 +310,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
     dl->AddRectFilled(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), kClosed);
   }
   // desired dominant roots: diamonds
-  for (const cplx& s : {d.in.root.s(), std::conj(d.in.root.s())}) {
+  for (const cplx& s : {control::design_root(d.settings).s(), std::conj(control::design_root(d.settings).s())}) {
     const ImVec2 q = px(t, s);
     const float a = 8.0f;
     dl->AddQuad(ImVec2(q.x, q.y - a), ImVec2(q.x + a, q.y), ImVec2(q.x, q.y + a), ImVec2(q.x - a, q.y), kTarget, 2.5f);

@@ -54,10 +54,7 @@ void sync(DesignViewState& d, const Scenario& scenario, int generation) {
 
 void recompute(DesignViewState& d) {
   if (!d.dirty) return;
-  d.in.K = d.use_K ? std::optional<double>(d.K) : std::nullopt;
-  d.in.reference = d.reference == DesignReference::Step   ? Signal::constant(d.amplitude)
-                   : d.reference == DesignReference::Ramp ? Signal::ramp(0.0, d.slope)
-                                      : Signal::sine(0.0, d.amplitude, d.frequency);
+  control::set_design_inputs(d.settings, d.in);  // the panel only offers valid names
   const auto t0 = std::chrono::steady_clock::now();
   try {
     d.out = control::compute_design(d.in);
@@ -73,21 +70,22 @@ void recompute(DesignViewState& d) {
 
 void plant_section(DesignViewState& d) {
   ImGui::TextUnformatted("Plant: force -> position of the mass");
-  int regime = d.in.regime == control::Regime::Presliding ? 0 : 1;
+  DesignSettings& s = d.settings;
+  int regime = s.regime == "presliding" ? 0 : 1;
   bool ch = ImGui::RadioButton("presliding", &regime, 0);
   tip("Friction elements stuck: they add their stiffness sum k_i and micro-damping");
   ImGui::SameLine();
   ch |= ImGui::RadioButton("gross sliding", &regime, 1);
   tip("Sliding at v0: friction acts through the local Stribeck slope plus sigma2 (damping)");
-  if (ch) d.in.regime = regime == 0 ? control::Regime::Presliding : control::Regime::Sliding, d.dirty = true;
-  if (d.in.regime == control::Regime::Sliding) {
-    double v0 = d.in.velocity > 0 ? d.in.velocity : d.out.plant.velocity;
+  if (ch) s.regime = regime == 0 ? "presliding" : "sliding", d.dirty = true;
+  if (s.regime == "sliding") {
+    double v0 = s.velocity > 0 ? s.velocity : d.out.plant.velocity;
     if (input_double("v0 [m/s]", &v0, 1e-5, 1.0, "%.3g", "Sliding operating velocity (default 10 Vs)", true))
-      d.in.velocity = v0, d.dirty = true;
+      s.velocity = v0, d.dirty = true;
   }
-  d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &d.in.other_regime);
+  d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &s.other_regime);
   tip("Overlay the locus of the other regime's plant with the same compensator");
-  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &d.in.zero_degree);
+  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &s.zero_degree);
   tip("The complementary locus: negative gain / positive feedback");
   const auto& p = d.out.plant;
   ImGui::TextColored(kDim, "G(s) = 1 / (%.4g s^2 + %.4g s + %.4g)  [m/N]", p.mass, p.damping, p.stiffness);
@@ -97,12 +95,13 @@ void plant_section(DesignViewState& d) {
 void root_section(DesignViewState& d) {
   ImGui::Separator();
   ImGui::TextUnformatted("Desired dominant roots s_d (drag the diamond)");
-  d.dirty |= input_double("zeta [-]", &d.in.root.zeta, 0.02, 0.98, "%.3f", "Damping ratio of s_d, in (0, 1)");
-  d.dirty |= input_double("wn [rad/s]", &d.in.root.wn, 0.01, 1e5, "%.4g", "Natural frequency of s_d", true);
-  d.dirty |= ImGui::Checkbox("target error constant K", &d.use_K);
+  DesignSettings& s = d.settings;
+  d.dirty |= input_double("zeta [-]", &s.zeta, 0.02, 0.98, "%.3f", "Damping ratio of s_d, in (0, 1)");
+  d.dirty |= input_double("wn [rad/s]", &s.wn, 0.01, 1e5, "%.4g", "Natural frequency of s_d", true);
+  d.dirty |= ImGui::Checkbox("target error constant K", &s.use_K);
   tip("On: design for this K (relocate s_d when out of reach). Off: the usable maximum (p/z bound)");
-  if (d.use_K) d.dirty |= input_double("K", &d.K, 1e-3, 1e7, "%.4g", "Desired Kp / Kv / Ka (by plant type)", true);
-  d.dirty |= input_double("max p/z [-]", &d.in.options.max_ratio, 1.5, 100.0, "%.3g",
+  if (s.use_K) d.dirty |= input_double("K", &s.K, 1e-3, 1e7, "%.4g", "Desired Kp / Kv / Ka (by plant type)", true);
+  d.dirty |= input_double("max p/z [-]", &s.max_ratio, 1.5, 100.0, "%.3g",
                           "Bound on the lead ratio p/z for the usable maximum K", true);
 }
 
@@ -126,7 +125,7 @@ void result_section(DesignViewState& d) {
   if (L.applicable) {
     ImGui::Text("%s_max = %.5g (PD limit)", kname.c_str(), L.K_max);
     tip("Supremum of the error constant at s_d: reached only as p -> infinity");
-    ImGui::Text("usable (p/z <= %.3g) = %.5g", d.in.options.max_ratio, r.K_max_usable);
+    ImGui::Text("usable (p/z <= %.3g) = %.5g", d.settings.max_ratio, r.K_max_usable);
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
@@ -142,8 +141,8 @@ void result_section(DesignViewState& d) {
     st.x = o.step.y;
     st.r.assign(o.step.t.size(), o.step.y.back());
     const control::LoopMetrics m = control::loop_metrics(st);
-    const bool os_ok = m.overshoot <= d.max_overshoot;
-    const bool ts_ok = std::isfinite(m.settling_time) && m.settling_time <= d.settling_time;
+    const bool os_ok = m.overshoot <= d.settings.max_overshoot;
+    const bool ts_ok = std::isfinite(m.settling_time) && m.settling_time <= d.settings.settling_time;
     ImGui::TextColored(os_ok ? kOk : kErr, "linear step: overshoot %.3g %%", m.overshoot);
     tip("Overshoot of the linear closed-loop step (requirement in Requirements below)");
     ImGui::SameLine();
@@ -163,7 +162,8 @@ void result_section(DesignViewState& d) {
     if (rel.found) {
       ImGui::Text("%s: zeta %.3f, wn %.4g", rel.path.c_str(), rel.root.zeta, rel.root.wn);
       ImGui::SameLine();
-      if (ImGui::SmallButton("use")) d.in.root = rel.root, d.dirty = true;
+      if (ImGui::SmallButton("use"))
+        d.settings.zeta = rel.root.zeta, d.settings.wn = rel.root.wn, d.dirty = true;
       tip("Move s_d to this point of the path (K_max = K (1 + margin) there)");
     } else {
       ImGui::PushTextWrapPos(0.0f);
@@ -199,28 +199,29 @@ void compensator_section(DesignViewState& d) {
 
 void simulation_section(DesignViewState& d) {
   ImGui::Separator();
+  DesignSettings& s = d.settings;
   ImGui::TextUnformatted("Requirements (shaded where they fail)");
-  input_double("max overshoot [%]", &d.max_overshoot, 0.1, 90.0, "%.3g", "-> minimum damping ratio");
-  input_double("settling time [s]", &d.settling_time, 1e-3, 100.0, "%.3g", "2 % band: Re s < -4 / Ts", true);
+  input_double("max overshoot [%]", &s.max_overshoot, 0.1, 90.0, "%.3g", "-> minimum damping ratio");
+  input_double("settling time [s]", &s.settling_time, 1e-3, 100.0, "%.3g", "2 % band: Re s < -4 / Ts", true);
   ImGui::Separator();
   ImGui::TextUnformatted("Loop with the scenario's friction");
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
-  int reference = static_cast<int>(d.reference);  // the combo's items in DesignReference order
+  int reference = static_cast<int>(s.reference);  // the combo's items in DesignReference order
   if (ImGui::Combo("reference", &reference, "step\0ramp\0sine\0")) {
-    d.reference = static_cast<DesignReference>(reference);
+    s.reference = static_cast<DesignReference>(reference);
     d.dirty = true;
   }
-  if (d.reference != DesignReference::Ramp) d.dirty |= input_double("amplitude [m]", &d.amplitude, 1e-6, 1.0, "%.3g", "Step height / sine amplitude", true);
-  if (d.reference == DesignReference::Ramp) d.dirty |= input_double("slope [m/s]", &d.slope, 1e-6, 1.0, "%.3g", "Ramp velocity", true);
-  if (d.reference == DesignReference::Sine) d.dirty |= input_double("frequency [Hz]", &d.frequency, 0.01, 100.0, "%.3g", "Sine frequency", true);
-  int comp = d.in.compensation == control::Compensation::Coulomb ? 0 : 1;
+  if (s.reference != DesignReference::Ramp) d.dirty |= input_double("amplitude [m]", &s.amplitude, 1e-6, 1.0, "%.3g", "Step height / sine amplitude", true);
+  if (s.reference == DesignReference::Ramp) d.dirty |= input_double("slope [m/s]", &s.slope, 1e-6, 1.0, "%.3g", "Ramp velocity", true);
+  if (s.reference == DesignReference::Sine) d.dirty |= input_double("frequency [Hz]", &s.frequency, 0.01, 100.0, "%.3g", "Sine frequency", true);
+  int comp = s.compensation == "coulomb" ? 0 : 1;
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
   if (ImGui::Combo("compensation", &comp, "Coulomb feedforward\0GMS feedforward\0"))
-    d.in.compensation = comp == 0 ? control::Compensation::Coulomb : control::Compensation::Gms, d.dirty = true;
+    s.compensation = comp == 0 ? "coulomb" : "gms", d.dirty = true;
   tip("Coulomb: Fc sgn(v_ref). GMS: a GMS model driven by the reference inside the controller");
-  d.dirty |= input_double("model force x [-]", &d.in.mismatch.force, 0.2, 2.0, "%.2f", "Compensator's Fs, Fc / plant's");
-  d.dirty |= input_double("model stiffness x [-]", &d.in.mismatch.stiffness, 0.1, 10.0, "%.2f", "Compensator's k_i / plant's", true);
-  d.dirty |= input_double("sample time [s]", &d.in.sample_time, 0.0, 0.01, "%.2g", "0: continuous; else Tustin at T with hold");
+  d.dirty |= input_double("model force x [-]", &s.mismatch_force, 0.2, 2.0, "%.2f", "Compensator's Fs, Fc / plant's");
+  d.dirty |= input_double("model stiffness x [-]", &s.mismatch_stiffness, 0.1, 10.0, "%.2f", "Compensator's k_i / plant's", true);
+  d.dirty |= input_double("sample time [s]", &s.sample_time, 0.0, 0.01, "%.2g", "0: continuous; else Tustin at T with hold");
   ImGui::TextColored(kDim, "recomputed in %.1f ms (locus, design, step, 2 loops)", d.compute_ms);
 }
 }  // namespace

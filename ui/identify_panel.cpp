@@ -1,6 +1,5 @@
 #include "ui/identify_panel.hpp"
 
-#include "ui/app.hpp"  // the scripted API below takes the AppState (tests, render)
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -60,6 +59,7 @@ void refresh_preview(IdentifyState& st) {
       }
     } catch (const std::exception& e) {
       p.error = e.what();
+      p.error_kind = error_kind_of(e);
     }
   }
   st.preview = std::move(p);
@@ -97,6 +97,7 @@ void start(IdentifyState& st) {
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> lock(j->m);
       j->error = e.what();
+      j->error_kind = error_kind_of(e);
     }
     j->done = true;
   });
@@ -326,6 +327,7 @@ bool collect(IdentifyState& st) {
   std::lock_guard<std::mutex> lock(j.m);
   if (j.result) st.result = std::move(j.result);
   st.error = j.error;
+  st.error_kind = j.error_kind;
   st.job.reset();
   return false;
 }
@@ -371,30 +373,25 @@ void apply_identify_settings(IdentifyState& st, const IdentifySettings& in) {
   if (!collect(st)) static_cast<Config&>(st) = in;
 }
 
-IdentifySettings identify_settings(const AppState& s) { return identify_settings(s.identify); }
 
-void identify_set_inputs(AppState& s, const IdentifyInputs& in) { apply_identify_settings(s.identify, in); }
 
-void identify_start(AppState& s, const IdentifyInputs& in) {
-  auto& st = s.identify;
+void identify_start(IdentifyState& st, const IdentifyInputs& in) {
   if (collect(st)) return;  // one run at a time
   static_cast<Config&>(st) = in;
   start(st);
 }
 
-bool identify_busy(AppState& s) { return collect(s.identify); }
+bool identify_busy(IdentifyState& st) { return collect(st); }
 
-void identify_cancel(AppState& s) {
-  auto& st = s.identify;
+void identify_cancel(IdentifyState& st) {
   if (st.job) st.job->cancel = true;
 }
 
-const ident::IdentReport* identify_report(AppState& s) {
-  auto& st = s.identify;
+const ident::IdentReport* identify_report(const IdentifyState& st) {
   return st.result ? &st.result->report : nullptr;
 }
 
-std::string identify_error(AppState& s) { return s.identify.error; }
+std::string identify_error(const IdentifyState& st) { return st.error; }
 
 void identify_send_to_plant(IdentifyState& st, std::optional<Scenario>& plant_request) {
   if (!st.result) return;
@@ -402,7 +399,6 @@ void identify_send_to_plant(IdentifyState& st, std::optional<Scenario>& plant_re
   st.status = "sent to the Simulation tab";
 }
 
-void identify_send_to_plant(AppState& s) { identify_send_to_plant(s.identify, s.pending.scenario); }
 
 void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_request) {
   const bool busy = st.job != nullptr;

@@ -13,8 +13,6 @@
 
 namespace gmslab::ui {
 
-struct AppState;
-
 // The panel: its own state; "Send model to plant" puts the identified scenario into
 // plant_request (the app passes its pending scenario request). Knows nothing else of the app.
 void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_request);
@@ -23,23 +21,22 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
 // window saves and restores exactly what the panel shows.
 using IdentifyInputs = IdentifySettings;
 
-// The panel's actions without drawing (scripted use and tests): start a run on the worker
-// thread; busy() also collects a finished run; the report of the last finished run (nullptr if
-// none); the last run's error ("cancelled" after cancel()); send the identified model to the plant
-// (a pending scenario request, applied by apply_pending like any UI edit).
-void identify_start(AppState& s, const IdentifyInputs& in);
-// The panel's fields (defaults when the panel was never shown); the session saves them.
-IdentifySettings identify_settings(const AppState& s);
-// Fills the panel's fields without running (the records are loaded and shown on the next frame);
-// a run in progress is left alone. The session restores the fields with it.
-void identify_set_inputs(AppState& s, const IdentifyInputs& in);
+// The panel's actions without drawing (scripted use and tests), on the panel's own state only:
+// start a run on the worker thread; busy() also collects a finished run; the report of the last
+// finished run (nullptr if none); the last run's error ("cancelled" after cancel()); send the
+// identified model to the plant (into plant_request: the app's pending scenario request, applied
+// by apply_pending like any UI edit).
+void identify_start(IdentifyState& st, const IdentifyInputs& in);
+// The panel's fields are read and set (without running: the records are loaded and shown on the
+// next frame; a run in progress is left alone) by identify_settings / apply_identify_settings
+// (ui/panel_state.hpp), as the session does.
 // The EMPS benchmark's files when ../shared/data/emps (or $GMSLAB_SHARED/data/emps) has them:
 // training DATA_EMPS.csv, validation DATA_EMPS_PULSES.csv; nullopt otherwise.
 std::optional<IdentifyInputs> emps_example();
-bool identify_busy(AppState& s);
-void identify_cancel(AppState& s);
-const ident::IdentReport* identify_report(AppState& s);
-std::string identify_error(AppState& s);
-void identify_send_to_plant(AppState& s);
+bool identify_busy(IdentifyState& st);
+void identify_cancel(IdentifyState& st);
+const ident::IdentReport* identify_report(const IdentifyState& st);
+std::string identify_error(const IdentifyState& st);
+void identify_send_to_plant(IdentifyState& st, std::optional<Scenario>& plant_request);
 
 }  // namespace gmslab::ui

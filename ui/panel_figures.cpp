@@ -30,6 +30,7 @@ void draw_figures_panel(FiguresState& f, const std::string& presets) {
       f.figure = make_figure(f.id, presets);
     } catch (const std::exception& e) {
       f.error = e.what();
+      f.error_kind = error_kind_of(e);
     }
   }
   if (!pick.empty()) f.error.clear();

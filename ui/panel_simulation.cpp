@@ -71,7 +71,6 @@ void scenario_section(AppState& s, SimPanelState& p) {
   ImGui::PushTextWrapPos(0.0f);
   ImGui::TextUnformatted(s.scenario.name.c_str());
   if (!s.scenario.description.empty()) ImGui::TextColored(kDim, "%s", s.scenario.description.c_str());
-  if (!s.status.empty()) ImGui::TextColored(kDim, "%s", s.status.c_str());
   ImGui::PopTextWrapPos();
 }
 
@@ -106,7 +105,7 @@ void run_section(AppState& s) {
   if (!s.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);
     ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(("Run stopped: " + s.error).c_str());
+    ImGui::TextUnformatted(s.error.c_str());
     ImGui::PopTextWrapPos();
     ImGui::PopStyleColor();
   }

@@ -1,6 +1,6 @@
 // gmslab ui: each panel's state, held by AppState as typed members (ui/app.hpp) - no string-keyed
-// slots. A panel's settings that a session saves are the core/io/session_io.hpp structs
-// (DesignSettings, IdentifySettings), shared by the panel, the session file and the headless
+// slots. A panel's settings that a session saves are one struct each (DesignSettings:
+// core/control/design_settings.hpp; IdentifySettings: core/io/session_io.hpp), shared by the panel, the session file and the headless
 // renderer. Pure data: no ImGui, no app.
 #pragma once
 
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/control/design_session.hpp"
+#include "core/error.hpp"
 #include "core/figures/figure.hpp"
 #include "core/ident/dataset.hpp"
 #include "core/ident/loop.hpp"
@@ -22,6 +23,25 @@
 #include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
+
+// The window's panels, as errors name them (AppState::report: an error shows in its panel and on
+// the one status line).
+enum class Panel { Simulation, Figures, Design, Identify };
+inline constexpr int kPanelCount = 4;
+inline const char* to_string(Panel p) {
+  switch (p) {
+    case Panel::Simulation: return "Simulation";
+    case Panel::Figures: return "Figures";
+    case Panel::Design: return "Design";
+    case Panel::Identify: return "Identify";
+  }
+  return "?";
+}
+// The kind of a caught exception: its ErrorKind for a gmslab::Error, else Internal (a bug).
+inline ErrorKind error_kind_of(const std::exception& e) {
+  const auto* t = dynamic_cast<const Error*>(&e);
+  return t ? t->kind() : ErrorKind::Internal;
+}
 
 // The Simulation panel: a scratch copy of the scenario being edited (a valid edit becomes a
 // pending request; an invalid one stays here with its message shown inline).
@@ -40,23 +60,20 @@ struct FiguresState {
   std::string id;       // figure shown
   Figure figure;        // its data
   std::string error;    // why it could not be built
+  ErrorKind error_kind = ErrorKind::Internal;
 };
 
 // The Design panel (root-locus design view, ui/design_view.hpp).
 struct DesignViewState {
+  DesignSettings settings;           // what the user chose (the panel edits it; the session saves it)
   int generation = -1;               // scenario generation the inputs were taken from
-  control::DesignInputs in;          // what the design is computed from
+  // What the design is computed from: the scenario, the dragged compensator and the locus zoom
+  // (in.manual, in.locus_view) are the panel's own; every other field is derived from `settings`
+  // (control::set_design_inputs) before each computation.
+  control::DesignInputs in;
   control::DesignOutputs out;        // the last computation
   bool dirty = true;
   double compute_ms = 0.0;           // wall time of the last computation [ms]
-  bool use_K = false;                // target a desired error constant (else the usable maximum)
-  double K = 1000.0;                 // desired error constant
-  DesignReference reference = DesignReference::Sine;  // loop reference signal
-  double amplitude = 0.01;           // step height / sine amplitude [m]
-  double slope = 0.01;               // ramp velocity [m/s]
-  double frequency = 2.0;            // sine frequency [Hz]
-  double max_overshoot = 10.0;       // requirement [%] -> zeta_min
-  double settling_time = 0.15;       // requirement (2 % band) [s] -> sigma_min = 4 / Ts
   // Root-locus canvas
   // The user's zoom of the canvas is in.locus_view (none: fit the computed locus), kept once.
   enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
@@ -81,6 +98,7 @@ struct IdentifyJob {
   std::mutex m;
   ident::FitProgress progress;     // guarded by m
   std::string error;               // guarded by m
+  ErrorKind error_kind = ErrorKind::Internal;  // guarded by m
   std::unique_ptr<IdentifyResult> result;  // guarded by m
   std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   std::thread thread;
@@ -95,6 +113,7 @@ struct IdentifyPreview {
   std::string key;  // the inputs it was loaded from
   ident::Dataset train, val;
   std::string error;
+  ErrorKind error_kind = ErrorKind::Input;
   std::vector<std::string> notes;
 };
 
@@ -103,13 +122,15 @@ struct IdentifyState : IdentifySettings {  // the fields are the session's setti
   std::unique_ptr<IdentifyResult> result;
   IdentifyPreview preview;
   std::string error, status;
+  ErrorKind error_kind = ErrorKind::Internal;  // of `error`
 };
 
 // Each panel's settings as a session saves them, and back. The app builds and restores the
 // session through these alone (it includes no panel). Defaults agree:
-// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings marks the
-// design dirty; applying identify settings leaves a run in progress (and its fields) alone.
-DesignSettings design_settings(const DesignViewState& d);
+// design_settings(DesignViewState{}) == DesignSettings{}. Applying design settings drops a
+// dragged compensator, derives the inputs and marks the design dirty; applying identify settings
+// leaves a run in progress (and its fields) alone.
+inline const DesignSettings& design_settings(const DesignViewState& d) { return d.settings; }
 void apply_design_settings(DesignViewState& d, const DesignSettings& s);
 IdentifySettings identify_settings(const IdentifyState& st);
 void apply_identify_settings(IdentifyState& st, const IdentifySettings& s);

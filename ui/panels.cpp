@@ -14,11 +14,20 @@ const std::vector<PanelEntry>& panels() {
        draw_simulation_panel},
       // Each panel gets its own typed state and only what it needs of the app.
       {"Figures", "The seed paper's figures, recomputed from the presets",
-       [](AppState& s) { draw_figures_panel(s.figures, presets_dir()); }},
+       [](AppState& s) {
+         draw_figures_panel(s.figures, presets_dir());
+         s.forward_error(Panel::Figures);
+       }},
       {"Design", "Phase-lead design on the root locus, simulated with the friction",
-       [](AppState& s) { draw_design_panel(s.design, s.scenario, s.generation); }},
+       [](AppState& s) {
+         draw_design_panel(s.design, s.scenario, s.generation);
+         s.forward_error(Panel::Design);
+       }},
       {"Identify", "Fit a friction model to measured data and find what it lacks",
-       [](AppState& s) { draw_identify_panel(s.identify, s.pending.scenario); }},
+       [](AppState& s) {
+         draw_identify_panel(s.identify, s.pending.scenario);
+         s.forward_error(Panel::Identify);
+       }},
       // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
   };
   return list;

@@ -6,21 +6,6 @@
 
 namespace gmslab {
 
-const char* to_string(DesignReference r) {
-  switch (r) {
-    case DesignReference::Step: return "step";
-    case DesignReference::Ramp: return "ramp";
-    case DesignReference::Sine: return "sine";
-  }
-  return "sine";
-}
-
-std::optional<DesignReference> design_reference_from_string(std::string_view s) {
-  for (auto r : {DesignReference::Step, DesignReference::Ramp, DesignReference::Sine})
-    if (s == to_string(r)) return r;
-  return std::nullopt;
-}
-
 using nlohmann::json;
 
 json to_json(const Session& s) {

@@ -29,6 +29,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/control/design_settings.hpp"
 #include "core/sim/scenario.hpp"
 
 namespace gmslab {
@@ -48,35 +49,7 @@ struct ViewSettings {
   bool operator==(const ViewSettings&) const = default;
 };
 
-// The design loop's reference signal; saved as "step" | "ramp" | "sine".
-enum class DesignReference { Step, Ramp, Sine };
-const char* to_string(DesignReference r);
-// nullopt for any other text.
-std::optional<DesignReference> design_reference_from_string(std::string_view s);
-
-// The root-locus design view's settings (the Design tab); ranges are those of its fields.
-struct DesignSettings {
-  std::string regime = "sliding";   // plant regime: "presliding" | "sliding"
-  double velocity = 0.0;            // sliding operating velocity v0 [m/s], [0, 1e3]; 0: automatic
-  double zeta = 0.7;                // desired dominant damping ratio [-], [0.02, 0.98]
-  double wn = 60.0;                 // desired dominant natural frequency [rad/s], (0, 1e5]
-  bool use_K = false;               // target `K` (else the usable maximum)
-  double K = 1000.0;                // desired error constant (Kp / Kv / Ka by plant type), (0, 1e7]
-  double max_ratio = 20.0;          // bound on the lead's p / z [-], [1.5, 100]
-  DesignReference reference = DesignReference::Sine;  // loop reference
-  double amplitude = 0.01;          // step height / sine amplitude [m], (0, 1]
-  double slope = 0.01;              // ramp velocity [m/s], (0, 1]
-  double frequency = 2.0;           // sine frequency [Hz], (0, 100]
-  std::string compensation = "gms";  // friction compensation of the second loop: "coulomb" | "gms"
-  double mismatch_force = 1.0;      // compensator's Fs, Fc / plant's [-], [0.2, 2]
-  double mismatch_stiffness = 1.0;  // compensator's k_i / plant's [-], [0.1, 10]
-  double sample_time = 0.0;         // controller sample time [s], [0, 0.01]; 0: continuous
-  double max_overshoot = 10.0;      // requirement [%], [0.1, 90]
-  double settling_time = 0.15;      // requirement, 2 % band [s], (0, 100]
-  bool other_regime = false;        // also draw the other regime's locus
-  bool zero_degree = false;         // also draw the 0-degree locus
-  bool operator==(const DesignSettings&) const = default;
-};
+// The Design tab's settings: DesignSettings, DesignReference (core/control/design_settings.hpp).
 
 // The Identify tab's fields (what to identify; the run and its report are not saved).
 struct IdentifySettings {

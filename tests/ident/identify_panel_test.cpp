@@ -32,7 +32,7 @@ std::string write_record(const synth::SynthOptions& so, const std::string& name)
 
 bool wait_done(ui::AppState& s, double seconds) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  while (ui::identify_busy(s)) {
+  while (ui::identify_busy(s.identify)) {
     if (std::chrono::steady_clock::now() > end) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -48,14 +48,14 @@ TEST(IdentPanel, WorkerRunFindsTheEffectAndSendsTheModelToThePlant) {
   ui::AppState s;
   ui::IdentifyInputs in;
   in.data = csv;
-  ui::identify_start(s, in);
+  ui::identify_start(s.identify, in);
   ASSERT_TRUE(wait_done(s, 300.0));
-  EXPECT_EQ(ui::identify_error(s), "");
-  const auto* rep = ui::identify_report(s);
+  EXPECT_EQ(ui::identify_error(s.identify), "");
+  const auto* rep = ui::identify_report(s.identify);
   ASSERT_NE(rep, nullptr);
   ASSERT_FALSE(rep->effects_added.empty());
   EXPECT_EQ(rep->effects_added.front(), ident::Effect::Offset);
-  ui::identify_send_to_plant(s);
+  ui::identify_send_to_plant(s.identify, s.pending.scenario);
   ASSERT_TRUE(s.pending.scenario.has_value());
   ui::apply_pending(s);
   EXPECT_EQ(s.scenario.friction, rep->final_fit().friction);
@@ -70,11 +70,11 @@ TEST(IdentPanel, CancelStopsTheRun) {
   ui::AppState s;
   ui::IdentifyInputs in;
   in.data = csv;
-  ui::identify_start(s, in);
-  ui::identify_cancel(s);
+  ui::identify_start(s.identify, in);
+  ui::identify_cancel(s.identify);
   ASSERT_TRUE(wait_done(s, 60.0));
-  EXPECT_EQ(ui::identify_error(s), "cancelled");
-  EXPECT_EQ(ui::identify_report(s), nullptr);
+  EXPECT_EQ(ui::identify_error(s.identify), "cancelled");
+  EXPECT_EQ(ui::identify_report(s.identify), nullptr);
   std::filesystem::remove(csv);
 }
 #endif

@@ -131,16 +131,17 @@ TEST(AppState, SessionRestoresTheDesignSettings) {
   ui::load_scenario_into(a, stick_slip(), "");
   EXPECT_EQ(ui::make_session(a).design, DesignSettings{});  // design tab never opened
   auto& d = a.design;
-  d.in.root = {0.35, 140.0};
-  d.in.regime = control::Regime::Presliding;
-  d.use_K = true;
-  d.K = 2.5e4;
-  d.reference = DesignReference::Ramp;
-  d.slope = 0.02;
-  d.in.compensation = control::Compensation::Coulomb;
-  d.in.mismatch.force = 0.8;
-  d.in.sample_time = 5e-4;
-  d.in.other_regime = true;
+  d.settings.zeta = 0.35;
+  d.settings.wn = 140.0;
+  d.settings.regime = "presliding";
+  d.settings.use_K = true;
+  d.settings.K = 2.5e4;
+  d.settings.reference = DesignReference::Ramp;
+  d.settings.slope = 0.02;
+  d.settings.compensation = "coulomb";
+  d.settings.mismatch_force = 0.8;
+  d.settings.sample_time = 5e-4;
+  d.settings.other_regime = true;
   const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
   EXPECT_EQ(sess.design.zeta, 0.35);
   EXPECT_EQ(sess.design.reference, DesignReference::Ramp);
@@ -168,15 +169,15 @@ TEST(AppState, SessionRestoresTheIdentifyFields) {
   in.model = "maxwell_slip";
   in.elements = 9;
   in.compare = true;
-  ui::identify_set_inputs(a, in);
+  ui::apply_identify_settings(a.identify, in);
   const Session sess = session_from_json(to_json(ui::make_session(a)), "mem");
   EXPECT_EQ(sess.identify.data, in.data);
   EXPECT_EQ(sess.identify.model, "maxwell_slip");
   ui::AppState b;
   ui::restore_session(b, sess);
-  EXPECT_EQ(ui::identify_settings(b), sess.identify);
-  EXPECT_EQ(ui::identify_settings(b).elements, 9);
-  EXPECT_TRUE(ui::identify_settings(b).compare);
+  EXPECT_EQ(ui::identify_settings(b.identify), sess.identify);
+  EXPECT_EQ(ui::identify_settings(b.identify).elements, 9);
+  EXPECT_TRUE(ui::identify_settings(b.identify).compare);
 }
 
 // A slip threshold changed in the Simulation panel after a run applies to the whole recorded trace
