@@ -165,4 +165,33 @@ std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction, int
   return {std::move(train), std::move(val)};
 }
 
+void check_identifiable(const Dataset& d, std::string_view role, bool need_reversal) {
+  const std::string who = std::string(role) + " record " + d.source;
+  const std::size_t n = d.used();
+  if (n < kMinSamples)
+    throw InputError(who + ": " + std::to_string(n) + " samples are used after masking; at least " +
+                     std::to_string(kMinSamples) + " are needed (check the masks and the hold-out)");
+  double xl = 1e300, xh = -1e300, vmax = 0.0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k] && std::isfinite(d.x[k]) && std::isfinite(d.v[k])) {
+      xl = std::min(xl, d.x[k]), xh = std::max(xh, d.x[k]);
+      vmax = std::max(vmax, std::abs(d.v[k]));
+    }
+  if (!(xh > xl) || !(vmax > 0.0))
+    throw InputError(who + ": the position does not change over the used samples; identification "
+                     "needs motion, with reversals of direction");
+  if (!need_reversal) return;
+  // Direction changes between moving samples (|v| above 5 % of the largest speed).
+  int last = 0, reversals = 0;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    if (std::abs(d.v[k]) < 0.05 * vmax) continue;
+    const int s = d.v[k] > 0 ? 1 : -1;
+    if (last != 0 && s != last) ++reversals;
+    last = s;
+  }
+  if (reversals == 0)
+    throw InputError(who + ": the motion never reverses direction, so friction cannot be told from "
+                     "a constant force; record back-and-forth motion (at least one reversal)");
+}
+
 }  // namespace gmslab::ident

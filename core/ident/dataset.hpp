@@ -72,6 +72,12 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
 // InputError when either part would have fewer than kMinSamples used samples.
 std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction = 0.25, int blocks = 8);
 
+// Throws InputError naming the record (`role`: "training", "validation") when it cannot identify
+// friction: fewer than kMinSamples used samples, no motion over the used samples, or (training)
+// no reversal of the direction of motion (friction is then indistinguishable from a constant
+// force).
+void check_identifiable(const Dataset& d, std::string_view role, bool need_reversal);
+
 // Local least-squares slope of y(t) over +-w samples (non-uniform t); ends use one-sided windows.
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w);
 

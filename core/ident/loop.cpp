@@ -293,6 +293,8 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
 
 IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& base,
                      const LoopOptions& o) {
+  check_identifiable(train, "training", true);
+  check_identifiable(val, "validation", false);
   IdentReport rep;
   rep.model = base.model;
   rep.elements = model_info(base.model).columns.empty() ? 0 : base.elements;

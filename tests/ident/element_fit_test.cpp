@@ -168,3 +168,32 @@ TEST(IdentifyJob, PanelSettingsDefaultsAreTheJobDefaults) {
   EXPECT_EQ(s.model, j.spec.model);
   EXPECT_EQ(static_cast<std::size_t>(s.elements), j.spec.elements);
 }
+
+// Records that cannot identify friction get an error naming the record and what is missing
+// (before, a record without motion crashed in the parameter uncertainty's QR).
+TEST(IdentifyJob, RecordsWithoutMotionOrReversalAreRejectedWithTheReason) {
+  auto record = [](bool moving) {
+    MeasuredRecord r;
+    r.source = moving ? "one-way.csv" : "still.csv";
+    for (int i = 0; i < 400; ++i) {
+      r.t.push_back(i * 1e-3);
+      r.x.push_back(moving ? i * 1e-5 : 0.0);
+      r.F.push_back(1.0 + 0.01 * std::sin(i));
+    }
+    return r;
+  };
+  auto message = [](const MeasuredRecord& r) {
+    const Dataset d = prepare_dataset(r);
+    try {
+      identify(d, d, FitSpec{}, LoopOptions{});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string still = message(record(false)), oneway = message(record(true));
+  EXPECT_NE(still.find("still.csv"), std::string::npos) << still;
+  EXPECT_NE(still.find("does not change"), std::string::npos) << still;
+  EXPECT_NE(oneway.find("one-way.csv"), std::string::npos) << oneway;
+  EXPECT_NE(oneway.find("never reverses"), std::string::npos) << oneway;
+}
