@@ -181,7 +181,9 @@ class ElementEvaluator {
     std::unique_ptr<FrictionModel> model;
     try {
       model = build_model(m);
-    } catch (const std::exception&) {
+    } catch (const InputError&) {  // a shape the model rejects (e.g. W sum below Fs): a bad point
+      return false;
+    } catch (const SimulationError&) {
       return false;
     }
     std::vector<double> state(model->state_size());
@@ -300,6 +302,8 @@ struct Search {
     try {
       if (opt.optimize(x, fv) == nlopt::MAXTIME_REACHED) time_limited = true;
     } catch (const nlopt::forced_stop&) {
+    } catch (const Error&) {
+      throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
     } catch (const std::runtime_error&) {  // roundoff-limited: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();

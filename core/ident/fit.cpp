@@ -276,7 +276,9 @@ class Evaluator {
         }
         g.insert(g.end(), g2.begin(), g2.end());
       }
-    } catch (const std::exception&) {
+    } catch (const InputError&) {  // a shape the model rejects (e.g. W sum below Fs): a bad point
+      return false;
+    } catch (const SimulationError&) {
       return false;
     }
     for (double x : g)
@@ -472,6 +474,8 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     try {
       if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) time_limited = true;
     } catch (const nlopt::forced_stop&) {
+    } catch (const Error&) {
+      throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
     } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();
