@@ -445,7 +445,7 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
                        "columns t, x, F (units in the names: t_s, x_mm, F_N, ...). The base model is fitted "
                        "first; then each round tests the residual against a catalog of effects (inertia, "
                        "offset, direction asymmetry, position ripple, drift, extra velocity dependence, "
-                       "dwell stiction, normal load) and keeps an effect only if it lowers the error on "
+                       "dwell stiction, normal load, force-channel lag, force filter, backlash) and keeps an effect only if it lowers the error on "
                        "the validation record.");
     if (example) ImGui::TextWrapped("'EMPS example' fills in the measured EMPS benchmark records.");
   }
@@ -465,6 +465,12 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
     ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); effects added: %s",
                 r.rms_before_validation, r.rms_after_validation, r.rms_before_train, r.rms_after_train,
                 added.empty() ? "none" : added.c_str());
+    ImGui::Text("Base model: %s, %zu elements found", r.model.c_str(), r.final_fit().spec.elements);
+    if (!r.remaining.summary.empty()) {
+      ImGui::TextWrapped("What remains: %s", r.remaining.summary.c_str());
+      tooltip("The final validation residual tested for structure by velocity, position, time, after "
+              "reversals and in the position spectrum, each against the noise floor estimated from the data");
+    }
     if (ImGui::Button("Send model to plant")) identify_send_to_plant(st, plant_request);
     tooltip("Replace the Simulation tab's scenario: identified friction, identified mass, training motion");
     if (!st.status.empty()) {
