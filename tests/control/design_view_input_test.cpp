@@ -11,6 +11,7 @@
 #include "ui/app.hpp"
 #include "ui/design_view.hpp"
 #include "ui/plot.hpp"
+#include "tests/ui/imgui_test_context.hpp"
 
 using namespace gmslab;
 using gmslab::control::cplx;
@@ -20,13 +21,7 @@ struct Harness {
   ui::AppState s;
   ui::ScopedPlotContext plots;
   Harness() {
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(1600, 1000);
-    io.IniFilename = nullptr;
-    unsigned char* px = nullptr;
-    int w = 0, h = 0;
-    io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
+    uitest::make_headless_imgui(ImVec2(1600, 1000));
     ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
     s.view.tab = "Design";
     for (int i = 0; i < 3; ++i) frame(ImVec2(-FLT_MAX, -FLT_MAX), false);

@@ -8,6 +8,7 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/plot.hpp"
+#include "tests/ui/imgui_test_context.hpp"
 
 using namespace gmslab;
 
@@ -16,13 +17,7 @@ struct Window {
   ui::AppState s;
   ui::ScopedPlotContext plots;
   explicit Window(const char* tab) {
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(1600, 1000);
-    io.IniFilename = nullptr;
-    unsigned char* px = nullptr;
-    int w = 0, h = 0;
-    io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
+    uitest::make_headless_imgui(ImVec2(1600, 1000));
     ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
     s.view.tab = tab;
     frames(2);

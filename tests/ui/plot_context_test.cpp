@@ -7,6 +7,7 @@
 #include <cfloat>
 
 #include "ui/plot.hpp"
+#include "tests/ui/imgui_test_context.hpp"
 
 using namespace gmslab;
 
@@ -15,14 +16,7 @@ struct Host {
   ImGuiContext* imgui = nullptr;
   ui::PlotContext* plots = nullptr;
   Host() {
-    imgui = ImGui::CreateContext();
-    ImGui::SetCurrentContext(imgui);
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(800, 600);
-    io.IniFilename = nullptr;
-    unsigned char* px = nullptr;
-    int w = 0, h = 0;
-    io.Fonts->GetTexDataAsRGBA32(&px, &w, &h);
+    imgui = uitest::make_headless_imgui(ImVec2(800, 600));
     plots = ui::CreatePlotContext();
   }
   ~Host() {
