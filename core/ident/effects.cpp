@@ -140,6 +140,19 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
   }
 }
 
+// A force-channel effect's column: the channel transform of the friction g (and of the viscous
+// share through v) minus the untransformed signal, so its coefficient is the level it explains.
+template <class Transform>
+Column channel_column(std::string name, Transform tf) {
+  return {std::move(name), "N", true,
+          [tf](const Dataset& d, const EffectContext& c, std::span<const double> g, std::span<double> o) {
+            tf(d, g, c, o);
+            std::vector<double> v(d.size());
+            tf(d, d.v, c, v);
+            for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
+          }};
+}
+
 void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> g, double b,
                       std::span<double> out) {
   const std::size_t n = d.size();
@@ -380,19 +393,13 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::TimeShift:
-      v.push_back(col("shift_level", "N", true, [](D d, C c, G g, O o) {
-        shifted(d, g, c.time_shift, o);
-        std::vector<double> v(d.size());
-        shifted(d, d.v, c.time_shift, v);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
+      v.push_back(channel_column("shift_level", [](D d, std::span<const double> y, C c, O o) {
+        shifted(d, y, c.time_shift, o);
       }));
       break;
     case Effect::SensorFilter:
-      v.push_back(col("filter_level", "N", true, [](D d, C c, G g, O o) {
-        lowpass(d, g, c.filter_T, o);
-        std::vector<double> v(d.size());
-        lowpass(d, d.v, c.filter_T, v);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] += -g[k] + c.viscous_ratio * (v[k] - d.v[k]);
+      v.push_back(channel_column("filter_level", [](D d, std::span<const double> y, C c, O o) {
+        lowpass(d, y, c.filter_T, o);
       }));
       break;
     case Effect::Backlash:

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -391,34 +392,22 @@ ResidualStructure residual_structure(const Dataset& d, const EffectContext& c,
     }
     add("velocity", "largest mean at " + det, t);
   }
-  // By position: 20 bins over the stroke, additive and along the friction direction.
-  {
+  // By position and over time: 20 bins each, additive and along the friction direction.
+  auto along = [&](const std::vector<double>& q, double mid, double half, const char* where,
+                   const std::function<std::string(double)>& at) {
     const int nb = 20;
     std::vector<int> b(n, -1);
     for (std::size_t k = 0; k < n; ++k)
-      if (d.use[k])
-        b[k] = std::clamp(static_cast<int>(((d.x[k] - c.x_mid) / c.x_half + 1.0) * 0.5 * nb), 0, nb - 1);
+      if (d.use[k]) b[k] = std::clamp(static_cast<int>(((q[k] - mid) / half + 1.0) * 0.5 * nb), 0, nb - 1);
     const auto t1 = bin_test(b, r, nb, sigma), t2 = bin_test(b, rd, nb, sigma);
     const auto& t = t1.p <= t2.p ? t1 : t2;
-    const double x0 = c.x_mid - c.x_half + t.worst * 2 * c.x_half / nb;
-    add("position", std::string(&t == &t1 ? "additive" : "along the friction direction") +
-                        ", largest mean near x = " + length(x0 + c.x_half / nb),
+    const double q0 = mid - half + t.worst * 2 * half / nb;
+    add(where, std::string(&t == &t1 ? "additive" : "along the friction direction") +
+                   ", largest mean near " + at(q0 + half / nb),
         t);
-  }
-  // Over time: 20 bins.
-  {
-    const int nb = 20;
-    std::vector<int> b(n, -1);
-    for (std::size_t k = 0; k < n; ++k)
-      if (d.use[k])
-        b[k] = std::clamp(static_cast<int>(((d.t[k] - c.t_mid) / c.t_half + 1.0) * 0.5 * nb), 0, nb - 1);
-    const auto t1 = bin_test(b, r, nb, sigma), t2 = bin_test(b, rd, nb, sigma);
-    const auto& t = t1.p <= t2.p ? t1 : t2;
-    const double t0 = c.t_mid - c.t_half + t.worst * 2 * c.t_half / nb;
-    add("time", std::string(&t == &t1 ? "additive" : "along the friction direction") +
-                    ", largest mean near t = " + num(t0 + c.t_half / nb) + " s",
-        t);
-  }
+  };
+  along(d.x, c.x_mid, c.x_half, "position", [&](double x) { return "x = " + length(x); });
+  along(d.t, c.t_mid, c.t_half, "time", [&](double t) { return "t = " + num(t) + " s"; });
   // After reversals: travel since the reversal in bins of x_ba / 8 .. 16 x_ba (log), residual
   // along the new direction of motion.
   {
