@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <Eigen/Dense>
+
 #include "core/error.hpp"
 
 namespace gmslab::ident {
@@ -89,6 +91,30 @@ Dataset load_dataset(const RecordSpec& spec, std::string* note) {
   return prepare_dataset(rec, windows);
 }
 
+std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y, int w) {
+  const auto n = static_cast<std::ptrdiff_t>(t.size());
+  std::vector<double> s(t.size(), 0.0);
+  if (n < 5) return local_slope(t, y, w);
+  const std::ptrdiff_t half = std::min<std::ptrdiff_t>(std::max(w, 2), (n - 1) / 2);
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const std::ptrdiff_t lo = std::clamp<std::ptrdiff_t>(k - half, 0, n - 1 - 2 * half);
+    const std::ptrdiff_t hi = lo + 2 * half;
+    const double scale = std::max(std::abs(t[hi] - t[k]), std::abs(t[lo] - t[k]));
+    if (!(scale > 0)) continue;
+    Eigen::Matrix4d G = Eigen::Matrix4d::Zero();
+    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    for (auto j = lo; j <= hi; ++j) {
+      const double u = (t[j] - t[k]) / scale;
+      const Eigen::Vector4d p(1.0, u, u * u, u * u * u);
+      G.noalias() += p * p.transpose();
+      b.noalias() += p * (y[j] - y[k]);
+    }
+    const Eigen::Vector4d c = G.ldlt().solve(b);
+    s[k] = std::isfinite(c(1)) ? c(1) / scale : 0.0;
+  }
+  return s;
+}
+
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w) {
   const auto n = static_cast<std::ptrdiff_t>(t.size());
   std::vector<double> s(t.size(), 0.0);
@@ -125,13 +151,45 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
   d.has_Fn = !r.Fn.empty();
   d.has_v = !r.v.empty();
   const std::size_t n = r.size();
-  d.v = d.has_v ? r.v : local_slope(d.t, d.x, 3);
+  d.v = d.has_v ? r.v : local_derivative(d.t, d.x, 3);
   d.a = local_slope(d.t, d.v, 3);
   d.h.assign(n, 0.0);
   d.vstep.assign(n, 0.0);
   for (std::size_t k = 1; k < n; ++k) {
     d.h[k] = d.t[k] - d.t[k - 1];
     d.vstep[k] = d.has_v ? 0.5 * (d.v[k - 1] + d.v[k]) : (d.x[k] - d.x[k - 1]) / d.h[k];
+  }
+  // Curved intervals: along the cubic through the samples, in kSubsteps parts.
+  {
+    double q = 0;  // the encoder step (smallest non-zero position step)
+    for (std::size_t k = 1; k < n; ++k) {
+      const double dx = std::abs(d.x[k] - d.x[k - 1]);
+      if (dx > 0 && (q == 0 || dx < q)) q = dx;
+    }
+    std::vector<std::uint32_t> sub(n + 1, 0);
+    std::vector<double> sv, sh;
+    for (std::size_t k = 0; k < n; ++k) {
+      sub[k] = static_cast<std::uint32_t>(sv.size());
+      if (k == 0 || !(d.h[k] > 0)) continue;
+      const double h = d.h[k], x0 = d.x[k - 1], x1 = d.x[k], m0 = d.v[k - 1] * h, m1 = d.v[k] * h;
+      auto cubic = [&](double s) {
+        const double s2 = s * s, s3 = s2 * s;
+        return (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * m1;
+      };
+      double dev = 0;
+      for (double s : {0.25, 0.5, 0.75}) dev = std::max(dev, std::abs(cubic(s) - (x0 + s * (x1 - x0))));
+      const bool reversal = d.v[k - 1] * d.v[k] < 0 && std::abs(m0) + std::abs(m1) > 0.25 * q;
+      if (!reversal && !(dev > 0.05 * std::abs(x1 - x0) && dev > 0.25 * q)) continue;
+      double prev = x0;
+      for (int j = 1; j <= kSubsteps; ++j) {
+        const double p = j == kSubsteps ? x1 : cubic(static_cast<double>(j) / kSubsteps);
+        sv.push_back((p - prev) / (h / kSubsteps));
+        sh.push_back(h / kSubsteps);
+        prev = p;
+      }
+    }
+    sub[n] = static_cast<std::uint32_t>(sv.size());
+    if (!sv.empty()) d.sub = std::move(sub), d.sv = std::move(sv), d.sh = std::move(sh);
   }
   d.use.assign(n, 1);
   const std::size_t e = std::min(edge, n / 10);

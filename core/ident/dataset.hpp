@@ -2,11 +2,18 @@
 //
 // From a MeasuredRecord (t [s], x [m], F [N], optional v [m/s], Fn [N]) it derives what the fit
 // needs, all on the record's own (possibly non-uniform) time grid:
-//   v[k]      velocity [m/s]: the file's v, or the local least-squares slope of x over +-3 samples
+//   v[k]      velocity [m/s]: the file's v, or the derivative of a local least-squares cubic in x
+//             over +-3 samples
 //   a[k]      acceleration [m/s^2]: local least-squares slope of v over +-3 samples
 //   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
 //   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: mean of v[k-1], v[k] when the file has
 //             v, else (x[k] - x[k-1]) / h[k] (the prescribed motion of FrictionModel::step)
+//   sub, sv, sh  where the path between two samples is curved (a reversal between them, or a
+//             cubic through the samples (Hermite: x and v at both ends) leaving the straight line
+//             by more than 5 % of the step and a quarter of the encoder step), the step k-1 -> k
+//             is made along that cubic in kSubsteps parts: velocities sv[j], durations sh[j] for
+//             j in [sub[k], sub[k+1]); elsewhere the one step (vstep[k], h[k]). Models are stepped
+//             through it with for_each_step.
 //   use[k]    1 = the sample counts in cost and RMS; 0 = masked (time windows, the first and last
 //             edge samples where derived signals carry filter edge effects, or a hold-out part)
 // Masked samples are still simulated (the friction state runs through them).
@@ -29,6 +36,8 @@ struct TimeWindow {
 struct Dataset {
   std::string source;
   std::vector<double> t, x, v, a, F, Fn, h, vstep;
+  std::vector<std::uint32_t> sub;  // size() + 1 entries (or empty: no interval is curved)
+  std::vector<double> sv, sh;      // substep velocities [m/s] and durations [s]
   std::vector<std::uint8_t> use;
   bool has_v = false;   // v came from the file
   bool has_Fn = false;  // a normal-force column exists
@@ -36,6 +45,26 @@ struct Dataset {
   std::size_t size() const { return t.size(); }
   std::size_t used() const;
 };
+
+inline constexpr int kSubsteps = 8;
+
+// A copy of d stepped along straight lines between all samples (no substeps): what the path
+// between samples can change is the difference (NoiseEstimate::sampling).
+inline Dataset with_straight_steps(Dataset d) {
+  d.sub.clear(), d.sv.clear(), d.sh.clear();
+  return d;
+}
+
+// Calls step(v, h) for each part of the step k-1 -> k (k >= 1): the substeps where the path is
+// curved, else once with (vstep[k], h[k]).
+template <class Step>
+inline void for_each_step(const Dataset& d, std::size_t k, Step&& step) {
+  if (!d.sub.empty() && d.sub[k + 1] > d.sub[k]) {
+    for (std::uint32_t j = d.sub[k]; j < d.sub[k + 1]; ++j) step(d.sv[j], d.sh[j]);
+  } else {
+    step(d.vstep[k], d.h[k]);
+  }
+}
 
 // Parses "t0:t1,t0:t1,..." [s]; throws InputError naming `what` (the option or field) and the bad
 // item (t1 must exceed t0).
@@ -80,5 +109,9 @@ void check_identifiable(const Dataset& d, std::string_view role, bool need_rever
 
 // Local least-squares slope of y(t) over +-w samples (non-uniform t); ends use one-sided windows.
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w);
+// Derivative of y(t) from a local least-squares cubic over 2w+1 samples centred on each sample
+// (shifted inwards at the ends; non-uniform t). Exact for cubics: unlike the local slope it has no
+// bias from the curvature of a sine or a reversal.
+std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y, int w);
 
 }  // namespace gmslab::ident

@@ -87,6 +87,9 @@ struct EffectContext {
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
   double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
+  // The element grid fit's stand-in for g in effect columns that multiply the friction (the unit
+  // output at a warm shape, one value per sample); empty: such effects need the shape search.
+  std::vector<double> g_frozen;
 };
 
 // Scales from the training record (robust statistics of the used samples).

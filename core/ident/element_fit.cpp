@@ -124,8 +124,9 @@ class ElementEvaluator {
     }
     for (Effect e : spec.effects)
       for (auto& col : effect_columns(e)) {
-        if (col.uses_g) throw InputError("internal: the grid fit takes effects without g columns");
-        col.fill(d, c, {}, full);
+        if (col.uses_g && c.g_frozen.size() != d.size())
+          throw InputError("internal: the grid fit takes effects with g columns only at a frozen g");
+        col.fill(d, c, col.uses_g ? std::span<const double>(c.g_frozen) : std::span<const double>{}, full);
         cols.push_back(full);
         fixed_nonneg_.push_back(false);
       }
@@ -190,7 +191,7 @@ class ElementEvaluator {
     model->reset(state);
     E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
     for (std::size_t t = 1; t < d_.size(); ++t) {
-      model->step(state, {d_.vstep[t], d_.h[t], 0.0, 0.0});
+      for_each_step(d_, t, [&](double v, double h) { model->step(state, {v, h, 0.0, 0.0}); });
       const long r = row_of_[t];
       if (r < 0) continue;
       double* out = E_.row(r).data();

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <nlopt.hpp>
 #include <random>
 
@@ -201,7 +202,8 @@ void simulate_along(const FrictionModel& m, const Dataset& d, std::vector<double
   std::vector<double> state(m.state_size());
   m.reset(state);
   out.assign(d.size(), 0.0);
-  for (std::size_t k = 1; k < d.size(); ++k) out[k] = m.step(state, {d.vstep[k], d.h[k], 0.0, 0.0});
+  for (std::size_t k = 1; k < d.size(); ++k)
+    for_each_step(d, k, [&](double v, double h) { out[k] = m.step(state, {v, h, 0.0, 0.0}); });
 }
 
 namespace {
@@ -402,6 +404,19 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       return best;
     }
   }
+  std::optional<FitResult> frozen;
+  if (has_linear_elements(spec.model) && spec.elements > 0 && warm &&
+      warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
+    // Effects that multiply the friction (g columns): the element polish with g frozen at the
+    // warm shape (a stand-in that moves little when an effect is added; its final linear solve,
+    // refit_linear, uses the true g), competing with the shape search below from the warm start.
+    FitResult wr;
+    wr.spec = spec;
+    wr.u = *warm;
+    EffectContext cg = c;
+    cg.g_frozen = unit_friction(wr, train, c);
+    frozen = polish_elements(spec, train, cg, o, *warm);
+  }
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);
@@ -484,6 +499,10 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
   FitResult r = make_result(spec, par, ev, best_u, best_th, best, evals);
   r.time_limited = time_limited;
+  if (frozen && frozen->rms_train < r.rms_train) {
+    frozen->evaluations += r.evaluations;
+    return *frozen;
+  }
   return r;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <limits>
 #include <map>
+#include <set>
 #include <optional>
 #include <cstdio>
 #include <cstdlib>
@@ -28,7 +29,6 @@ LoopOptions::LoopOptions() {
 }
 
 namespace {
-
 bool contains(const std::vector<Effect>& v, Effect e) {
   return std::find(v.begin(), v.end(), e) != v.end();
 }
@@ -142,10 +142,16 @@ void tune_scalar(const FitResult& cur, const Dataset& train, EffectContext& c, E
 std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& cur, const Dataset& train,
                                                                EffectContext& c,
                                                                const std::vector<Effect>& candidates,
-                                                               bool deep, const FitOptions& refit) {
+                                                               bool deep, const FitOptions& refit,
+                                                               std::set<Effect>* deep_done = nullptr) {
   std::map<Effect, std::vector<double>> shapes;
   const double h = c.h_med;
-  auto want = [&](Effect e) { return contains(candidates, e) && !contains(cur.spec.effects, e); };
+  auto want = [&](Effect e) {
+    if (!contains(candidates, e) || contains(cur.spec.effects, e)) return false;
+    // The deep search once per effect: later rounds tune its scalar by linear refits only.
+    if (deep && deep_done) return deep_done->insert(e).second;
+    return true;
+  };
   auto run = [&](Effect e, double EffectContext::*field, const std::vector<double>& coarse,
                  const std::vector<double>& fine) {
     if (!want(e)) return;
@@ -306,20 +312,25 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
   rep.noise = noise_level(train, c);
   FitResult cur = fit_base(base, train, val, c, o.base);
   rep.elements = cur.spec.elements;
-  // The quantisation share of the floor, through the base fit's stiffness (updated at the end).
-  auto friction_force = [&](const FitResult& f, const Dataset& d) {
-    auto g = unit_friction(f, d, c);
+  // The quantisation and sampling shares of the floor, through the base fit (updated at the end).
+  auto friction_force = [&](const FitResult& f, const Dataset& d, bool straight = false) {
+    auto g = straight ? unit_friction(f, with_straight_steps(d), c) : unit_friction(f, d, c);
     const double fc = f.theta.empty() ? 1.0 : f.theta[0];
     for (auto& x : g) x *= fc;
     return g;
   };
-  add_quantisation(rep.noise, train, c, friction_force(cur, train));
+  {
+    const auto f = friction_force(cur, train);
+    add_quantisation(rep.noise, train, c, f);
+    add_sampling(rep.noise, train, f, friction_force(cur, train, true));
+  }
   const double floor = rep.noise.floor();
   double cur_val = rms_on(cur, val, c);
   rep.stages.push_back(cur);
   rep.rms_before_train = cur.rms_train;
   rep.rms_before_validation = cur_val;
   const double n_val = static_cast<double>(std::max<std::size_t>(1, val.used()));
+  std::set<Effect> deep_done;  // channel effects whose scalar was searched with shape refits
   for (int round = 1; round <= o.max_rounds; ++round) {
     Round rd;
     rd.rms_train_before = cur.rms_train;
@@ -356,7 +367,7 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     // the current shape partly mimics, get shape refits in their scalar search and are screened
     // again at their own shapes.
     if (floor > 0 && best_val > 1.15 * floor) {
-      shapes = tune_measurement_effects(cur, train, c, o.candidates, true, o.refit);
+      shapes = tune_measurement_effects(cur, train, c, o.candidates, true, o.refit, &deep_done);
       for (auto& k : rd.candidates)
         if (shapes.count(k.effect)) {
           Candidate k2 = screen(k.effect, cur, train, val, c, shape_of(k.effect));
@@ -376,6 +387,8 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       if (tries >= o.tries_per_round) break;
       if (k.explained < o.min_explained) continue;
       if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
+      // Far behind an effect already kept: a refit lowers the screening RMS, but not by half.
+      if (best && k.screen_rms_validation > 1.5 * best->second.rms_validation) continue;
       // A close second is tried too once one is kept; otherwise the first kept ends the round.
       ++tries;
       FitOptions fo = o.refit;
@@ -486,7 +499,9 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     const auto gv = unit_friction(cur, val, c);
     NoiseEstimate nv = noise_level(val, c);
     if (nv.sigma <= 0 || (!nv.from_rests && rep.noise.from_rests)) nv = rep.noise;
-    add_quantisation(nv, val, c, friction_force(cur, val));
+    const auto f = friction_force(cur, val);
+    add_quantisation(nv, val, c, f);
+    add_sampling(nv, val, f, friction_force(cur, val, true));
     rep.remaining = residual_structure(val, c, rv, gv, nv);
   }
   return rep;
@@ -654,7 +669,8 @@ nlohmann::json to_json(const IdentReport& r) {
   }
   j["noise"] = {{"sigma_N", r.noise.sigma},          {"from_rests", r.noise.from_rests},
                 {"samples", r.noise.samples},         {"encoder_step_m", r.noise.quantum},
-                {"quantisation_N", r.noise.quantisation}, {"floor_N", r.noise.floor()}};
+                {"quantisation_N", r.noise.quantisation}, {"sampling_N", r.noise.sampling},
+                {"floor_N", r.noise.floor()}};
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)

@@ -10,7 +10,8 @@
 //      a training F-test of its columns (the signature). When no screened effect brings the
 //      validation RMS within 1.15x the noise, the channel effects are searched again with short
 //      shape refits (a lagging force channel looks like softer presliding to the base model) and
-//      screened at their own shapes.
+//      screened at their own shapes; this deep search runs once per effect (in later rounds its
+//      scalar is tuned by linear refits only).
 //   3. Candidates in order of screening validation RMS (held-out data decides between effects
 //      that look alike on training, e.g. offset and a level asymmetry; inertia and a force lag):
 //      refit everything with the effect (shape warm-started + linear terms). An effect is kept
@@ -22,7 +23,8 @@
 //      floor it explains min_excess of the validation MSE above the floor. The first
 //      tries_per_round candidates are all refitted (the base shape may have absorbed part of an
 //      effect, e.g. an offset taken up by a soft element, so the screening order alone does not
-//      decide) and the kept one with the lowest validation RMS is added; when another fits the
+//      decide; a candidate whose screening RMS is above 1.5x a kept refit's is not refitted) and
+//      the kept one with the lowest validation RMS is added; when another fits the
 //      validation record alike the report says the data cannot tell them apart (notes). No
 //      candidate kept: stop.
 //   4. The final model gets one more refit (as the control), the standard errors of its linear

@@ -146,6 +146,19 @@ void add_quantisation(NoiseEstimate& e, const Dataset& d, const EffectContext& c
   e.quantisation = n > 0 ? std::sqrt(s / n) * q / std::sqrt(12.0) : 0.0;
 }
 
+void add_sampling(NoiseEstimate& e, const Dataset& d, const std::vector<double>& f,
+                  const std::vector<double>& f_straight) {
+  double s = 0, n = 0;
+  for (std::size_t k = 0; k < d.size() && k < f.size() && k < f_straight.size(); ++k) {
+    if (!d.use[k]) continue;
+    s += (f[k] - f_straight[k]) * (f[k] - f_straight[k]);
+    n += 1;
+  }
+  // The path is somewhere between the two (uniformly, for want of better): the straight line's
+  // expected error is then the RMS difference over sqrt(3).
+  e.sampling = n > 0 ? std::sqrt(s / n / 3.0) : 0.0;
+}
+
 RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::vector<double>& r,
                            const std::vector<double>& g_in, double fap, int max_peaks) {
   RippleSearch out;
@@ -205,28 +218,37 @@ RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::
   for (double e : rs) ssr += e * e;
   std::vector<double> P(static_cast<std::size_t>(M));
   for (int round = 0; round < max_peaks; ++round) {
-    // Periodogram by phase recurrence (exact every 128 steps).
-    std::vector<double> cs(ns), sn(ns), cr(ns), sr(ns);
+    // Periodogram by phase recurrence (exact every 128 steps), over the scan samples packed
+    // contiguously; the recurrence step is fused into the sums' pass.
+    std::vector<double> cs(ns), sn(ns), cr(ns), sr(ns), gq(ns), rq(ns), xq(ns);
+    for (std::size_t q = 0; q < ns; ++q) gq[q] = gs[sidx[q]], rq[q] = rs[sidx[q]], xq[q] = xs[sidx[q]];
     for (int j = 0; j < M; ++j) {
       const double f = fmin + j * df;
       if (j % 128 == 0) {
         for (std::size_t q = 0; q < ns; ++q) {
-          const double ph = 2 * std::numbers::pi * f * xs[sidx[q]];
+          const double ph = 2 * std::numbers::pi * f * xq[q];
           cs[q] = std::cos(ph), sn[q] = std::sin(ph);
           if (j == 0) {
-            const double pd = 2 * std::numbers::pi * df * xs[sidx[q]];
+            const double pd = 2 * std::numbers::pi * df * xq[q];
             cr[q] = std::cos(pd), sr[q] = std::sin(pd);
           }
         }
       }
       double C0 = 0, S0 = 0, C1 = 0, S1 = 0, C2 = 0, S2 = 0, bs = 0, bc = 0, bgs = 0, bgc = 0;
+      double* __restrict pc = cs.data();
+      double* __restrict ps = sn.data();
+      const double* __restrict pcr = cr.data();
+      const double* __restrict psr = sr.data();
+      const double* __restrict pg = gq.data();
+      const double* __restrict pr = rq.data();
 #pragma omp simd reduction(+ : C0, S0, C1, S1, C2, S2, bs, bc, bgs, bgc)
       for (std::size_t q = 0; q < ns; ++q) {
-        const std::size_t i = sidx[q];
-        const double cc = cs[q], ss = sn[q], gg = gs[i], rr = rs[i];
+        const double cc = pc[q], ss = ps[q], gg = pg[q], rr = pr[q];
         const double c2 = cc * cc - ss * ss, s2 = 2 * cc * ss;
         C0 += c2, S0 += s2, C1 += gg * c2, S1 += gg * s2, C2 += gg * gg * c2, S2 += gg * gg * s2;
         bs += rr * ss, bc += rr * cc, bgs += rr * gg * ss, bgc += rr * gg * cc;
+        pc[q] = cc * pcr[q] - ss * psr[q];  // (exact again at the next multiple of 128)
+        ps[q] = ss * pcr[q] + cc * psr[q];
       }
       Eigen::Matrix4d G;
       G << (W0 - C0) / 2, S0 / 2, (W1 - C1) / 2, S1 / 2,  //
@@ -236,12 +258,6 @@ RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::
       G.diagonal().array() += 1e-9 * G.diagonal().maxCoeff() + 1e-300;
       const Eigen::Vector4d b(bs, bc, bgs, bgc);
       P[static_cast<std::size_t>(j)] = std::max(0.0, b.dot(G.ldlt().solve(b))) * (static_cast<double>(n) / W0);
-      if (j + 1 < M && (j + 1) % 128 != 0)
-        for (std::size_t q = 0; q < ns; ++q) {
-          const double c1 = cs[q] * cr[q] - sn[q] * sr[q];
-          sn[q] = sn[q] * cr[q] + cs[q] * sr[q];
-          cs[q] = c1;
-        }
     }
     if (round == 0) {
       for (int j = M; j-- > 0;) {
@@ -442,7 +458,7 @@ ResidualStructure residual_structure(const Dataset& d, const EffectContext& c,
   s << "residual RMS " << num(out.rms) << " N = " << num(out.rms_to_noise) << "x the noise floor ("
     << num(sigma) << " N: noise " << num(noise.sigma) << " N "
     << (noise.from_rests ? "from rests" : "(upper bound: no rests)") << ", encoder quantisation "
-    << num(noise.quantisation) << " N)";
+    << num(noise.quantisation) << " N, sampling " << num(noise.sampling) << " N)";
   if (out.findings.empty()) {
     s << "; no structure above the noise";
   } else {
@@ -464,6 +480,7 @@ nlohmann::json to_json(const ResidualStructure& s) {
   j["noise_samples"] = s.noise.samples;
   j["encoder_step_m"] = s.noise.quantum;
   j["quantisation_N"] = s.noise.quantisation;
+  j["sampling_N"] = s.noise.sampling;
   j["floor_N"] = s.noise.floor();
   j["rms_N"] = s.rms;
   j["rms_to_noise"] = s.rms_to_noise;

@@ -34,13 +34,21 @@ struct NoiseEstimate {
   bool from_rests = false;   // false: from all used samples (includes signal; an upper bound)
   double quantum = 0;        // encoder step found in x (smallest position step) [m]
   double quantisation = 0;   // RMS force error that step gives through the model's stiffness [N]
-  // What noise and quantisation alone leave [N].
-  double floor() const { return std::sqrt(sigma * sigma + quantisation * quantisation); }
+  double sampling = 0;       // RMS force the unmeasured path between samples can change [N]
+  // What noise, quantisation and sampling alone leave [N].
+  double floor() const { return std::sqrt(sigma * sigma + quantisation * quantisation + sampling * sampling); }
 };
 NoiseEstimate noise_level(const Dataset& d, const EffectContext& c);
 // Adds the quantisation share: x is known to +-q/2, so the force is known to Fc |dg/dx| q / sqrt(12)
 // while moving (f = the fitted friction force along d, physical units).
 void add_quantisation(NoiseEstimate& e, const Dataset& d, const EffectContext& c, const std::vector<double>& f);
+// Adds the sampling share: the RMS over d's used samples of the fitted friction along the path
+// the fit uses (f: the cubic through the samples where it is curved, dataset.hpp) less the same
+// along straight lines between all samples (f_straight), over sqrt(3) (the true path taken
+// anywhere between the two). A reversal or a stick-slip transition between two samples makes
+// these differ; no model driven by the samples alone can resolve that.
+void add_sampling(NoiseEstimate& e, const Dataset& d, const std::vector<double>& f,
+                  const std::vector<double>& f_straight);
 
 struct RipplePeak {
   double wavelength = 0;       // [m]

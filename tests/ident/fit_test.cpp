@@ -3,8 +3,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <numbers>
+#include <random>
 
+#include "core/ident/effects.hpp"
 #include "core/ident/fit.hpp"
+#include "core/ident/structure.hpp"
 #include "tests/ident/synthetic.hpp"
 
 using namespace gmslab;
@@ -60,5 +64,101 @@ TEST(IdentFit, EveryRegisteredModelFitsThroughItsModelInfo) {
     const bool dynamic = build_model(info.defaults())->state_size() > 0;
     EXPECT_LT(r.rms_train, (dynamic ? 0.2 : 0.9) * null_rms) << info.tag;
     std::printf("  %-14s rms %.3f N\n", std::string(info.tag).c_str(), r.rms_train);
+  }
+}
+
+// The path between samples. A model driven along straight lines between coarse samples misses
+// what happens between them (here: every reversal of a sine falls between two samples); along the
+// cubic through the samples (the dataset's substeps) it follows the motion. The reference is the
+// same model along the same motion sampled 8x finer. The floor's sampling share sizes the
+// straight-line error. Random amplitudes, phases and rates (fixed seeds).
+TEST(IdentFit, CubicPathBetweenSamplesFollowsADenseRecordAndSizesTheSamplingFloor) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    const double A = 1e-4 * std::pow(10.0, 2 * U(rng));   // 0.1 .. 10 mm
+    const double f = 0.5 + U(rng);                         // 0.5 .. 1.5 Hz
+    const double rate = f * (16 + 16 * U(rng));            // 16 .. 32 samples per period
+    const double phase = U(rng);
+    const double w = 2 * std::numbers::pi * f;
+    auto record = [&](int fine) {
+      MeasuredRecord r;
+      r.source = "sine";
+      const double dt = 1.0 / (rate * fine);
+      for (int k = 0; k < static_cast<int>(8 / f * rate * fine); ++k) {
+        const double t = (k + phase * fine) * dt;
+        r.t.push_back(t);
+        r.x.push_back(A * std::sin(w * t));
+        r.v.push_back(A * w * std::cos(w * t));
+        r.F.push_back(0.0);
+      }
+      return prepare_dataset(r);
+    };
+    const Dataset coarse = record(1), dense = record(8);
+    const EffectContext c = make_context(coarse);
+    FitResult r;
+    r.spec.model = "gms";
+    r.spec.elements = 3;
+    r.u = Parameterization(model_info("gms"), 3, c).initial();
+    const auto g_line = unit_friction(r, with_straight_steps(coarse), c);
+    const auto g_cubic = unit_friction(r, coarse, c);  // along the cubic where it is curved
+    const auto g_dense = unit_friction(r, dense, c);
+    double e_line = 0, e_cubic = 0, n = 0;
+    for (std::size_t k = 0; k < coarse.size(); ++k) {
+      if (!coarse.use[k] || k < coarse.size() / 8) continue;  // past the virgin first cycle
+      const double ref = g_dense[8 * k];
+      e_line += (g_line[k] - ref) * (g_line[k] - ref);
+      e_cubic += (g_cubic[k] - ref) * (g_cubic[k] - ref);
+      n += 1;
+    }
+    e_line = std::sqrt(e_line / n), e_cubic = std::sqrt(e_cubic / n);
+    // The straight lines cut every reversal short: a visible error on the unit force level.
+    ASSERT_GT(e_line, 1e-3) << "trial " << trial;
+    EXPECT_LT(e_cubic, 0.25 * e_line) << "trial " << trial;
+    // The floor's sampling share sizes the straight-line error.
+    NoiseEstimate ne;
+    add_sampling(ne, coarse, g_cubic, g_line);
+    EXPECT_GT(ne.sampling, 0.5 * e_line / std::sqrt(3.0)) << "trial " << trial;
+    EXPECT_LT(ne.sampling, 2.0 * e_line / std::sqrt(3.0)) << "trial " << trial;
+    EXPECT_NEAR(ne.floor(), ne.sampling, 1e-12);
+  }
+}
+
+// The velocity estimate: a local least-squares cubic is exact for cubic motions on any time grid
+// (random coefficients, jittered non-uniform samples), and on a sine its error is far below the
+// local straight line's (which is biased by the curvature).
+TEST(IdentDataset, LocalCubicDerivativeIsExactForCubicsAndUnbiasedOnSines) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    const double scale = std::pow(10.0, -6 + 4 * U(rng)), rate = 200 * std::pow(50.0, U(rng));
+    std::vector<double> c(4);
+    for (auto& x : c) x = scale * (2 * U(rng) - 1);
+    std::vector<double> t, y;
+    double tt = 0;
+    for (int k = 0; k < 200; ++k) {
+      t.push_back(tt);
+      const double u = tt * rate / 50;  // a few units over the record
+      y.push_back(c[0] + c[1] * u + c[2] * u * u + c[3] * u * u * u);
+      tt += (0.5 + U(rng)) / rate;
+    }
+    const auto d = local_derivative(t, y, 3);
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      const double u = t[k] * rate / 50;
+      const double exact = (c[1] + 2 * c[2] * u + 3 * c[3] * u * u) * rate / 50;
+      EXPECT_NEAR(d[k], exact, 1e-6 * (std::abs(c[1]) + std::abs(c[2]) + std::abs(c[3])) * rate)
+          << "trial " << trial << " k " << k;
+    }
+    // A sine at 12 samples per period.
+    std::vector<double> s;
+    const double w = 2 * std::numbers::pi * rate / 12;
+    for (double ti : t) s.push_back(scale * std::sin(w * ti));
+    const auto dc = local_derivative(t, s, 3), dl = local_slope(t, s, 3);
+    double ec = 0, el = 0;
+    for (std::size_t k = 10; k + 10 < t.size(); ++k) {
+      const double exact = scale * w * std::cos(w * t[k]);
+      ec += (dc[k] - exact) * (dc[k] - exact), el += (dl[k] - exact) * (dl[k] - exact);
+    }
+    EXPECT_LT(ec, 0.1 * el) << "trial " << trial;
   }
 }

@@ -493,15 +493,27 @@ inline std::vector<double> truth_along_record(const Truth& tr, const MeasuredRec
   double xlo = 1e9, xhi = -1e9;
   for (double x : r.x) xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   const detail::Scales sc{xlo, xhi, r.t.back()};
+  // The path between samples: the cubic through them with central-difference slopes (the
+  // velocity, and so the viscous force, at a sample is then the data's best estimate, not the
+  // secant of the step before it). As many substeps as the record was made with: the floor is
+  // noise and quantisation, not the truth's own integration error at one step per sample.
+  const std::size_t n = r.t.size();
+  std::vector<double> slope(n, 0.0);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t a = k > 0 ? k - 1 : 0, b = std::min(n - 1, k + 1);
+    slope[k] = b > a ? (r.x[b] - r.x[a]) / (r.t[b] - r.t[a]) : 0.0;
+  }
   auto pos = [&](double t, double& x, double& v, double& a) {
     std::size_t i = static_cast<std::size_t>(std::upper_bound(r.t.begin(), r.t.end(), t) - r.t.begin());
-    i = std::clamp<std::size_t>(i, 1, r.t.size() - 1);
-    const double w = std::clamp((t - r.t[i - 1]) / (r.t[i] - r.t[i - 1]), 0.0, 1.0);
-    x = r.x[i - 1] + w * (r.x[i] - r.x[i - 1]);
-    v = (r.x[i] - r.x[i - 1]) / (r.t[i] - r.t[i - 1]);
+    i = std::clamp<std::size_t>(i, 1, n - 1);
+    const double h = r.t[i] - r.t[i - 1];
+    const double s = std::clamp((t - r.t[i - 1]) / h, 0.0, 1.0), s2 = s * s, s3 = s2 * s;
+    const double x0 = r.x[i - 1], x1 = r.x[i], m0 = slope[i - 1] * h, m1 = slope[i] * h;
+    x = (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * m1;
+    v = ((6 * s2 - 6 * s) * x0 + (3 * s2 - 4 * s + 1) * m0 + (6 * s - 6 * s2) * x1 + (3 * s2 - 2 * s) * m1) / h;
     a = 0.0;  // effects needing a are not used on this path by the floor (see floor_rms)
   };
-  return detail::force_along(tr, r.t, pos, 1, sc);
+  return detail::force_along(tr, r.t, pos, 16, sc);
 }
 
 // The floor that noise and quantisation alone leave [N]: RMS over samples [edge, n - edge) of
