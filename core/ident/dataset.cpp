@@ -179,7 +179,11 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
       double dev = 0;
       for (double s : {0.25, 0.5, 0.75}) dev = std::max(dev, std::abs(cubic(s) - (x0 + s * (x1 - x0))));
       const bool reversal = d.v[k - 1] * d.v[k] < 0 && std::abs(m0) + std::abs(m1) > 0.25 * q;
-      if (!reversal && !(dev > 0.05 * std::abs(x1 - x0) && dev > 0.25 * q)) continue;
+      // The speed changing by more than 10 % within the step (starts, stops, the Stribeck range):
+      // the frozen-velocity step would put the whole change at one end.
+      const bool speed_change = std::abs(d.v[k] - d.v[k - 1]) > 0.1 * std::max(std::abs(d.v[k]), std::abs(d.v[k - 1])) &&
+                                std::abs(x1 - x0) > q;
+      if (!reversal && !speed_change && !(dev > 0.05 * std::abs(x1 - x0) && dev > 0.25 * q)) continue;
       double prev = x0;
       for (int j = 1; j <= kSubsteps; ++j) {
         const double p = j == kSubsteps ? x1 : cubic(static_cast<double>(j) / kSubsteps);

@@ -8,9 +8,10 @@
 //   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
 //   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: mean of v[k-1], v[k] when the file has
 //             v, else (x[k] - x[k-1]) / h[k] (the prescribed motion of FrictionModel::step)
-//   sub, sv, sh  where the path between two samples is curved (a reversal between them, or a
-//             cubic through the samples (Hermite: x and v at both ends) leaving the straight line
-//             by more than 5 % of the step and a quarter of the encoder step), the step k-1 -> k
+//   sub, sv, sh  where the path between two samples is curved (a reversal between them, the
+//             speed changing by more than 10 % over more than an encoder step, or the cubic
+//             through the samples (Hermite: x and v at both ends) leaving the straight line by
+//             more than 5 % of the step and a quarter of the encoder step), the step k-1 -> k
 //             is made along that cubic in kSubsteps parts: velocities sv[j], durations sh[j] for
 //             j in [sub[k], sub[k+1]); elsewhere the one step (vstep[k], h[k]). Models are stepped
 //             through it with for_each_step.

@@ -67,6 +67,7 @@ Column col(std::string name, std::string unit, bool uses_g, Fill f) {
 // Coulomb level and break-away displacement from the data.
 void estimate_levels(const Dataset& d, EffectContext& c) {
   // Sliding samples: F ~ c0 + Fc sgn v + Fv v + M a (the static inverse model).
+  double fv = 0.0, m = 0.0;  // its viscous and inertia terms, taken out of the swing below
   std::vector<std::size_t> idx;
   for (std::size_t k = 0; k < d.size(); ++k)
     if (d.use[k] && std::abs(d.v[k]) > 0.2 * c.v_ref) idx.push_back(k);
@@ -80,13 +81,14 @@ void estimate_levels(const Dataset& d, EffectContext& c) {
     }
     const Eigen::VectorXd th = A.colPivHouseholderQr().solve(y);
     if (std::isfinite(th(1)) && th(1) > 0) c.f_level = th(1);
+    if (th.allFinite()) fv = th(2) / c.v_ref, m = th(3);
   }
   if (!(c.f_level > 0)) c.f_level = std::max(1e-6, percentile([&] {
     std::vector<double> a;
     for (double f : d.F) a.push_back(std::abs(f));
     return a;
   }(), 0.5));
-  // Break-away displacement: travel after a reversal until F has swung by 80 % of 2 Fc.
+  // Break-away displacement: travel after a reversal until the friction has swung by 80 % of 2 Fc.
   std::vector<double> xs;
   double last_dir = 0.0;
   std::size_t rev = 0;
@@ -99,7 +101,10 @@ void estimate_levels(const Dataset& d, EffectContext& c) {
       last_dir = dir;
     }
     if (searching && rev > 0 && k > rev) {
-      if (last_dir * (d.F[k] - d.F[rev - 1]) >= 1.6 * c.f_level) {
+      // The swing of the friction alone: a large viscous term jumps with the velocity's sign and
+      // would end the search at once.
+      const double swing = d.F[k] - fv * d.v[k] - m * d.a[k] - (d.F[rev - 1] - fv * d.v[rev - 1] - m * d.a[rev - 1]);
+      if (last_dir * swing >= 1.6 * c.f_level) {
         xs.push_back(std::abs(d.x[k] - d.x[rev]));
         searching = false;
       }

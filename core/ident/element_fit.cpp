@@ -320,7 +320,7 @@ std::vector<double> log_grid(double lo, double hi, std::size_t n) {
   return g;
 }
 
-constexpr std::size_t kGridPoints = 30;
+constexpr double kGridPointsPerDecade = 6.4;  // 30 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
 constexpr std::size_t kGridRows = 4000;  // samples in the grid stage's cost (a regular subset)
 constexpr std::size_t kPolishRows = 8000;  // in the free-knot polish (the final linear solve: all)
 
@@ -351,7 +351,8 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   const auto [x_lo, x_hi] = element_x_range(c);
   GridSolution g;
   g.model = spec.model;
-  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo, kGridPoints);
+  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo,
+                     static_cast<std::size_t>(std::ceil(kGridPointsPerDecade * std::log10(x_hi / x_lo))));
   g.started = std::chrono::steady_clock::now();
   g.budget = element_fit_budget(spec, c, o);
   Search search{o, g.started};
@@ -418,6 +419,14 @@ std::vector<GridElement> group(const GridSolution& g, std::size_t n) {
   for (std::size_t j = 0; j < g.kappa.size(); ++j)
     if (g.weight[j] > 1e-6 * wsum) pts.push_back({g.kappa[j], g.weight[j]});
   if (pts.empty()) pts.push_back({g.kappa[g.kappa.size() / 2], std::max(wsum, 1e-12)});
+  // Points carrying almost nothing (under 0.5 % of the total) do not take an element's place:
+  // merged into nothing, they cost the distinct elements that real neighbours would keep.
+  while (pts.size() > n) {
+    auto lightest = std::min_element(pts.begin(), pts.end(),
+                                     [](const GridElement& a, const GridElement& b) { return a.weight < b.weight; });
+    if (!(lightest->weight < 5e-3 * wsum)) break;
+    pts.erase(lightest);
+  }
   while (pts.size() > n) {
     std::size_t best = 0;
     double cost = 1e300;
