@@ -44,9 +44,19 @@ py::array_t<std::complex<double>> carr(const std::vector<control::cplx>& v) {
   return py::array_t<std::complex<double>>(v.size(), v.data());
 }
 
+// The presets: env GMSLAB_PRESETS, the source tree's, the installed ones next to this package
+// (PREFIX/lib/python3/dist-packages/gmslab -> PREFIX/share/gmslab/presets, as the .deb lays them
+// out), or those under the configured install prefix. Called with the GIL held.
 std::string preset_dir() {
   if (const char* e = std::getenv("GMSLAB_PRESETS")) return e;
-  return std::string(GMSLAB_SOURCE_DIR) + "/presets";
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const std::string src = std::string(GMSLAB_SOURCE_DIR) + "/presets";
+  if (fs::is_directory(src, ec)) return src;
+  const fs::path here = fs::path(py::module_::import("gmslab").attr("__file__").cast<std::string>()).parent_path();
+  const fs::path installed = here / "../../../../share/gmslab/presets";
+  if (fs::is_directory(installed, ec)) return installed.lexically_normal().string();
+  return GMSLAB_INSTALLED_PRESETS;
 }
 
 // A scenario checked the way a preset file is (every key, type and range; messages name the key).
@@ -400,9 +410,10 @@ PYBIND11_MODULE(_gmslab, m) {
   m.def("figure_ids", &figure_ids, "Ids of the paper's figures, e.g. 'fig2a_presliding'");
   m.def("figure", [](const std::string& id) {
     Figure f;
+    const std::string presets = preset_dir();
     {
       py::gil_scoped_release nogil;
-      f = make_figure(id, preset_dir());
+      f = make_figure(id, presets);
     }
     py::list panels;
     for (const auto& p : f.panels) {
