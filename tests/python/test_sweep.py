@@ -88,6 +88,8 @@ def test_random_sample_is_reproducible_and_checks_the_spec(tmp_path):
     assert len({p["zeta"] for p in a}) == 5
     with pytest.raises(sweep.SpecError, match="parameters.zeta.uniform"):
         sweep.points({**s, "sample": "grid"})
+    with pytest.raises(sweep.SpecError, match="scenario: .*nope.json: cannot open file"):
+        sweep.run_sweep({**s, "scenario": str(tmp_path / "nope.json")}, str(tmp_path / "r.csv"), progress=False)
     with pytest.raises(sweep.SpecError, match="unknown kind 'between'"):
         sweep.points({**s, "parameters": {"zeta": {"between": [0, 1]}}})
     # A design point run directly equals gmslab.design on the same scenario.

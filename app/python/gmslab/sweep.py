@@ -228,6 +228,12 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
     if spec.get("job", "simulate") in ("simulate", "design") and not spec.get("scenario"):
         raise SpecError("scenario: the simulate and design jobs need a base scenario preset")
     pts = points(spec)
+    if spec.get("scenario"):  # a bad base scenario is the spec's error, found before any job runs
+        import gmslab
+        try:
+            gmslab.load_scenario(spec["scenario"])
+        except gmslab.InputError as e:
+            raise SpecError(f"scenario: {e}") from None
     partial = f"{out}.partial.jsonl"
     done = {}
     if os.path.exists(partial):
