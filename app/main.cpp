@@ -1,6 +1,7 @@
 // gmslab: the window, and every command line command.
 //   gmslab                   opens the window (no display: renders the figure set to ./figures)
 //   gmslab render|figures    run in the sibling executable gmslab-headless (OSMesa)
+//   gmslab sweep SPEC.json   runs python3 -m gmslab.sweep (Dask; app/python/gmslab/sweep.py)
 //   gmslab <other command>   app/cli (simulate, design, identify, ...)
 #include <unistd.h>
 
@@ -46,6 +47,32 @@ int exec_headless(std::vector<std::string> args) {
   return 127;
 }
 
+// Replaces this process with python3 -m gmslab.sweep ARGS, the module found next to this
+// executable (build/python) or installed; returns only on failure.
+int exec_sweep(int argc, char** argv) {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n > 0) {
+    std::string self(buf, static_cast<std::size_t>(n));
+    const std::string dir = self.substr(0, self.rfind('/') + 1) + "python";
+    if (access((dir + "/gmslab/sweep.py").c_str(), R_OK) == 0) {
+      const char* old = std::getenv("PYTHONPATH");
+      setenv("PYTHONPATH", (old && *old ? dir + ":" + old : dir).c_str(), 1);
+    }
+  }
+  // The Debian interpreter (python3-distributed, python3-numpy) before any other python3 on PATH.
+  const std::string py = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+  std::vector<std::string> args = {py, "-m", "gmslab.sweep"};
+  args.insert(args.end(), argv + 2, argv + argc);
+  std::vector<char*> av;
+  for (auto& a : args) av.push_back(a.data());
+  av.push_back(nullptr);
+  std::fflush(nullptr);
+  execvp(py.c_str(), av.data());
+  std::fprintf(stderr, "gmslab sweep: cannot run python3: %s (Debian: python3-distributed)\n", std::strerror(errno));
+  return 127;
+}
+
 bool has_display() {
   const char* x = std::getenv("DISPLAY");
   const char* w = std::getenv("WAYLAND_DISPLAY");
@@ -64,6 +91,7 @@ int figures_fallback() {
 int main(int argc, char** argv) {
   if (argc >= 2 && (std::strcmp(argv[1], "render") == 0 || std::strcmp(argv[1], "figures") == 0))
     return exec_headless(std::vector<std::string>(argv + 1, argv + argc));
+  if (argc >= 2 && std::strcmp(argv[1], "sweep") == 0) return exec_sweep(argc, argv);
 
   std::vector<std::string> forward(argv + 1, argv + argc);
   gmslab::cli::Host host;

@@ -113,14 +113,17 @@ void inputs(IdentifyState& st, bool busy) {
   ImGui::BeginDisabled(busy);
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("training CSV", "path: header t_s, x_m, F_N [, v_mps, Fn_N] ...", &st.data);
-  tooltip("Measured record: a header row, then t [s], x [m], F [N], optional v [m/s] and Fn [N].\n"
+  tooltip("Measured record (CSV or MATLAB .mat): t [s], x [m], F [N], optional v [m/s] and Fn [N].\n"
+          "CSV: comma, semicolon, tab or whitespace separated, decimal point or comma, header optional.\n"
           "Columns are found by name, with or without a unit suffix (t_ms, x_mm, F_kN, ...).");
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("validation CSV", "(empty: hold out a quarter of the training record)", &st.validate);
   tooltip("Record the fit never sees: an effect is kept only when it lowers the error here");
   ImGui::SetNextItemWidth(w);
   ImGui::InputTextWithHint("columns", "t=t_s,x=x_m,F=F_N (empty: found by name)", &st.columns);
-  tooltip("Map roles to header names when the names are not t, x, F, v, Fn");
+  tooltip("Map roles to header names when the names are not t, x, F, v, Fn; by 1-based position for a\n"
+          "CSV without a header (t=1,x=2,F=4); MATLAB variables by name (t=time,x=q,F=force) or a\n"
+          "column of a matrix (t=data:1,x=data:2,F=data:4)");
   ImGui::SetNextItemWidth(w * 0.5f - ImGui::GetStyle().ItemInnerSpacing.x);
   ImGui::InputTextWithHint("##mask", "training: t0:t1,... [s]", &st.mask);
   tooltip("Time windows of the training record to ignore, t0:t1,... [s] (still simulated, not fitted)");

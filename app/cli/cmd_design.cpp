@@ -36,14 +36,6 @@ struct Opts {
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
 };
 
-// The design to simulate: the requested one, the best relocation, or the usable maximum.
-std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
-  if (r.design) return std::pair{std::string("requested"), *r.design};
-  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
-  if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
-  return std::nullopt;
-}
-
 Signal reference_signal(const Opts& o) {
   if (o.reference == "step") return Signal::constant(o.amplitude);
   if (o.reference == "ramp") return Signal::ramp(0.0, o.slope);
@@ -149,19 +141,11 @@ int run_design(const Opts& o) {
   plant["den"] = g.den.descending_coeffs();
   if (o.simulate && !sc) throw InputError("--simulate needs --preset (the friction to simulate with)");
 
-  const LeadReport r = lead_design(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin});
-  nlohmann::json j = to_json(r);
+  const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin});
+  const LeadReport& r = d.report;
+  const auto& chosen = d.chosen;
+  nlohmann::json j = d.json;
   j["plant"] = plant;
-  j["max_ratio"] = o.max_ratio;
-  const auto chosen = chosen_design(r);
-  if (chosen) {
-    j["design_kind"] = chosen->first;
-    if (!r.design) {  // report the chosen design at the top level too
-      j["z"] = chosen->second.z, j["p"] = chosen->second.p, j["Kc"] = chosen->second.Kc;
-      j["K"] = chosen->second.K;
-      j["closed_loop_poles"] = poles_json(chosen->second.closed_loop_poles);
-    }
-  }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
     j["simulation"] = simulate(*sc, o, chosen->second);

@@ -160,7 +160,7 @@ void register_identify(CLI::App& app, Action& action) {
       ->required();
   sub->add_option("--validate", o->job.validation.path,
                   "Validation record (CSV); default: a hold-out part of --data");
-  sub->add_option("--columns", o->columns, "Explicit column names, e.g. t=t_s,x=x_m,F=F_N");
+  sub->add_option("--columns", o->columns, "Explicit columns: CSV header names or 1-based positions (t=1,x=2,F=4), MATLAB variables (t=time,x=q,F=force) or matrix columns (t=data:1,x=data:2,F=data:4)");
   sub->add_option("--model", o->job.spec.model, "Base friction model (registry tag)")->capture_default_str();
   sub->add_option("--elements", o->elements,
                   "Element count of multi-element models (1..64), or 'auto': the validation record "

@@ -90,4 +90,32 @@ nlohmann::json to_json(const LoopMetrics& m) {
           {"cycle_period_s", num(m.cycle_period)}};
 }
 
+namespace {
+std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
+  if (r.design) return std::pair{std::string("requested"), *r.design};
+  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
+  if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
+  return std::nullopt;
+}
+}  // namespace
+
+DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
+                           const LeadOptions& options) {
+  DesignResult out{lead_design(g, root, K, options), std::nullopt, {}};
+  const LeadReport& r = out.report;
+  nlohmann::json& j = out.json;
+  j = to_json(r);
+  j["max_ratio"] = options.max_ratio;
+  out.chosen = chosen_design(r);
+  if (out.chosen) {
+    j["design_kind"] = out.chosen->first;
+    if (!r.design) {  // report the chosen design at the top level too
+      j["z"] = out.chosen->second.z, j["p"] = out.chosen->second.p, j["Kc"] = out.chosen->second.Kc;
+      j["K"] = out.chosen->second.K;
+      j["closed_loop_poles"] = poles_json(out.chosen->second.closed_loop_poles);
+    }
+  }
+  return out;
+}
+
 }  // namespace gmslab::control

@@ -8,6 +8,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "core/control/lead_design.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -17,5 +20,17 @@ namespace gmslab::control {
 nlohmann::json to_json(const LeadReport& r);
 nlohmann::json to_json(const LoopMetrics& m);
 nlohmann::json poles_json(const std::vector<cplx>& poles);
+
+// The design `gmslab design` reports (and Python's gmslab.design): lead_design() for plant g, its
+// JSON (to_json) with "max_ratio" and the chosen design: the requested one, the best relocation,
+// or the usable maximum ("design_kind"; a design that is not the requested one is also written at
+// the top level: z, p, Kc, K, closed_loop_poles). Throws InputError for a bad root or K.
+struct DesignResult {
+  LeadReport report;
+  std::optional<std::pair<std::string, LeadDesign>> chosen;  // kind, design
+  nlohmann::json json;
+};
+DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
+                           const LeadOptions& options);
 
 }  // namespace gmslab::control

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include "core/error.hpp"
+#include "core/io/measured_file.hpp"
 
 namespace gmslab::ident {
 
@@ -84,7 +85,7 @@ std::vector<TimeWindow> parse_edge_masks(std::string_view spec, const MeasuredRe
 
 Dataset load_dataset(const RecordSpec& spec, std::string* note) {
   const CsvColumns cols = spec.columns.empty() ? CsvColumns{} : parse_column_map(spec.columns);
-  const auto rec = load_measured_csv(spec.path, cols);
+  const auto rec = load_measured(spec.path, cols);
   auto windows = parse_masks(spec.mask, spec.mask_what);
   const auto e = parse_edge_masks(spec.mask_edges, rec, spec.edges_what, note);
   windows.insert(windows.end(), e.begin(), e.end());

@@ -90,12 +90,25 @@ std::string where(const std::string& file, std::size_t line) {
   return file + ":" + std::to_string(line);
 }
 
-// Splits one line into fields (no quoting inside number rows).
-void split_fields(std::string_view line, std::vector<std::string_view>& out) {
+// Splits one line into fields at `sep` (no quoting inside number rows); sep == ' ' splits at
+// runs of spaces and tabs.
+void split_fields(std::string_view line, std::vector<std::string_view>& out, char sep = ',') {
   out.clear();
+  if (sep == ' ') {
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      if (i >= line.size()) break;
+      std::size_t j = i;
+      while (j < line.size() && line[j] != ' ' && line[j] != '\t' && line[j] != '\r') ++j;
+      out.push_back(trim(line.substr(i, j - i)));
+      i = j;
+    }
+    return;
+  }
   std::size_t start = 0;
   for (;;) {
-    const auto c = line.find(',', start);
+    const auto c = line.find(sep, start);
     if (c == std::string_view::npos) {
       out.push_back(trim(line.substr(start)));
       return;
@@ -105,11 +118,72 @@ void split_fields(std::string_view line, std::vector<std::string_view>& out) {
   }
 }
 
-bool parse_number(std::string_view f, double& out) {
+// A number in the file's dialect: decimal point, or decimal comma when `decimal` is ','.
+bool parse_number(std::string_view f, double& out, char decimal = '.') {
   if (!f.empty() && f.front() == '+') f.remove_prefix(1);
   if (f.empty()) return false;
+  if (decimal == ',') {
+    if (f.size() > 64 || f.find('.') != std::string_view::npos) return false;
+    char buf[64];
+    for (std::size_t i = 0; i < f.size(); ++i) buf[i] = f[i] == ',' ? '.' : f[i];
+    const auto r = std::from_chars(buf, buf + f.size(), out);
+    return r.ec == std::errc() && r.ptr == buf + f.size();
+  }
   const auto r = std::from_chars(f.data(), f.data() + f.size(), out);
   return r.ec == std::errc() && r.ptr == f.data() + f.size();
+}
+
+bool is_comment(std::string_view tl) {
+  return tl.empty() || tl.front() == '#' || tl.front() == '%' || tl.substr(0, 2) == "//";
+}
+
+bool all_numbers(const std::vector<std::string_view>& fields, char decimal) {
+  double d = 0.0;
+  for (const auto f : fields)
+    if (!parse_number(f, d, decimal)) return false;
+  return !fields.empty();
+}
+
+// Finds the separator and decimal mark from the first non-comment lines: the candidate under
+// which the lines split into the same number of fields (>= 2) and the most fields are numbers;
+// ties go to the earlier candidate (semicolon, tab, comma, whitespace; decimal point first).
+// When no candidate splits the lines consistently, comma (then the row checks name the line).
+CsvDialect detect(std::string_view text) {
+  std::vector<std::string_view> lines;
+  std::size_t pos = 0;
+  while (pos < text.size() && lines.size() < 30) {
+    auto nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string_view line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!is_comment(trim(line))) lines.push_back(line);
+  }
+  static constexpr std::array<CsvDialect, 7> candidates = {{
+      {';', '.'}, {';', ','}, {'\t', '.'}, {'\t', ','}, {',', '.'}, {' ', '.'}, {' ', ','}}};
+  CsvDialect best{',', '.'};
+  long best_score = 0;
+  std::vector<std::string_view> f;
+  for (const auto& c : candidates) {
+    if (lines.empty()) break;
+    split_fields(lines[lines.size() > 1 ? 1 : 0], f, c.separator);
+    const std::size_t n = f.size();
+    if (n < 2) continue;
+    split_fields(lines[0], f, c.separator);
+    if (f.size() != n) continue;
+    long score = 1;  // a consistent split beats none
+    double d = 0.0;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      split_fields(lines[i], f, c.separator);
+      if (f.size() != n) continue;
+      for (const auto x : f) score += parse_number(x, d, c.decimal) ? 1 : 0;
+    }
+    if (score > best_score) {
+      best_score = score;
+      best = c;
+    }
+  }
+  return best;
 }
 
 struct Chosen {
@@ -117,23 +191,55 @@ struct Chosen {
   double scale = 1.0;
 };
 
-// Finds the column of each role, by explicit name or by base name + unit suffix.
+// Where the names came from, for messages: a CSV header (or its absence) or a MATLAB file.
+struct NameSource {
+  std::string loc;          // "file:line" of the header, or the file
+  bool mat = false;         // names are MATLAB variables ("var" or "var:COLUMN")
+  bool headerless = false;  // a CSV without a header row: names are positions "1", "2", ...
+};
+
+bool all_digits(std::string_view s) {
+  if (s.empty() || s.size() > 6) return false;
+  for (char c : s)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+
+// Finds the column of each role, by explicit name (or 1-based position in a CSV) or by base name
+// + unit suffix.
 std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header,
-                                     const CsvColumns& cols, const std::string& file) {
+                                     const CsvColumns& cols, const NameSource& src) {
   const std::array<const std::string*, 5> explicit_names = {&cols.t, &cols.x, &cols.F, &cols.v,
                                                             &cols.Fn};
+  const std::string noun = src.mat ? "variable" : "column";
   std::string names;
   for (const auto& h : header) names += (names.empty() ? "" : ", ") + std::string(h);
+  if (src.headerless && (cols.t.empty() || cols.x.empty() || cols.F.empty()))
+    throw InputError(src.loc + ": the first row holds numbers, so the file has no header row; give the " +
+                     std::to_string(header.size()) +
+                     " columns by position (1-based), e.g. --columns t=1,x=2,F=3 (optional v=, Fn=)");
   std::array<Chosen, 5> out;
   for (std::size_t r = 0; r < 5; ++r) {
     const Role& role = roles()[r];
     if (!explicit_names[r]->empty()) {
+      const std::string& want = *explicit_names[r];
       for (std::size_t c = 0; c < header.size(); ++c)
-        if (header[c] == *explicit_names[r]) out[r].index = static_cast<std::ptrdiff_t>(c);
-      if (out[r].index < 0)
-        throw InputError(where(file, 1) + ": column '" + *explicit_names[r] + "' (mapped to " +
-                         std::string(role.name) + ") is not in the header; columns: " + names);
-      const auto suffix = split_name(*explicit_names[r]).second;
+        if (header[c] == want) out[r].index = static_cast<std::ptrdiff_t>(c);
+      if (out[r].index < 0 && !src.mat && all_digits(want)) {
+        const auto k = std::stoul(want);
+        if (k >= 1 && k <= header.size()) out[r].index = static_cast<std::ptrdiff_t>(k - 1);
+      }
+      if (out[r].index < 0) {
+        if (src.mat)
+          throw InputError(src.loc + ": no numeric vector or matrix column '" + want + "' (mapped to " +
+                           std::string(role.name) + "); accepted: a variable name (a vector) or NAME:COLUMN " +
+                           "(a column of a matrix, 1-based); the file has: " + (names.empty() ? "nothing usable" : names));
+        throw InputError(src.loc + ": column '" + want + "' (mapped to " + std::string(role.name) +
+                         ") is not in the header" +
+                         (src.headerless ? "" : " and is not a position 1.." + std::to_string(header.size())) +
+                         "; columns: " + names);
+      }
+      const auto suffix = split_name(want).second;
       for (const auto& u : role.units)
         if (u.suffix == suffix) out[r].scale = u.scale;
       continue;
@@ -146,26 +252,40 @@ std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header
       for (const auto& u : role.units)
         if (u.suffix == suffix) scale = u.scale;
       if (scale == 0.0)
-        throw InputError(where(file, 1) + ": column '" + std::string(header[c]) + "': unknown unit '" +
+        throw InputError(src.loc + ": " + noun + " '" + std::string(header[c]) + "': unknown unit '" +
                          std::string(suffix) + "'; accepted: " + std::string(role.name) + " (SI), " +
                          units_text(role) + ", or map it with --columns");
       if (out[r].index >= 0)
-        throw InputError(where(file, 1) + ": two columns for " + std::string(role.name) + " ('" +
+        throw InputError(src.loc + ": two " + noun + "s for " + std::string(role.name) + " ('" +
                          std::string(header[static_cast<std::size_t>(out[r].index)]) + "' and '" +
                          std::string(header[c]) + "'); choose one with --columns " +
                          std::string(role.name) + "=NAME");
       out[r] = {static_cast<std::ptrdiff_t>(c), scale};
     }
     if (role.required && out[r].index < 0)
-      throw InputError(where(file, 1) + ": no column for " + std::string(role.name) +
-                       " (expected a header named " + std::string(role.name) + " or " +
-                       units_text(role) + ", or --columns " + std::string(role.name) +
-                       "=NAME); columns: " + names);
+      throw InputError(src.loc + ": no " + noun + " for " + std::string(role.name) + " (expected " +
+                       (src.mat ? "a variable" : "a header") + " named " + std::string(role.name) + " or " +
+                       units_text(role) + ", or --columns " + std::string(role.name) + "=" +
+                       (src.mat ? "VARIABLE or VARIABLE:COLUMN" : "NAME or POSITION") + "); " + noun +
+                       "s: " + (names.empty() ? "none" : names));
   }
   return out;
 }
 
 }  // namespace
+
+CsvDialect detect_dialect(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  return detect(text);
+}
+
+std::string describe(const CsvDialect& d) {
+  const std::string sep = d.separator == ';'    ? "semicolon"
+                          : d.separator == '\t' ? "tab"
+                          : d.separator == ' '  ? "whitespace"
+                                                : "comma";
+  return sep + "-separated, decimal " + (d.decimal == ',' ? "comma" : "point");
+}
 
 const std::vector<double>* MeasuredRecord::extra_column(std::string_view name) const {
   for (const auto& [n, col] : extra)
@@ -202,8 +322,12 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
                      ": the file is not UTF-8 text (invalid byte sequence); save it as UTF-8 CSV");
   if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
 
+  const CsvDialect dialect = detect(text);
+  const char sep = dialect.separator, dec = dialect.decimal;
   MeasuredRecord rec;
   rec.source = file;
+  rec.dialect = dialect;
+  std::vector<std::string> position_names;  // "1", "2", ... of a file without a header row
   std::vector<std::string_view> header, fields;
   std::array<Chosen, 5> chosen{};
   std::vector<std::vector<double>> extra_vals;
@@ -221,11 +345,16 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const auto tl = trim(line);
-    if (tl.empty() || tl.front() == '#') continue;
+    if (is_comment(tl)) continue;
     if (header_line == 0) {
       header_line = line_no;
-      split_fields(line, header);
-      chosen = choose_columns(header, columns, file);
+      split_fields(line, header, sep);
+      NameSource src{where(file, line_no), false, all_numbers(header, dec)};
+      if (src.headerless) {
+        for (std::size_t c = 0; c < header.size(); ++c) position_names.push_back(std::to_string(c + 1));
+        header.assign(position_names.begin(), position_names.end());
+      }
+      chosen = choose_columns(header, columns, src);
       for (std::size_t c = 0; c < header.size(); ++c) {
         bool used = false;
         for (const auto& ch : chosen) used |= ch.index == static_cast<std::ptrdiff_t>(c);
@@ -233,21 +362,23 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
       }
       extra_vals.resize(extra_idx.size());
       extra_ok.assign(extra_idx.size(), true);
-      continue;
+      rec.has_header = !src.headerless;
+      if (rec.has_header) continue;  // else this first line is the first data row
     }
-    split_fields(line, fields);
+    split_fields(line, fields, sep);
     if (fields.size() != header.size())
       throw InputError(where(file, line_no) + ": " + std::to_string(fields.size()) +
-                       " fields, but the header has " + std::to_string(header.size()) +
+                       " fields, but " + (rec.has_header ? "the header has " : "the first row has ") +
+                       std::to_string(header.size()) +
                        " (truncated or malformed row)");
     for (std::size_t r = 0; r < 5; ++r) {
       if (chosen[r].index < 0) continue;
       const auto f = fields[static_cast<std::size_t>(chosen[r].index)];
       const std::string col(header[static_cast<std::size_t>(chosen[r].index)]);
       double d = 0.0;
-      if (!parse_number(f, d))
+      if (!parse_number(f, d, dec))
         throw InputError(where(file, line_no) + ": column '" + col + "': '" +
-                         std::string(f.substr(0, 40)) + "' is not a number");
+                         std::string(f.substr(0, 40)) + "' is not a number (the file reads as " + describe(dialect) + ")");
       if (!std::isfinite(d))
         throw InputError(where(file, line_no) + ": column '" + col + "': '" + std::string(f) +
                          "' is not a finite number");
@@ -270,19 +401,71 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
     for (std::size_t e = 0; e < extra_idx.size(); ++e) {
       if (!extra_ok[e]) continue;
       double d = 0.0;
-      if (parse_number(fields[extra_idx[e]], d) && std::isfinite(d)) extra_vals[e].push_back(d);
+      if (parse_number(fields[extra_idx[e]], d, dec) && std::isfinite(d)) extra_vals[e].push_back(d);
       else extra_ok[e] = false;
     }
   }
   if (header_line == 0)
-    throw InputError(file + ": empty; expected a header row (e.g. t_s,x_m,F_N) and at least " +
-                     std::to_string(kMinSamples) + " rows of numbers");
+    throw InputError(file + ": empty; expected a header row (e.g. t_s,x_m,F_N) or none (then --columns t=1,x=2,F=3) and at least " +
+                     std::to_string(kMinSamples) +
+                     " rows of numbers separated by commas, semicolons, tabs or spaces");
   if (rec.t.size() < kMinSamples)
     throw InputError(file + ": only " + std::to_string(rec.t.size()) + " data rows; at least " +
                      std::to_string(kMinSamples) + " are needed");
   rec.force_column = std::string(header[static_cast<std::size_t>(chosen[2].index)]);
   for (std::size_t e = 0; e < extra_idx.size(); ++e)
     if (extra_ok[e]) rec.extra.emplace_back(std::string(header[extra_idx[e]]), std::move(extra_vals[e]));
+  return rec;
+}
+
+MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, const CsvColumns& map,
+                                   const std::string& file, const std::string& unusable) {
+  std::vector<std::string_view> names;
+  for (const auto& c : columns) names.push_back(c.name);
+  NameSource src{file, true, false};
+  std::array<Chosen, 5> chosen{};
+  try {
+    chosen = choose_columns(names, map, src);
+  } catch (const InputError& e) {
+    if (unusable.empty()) throw;
+    throw InputError(std::string(e.what()) + " (not numeric vectors or matrices, so not usable: " + unusable + ")");
+  }
+  MeasuredRecord rec;
+  rec.source = file;
+  const auto& tcol = columns[static_cast<std::size_t>(chosen[0].index)];
+  const std::size_t n = tcol.values.size();
+  std::array<std::vector<double>*, 5> dest = {&rec.t, &rec.x, &rec.F, &rec.v, &rec.Fn};
+  for (std::size_t r = 0; r < 5; ++r) {
+    if (chosen[r].index < 0) continue;
+    const auto& col = columns[static_cast<std::size_t>(chosen[r].index)];
+    if (col.values.size() != n)
+      throw InputError(file + ": variable '" + col.name + "' (" + std::string(roles()[r].name) + ") has " +
+                       std::to_string(col.values.size()) + " values but '" + tcol.name + "' (t) has " +
+                       std::to_string(n) + "; the chosen variables must have the same length");
+    dest[r]->reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double d = col.values[k] * chosen[r].scale;
+      if (!std::isfinite(d))
+        throw InputError(file + ": variable '" + col.name + "' element " + std::to_string(k + 1) +
+                         ": not a finite number in SI units (NaN, Inf or overflow)");
+      if (r == 0 && k > 0 && !(d > rec.t.back()))
+        throw InputError(file + ": variable '" + col.name + "' element " + std::to_string(k + 1) +
+                         ": time is not greater than the previous element's; time must strictly increase");
+      dest[r]->push_back(d);
+    }
+  }
+  if (n < kMinSamples)
+    throw InputError(file + ": only " + std::to_string(n) + " samples in '" + tcol.name + "'; at least " +
+                     std::to_string(kMinSamples) + " are needed");
+  rec.force_column = columns[static_cast<std::size_t>(chosen[2].index)].name;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    bool used = false;
+    for (const auto& ch : chosen) used |= ch.index == static_cast<std::ptrdiff_t>(c);
+    if (used || columns[c].values.size() != n) continue;
+    bool ok = true;
+    for (double d : columns[c].values) ok &= std::isfinite(d);
+    if (ok) rec.extra.emplace_back(columns[c].name, columns[c].values);
+  }
   return rec;
 }
 

@@ -1,7 +1,11 @@
 // gmslab core: measured friction data from CSV (the input of identification).
 //
-// Format: UTF-8 text, one header row, comma-separated numbers, one sample per row ('#' lines and
-// blank lines are skipped, CRLF accepted). The columns are found by name:
+// Format: UTF-8 text (a UTF-8 byte order mark is skipped), one sample per row; CRLF or LF; blank
+// lines and comment lines (starting with '#', '%' or '//') are skipped. The dialect is detected
+// from the first rows (detect_dialect): separator comma, semicolon, tab or whitespace (runs of
+// spaces/tabs); decimal point, or decimal comma when the separator is not a comma. The first row
+// is a header when any of its fields is not a number; a file without one names its columns by
+// 1-based position (--columns t=1,x=2,F=4). With a header the columns are found by name:
 //   t   time                [s]     (required, strictly increasing; sampling may be non-uniform)
 //   x   position            [m]     (required)
 //   F   measured force      [N]     (required; friction alone or actuator force, see ident/)
@@ -10,7 +14,8 @@
 // A name may carry a unit suffix after the first '_': t_s, t_ms, x_m, x_mm, x_um, F_N, F_kN, F_mN,
 // v_mps, v_mmps, Fn_N, Fn_kN; values are converted to SI. An unknown suffix on one of these names is
 // an error naming the accepted units. Columns may also be mapped explicitly ("t=time,x=pos_mm,F=F_N";
-// an explicitly mapped name without a known suffix is read as SI). Every other column that holds
+// an explicitly mapped name without a known suffix is read as SI; a mapped name that is a number
+// and not a header name is a 1-based position). Every other column that holds
 // only numbers is kept in `extra` under its header name (e.g. pulse_code, a_mps2); other columns
 // are ignored.
 //
@@ -29,6 +34,16 @@ namespace gmslab {
 
 inline constexpr std::size_t kMinSamples = 10;
 
+// How a CSV file writes its numbers: separator ',', ';', '\t' or ' ' (any run of spaces and
+// tabs) and decimal mark '.' or ','.
+struct CsvDialect {
+  char separator = ',';
+  char decimal = '.';
+  bool operator==(const CsvDialect&) const = default;
+};
+// "semicolon-separated, decimal comma" (for messages and reports).
+std::string describe(const CsvDialect& d);
+
 struct MeasuredRecord {
   std::string source;      // file name, for messages and reports
   std::vector<double> t;   // time [s]
@@ -38,13 +53,16 @@ struct MeasuredRecord {
   std::vector<double> Fn;  // normal force [N]; empty when the file has none
   std::vector<std::pair<std::string, std::vector<double>>> extra;  // other numeric columns
   std::string force_column;  // header name the force came from (for reports), e.g. "F_N"
+  CsvDialect dialect;        // how the CSV was read (default for other formats)
+  bool has_header = true;    // false: a CSV whose columns were given by position
 
   std::size_t size() const { return t.size(); }
   // The extra column with this header name, or nullptr.
   const std::vector<double>* extra_column(std::string_view name) const;
 };
 
-// Explicit column names per role; empty = find by name.
+// Explicit column names per role; empty = find by name. A CSV name may be a 1-based position
+// ("2"); a MATLAB name is a variable ("q") or a column of a matrix ("data:2").
 struct CsvColumns {
   std::string t, x, F, v, Fn;
 };
@@ -57,5 +75,20 @@ MeasuredRecord parse_measured_csv(std::string_view text, const std::string& file
                                   const CsvColumns& columns = {});
 // Reads and parses a file; throws InputError when it cannot be read or is bad.
 MeasuredRecord load_measured_csv(const std::string& path, const CsvColumns& columns = {});
+// A numeric column from a non-CSV source (a MATLAB variable, or one column of a matrix variable:
+// "data:2"), and the record made from such columns: the roles are chosen like CSV header names
+// (names, unit suffixes, the explicit map); the chosen columns must have the same length, finite
+// values and a strictly increasing time. Other columns of that length with finite values go to
+// `extra`. `unusable` lists what the source holds that is not a numeric column ("s (struct)"),
+// for messages. Throws InputError naming the file, the variable and the element.
+struct NamedColumn {
+  std::string name;
+  std::vector<double> values;
+};
+MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, const CsvColumns& map,
+                                   const std::string& file, const std::string& unusable = {});
+
+// The dialect of a CSV text (separator and decimal mark) as parse_measured_csv reads it.
+CsvDialect detect_dialect(std::string_view text);
 
 }  // namespace gmslab

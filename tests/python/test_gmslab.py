@@ -1,0 +1,155 @@
+"""The Python module against the C++ command line on the same inputs, and against independent
+expectations (polynomial roots, steady-state friction, values written to files), over random
+parameters with fixed seeds."""
+import json
+import os
+
+import numpy as np
+import pytest
+
+import gmslab
+from conftest import PRESETS
+
+
+def read_csv(path):
+    """A CSV with one header row as a dict of columns."""
+    with open(path) as f:
+        header = f.readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return {h: data[:, i] for i, h in enumerate(header)}
+
+
+def random_scenario(rng):
+    """fig2a's preset with a random plant mass, friction levels and a shorter run."""
+    sc = gmslab.load_scenario(os.path.join(PRESETS, "fig2c_periodic_1hz.json"))
+    sc.plant.mass = float(rng.uniform(0.5, 3.0))
+    sc.friction["Fc"] = float(rng.uniform(0.5, 1.2))
+    sc.friction["Fs"] = sc.friction["Fc"] * float(rng.uniform(1.1, 1.8))
+    sc.run.duration = float(rng.uniform(0.2, 0.6))
+    sc.run.record_every = int(rng.integers(5, 50))
+    return sc
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_simulate_matches_cli_trace(cli, tmp_path, seed):
+    rng = np.random.default_rng(seed)
+    sc = random_scenario(rng)
+    preset = tmp_path / "sc.json"
+    gmslab.save_scenario(sc, str(preset))
+    assert gmslab.load_scenario(str(preset)) == sc  # edited fields survive the file
+    tr = gmslab.simulate(sc)
+    out = tmp_path / "trace.csv"
+    cli("simulate", str(preset), "--out", str(out))
+    ref = read_csv(out)
+    assert len(tr) == len(ref["t_s"]) > 10
+    for mine, theirs in [(tr.t, "t_s"), (tr.x, "x_m"), (tr.v, "v_mps"), (tr.friction, "F_friction_N"),
+                         (tr.applied, "F_applied_N")]:
+        np.testing.assert_allclose(mine, ref[theirs], rtol=1e-9, atol=1e-12 * max(1.0, np.abs(ref[theirs]).max()))
+    n = tr.element_force.shape[1]
+    assert n == len(sc.friction.elements)
+    for i in range(n):
+        np.testing.assert_allclose(tr.element_force[:, i], ref[f"F{i + 1}_N"], rtol=1e-9, atol=1e-12)
+        np.testing.assert_array_equal(tr.element_slip[:, i], ref[f"slip{i + 1}"] != 0)
+
+
+def test_errors_carry_the_core_message_as_the_cli_prints_it(cli, tmp_path):
+    sc = gmslab.load_scenario(os.path.join(PRESETS, "fig2a_presliding.json"))
+    d = sc.to_dict()
+    d["plant"]["mass"] = -2.0
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(d))
+    with pytest.raises(gmslab.InputError) as e:
+        gmslab.load_scenario(str(bad))
+    assert "plant.mass" in str(e.value)
+    p = cli("simulate", str(bad), "--out", str(tmp_path / "x.csv"), check=False)
+    assert p.returncode == 2
+    assert str(e.value) in p.stderr
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        sc.plant.mass = -1.0
+        sc.validate()
+    with pytest.raises(KeyError):
+        sc.friction["no_such_parameter"] = 1.0
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13, 14])
+def test_design_matches_cli(cli, seed):
+    rng = np.random.default_rng(seed)
+    num = [float(rng.uniform(0.5, 10))]
+    den = [1.0, float(rng.uniform(0.5, 5)), 0.0]
+    zeta, wn = float(rng.uniform(0.3, 0.8)), float(rng.uniform(2, 10))
+    mine = gmslab.design(zeta, wn, num=num, den=den)
+    p = cli("design", "--num", " ".join(repr(c) for c in num), "--den", " ".join(repr(c) for c in den),
+            "--zeta", repr(zeta), "--wn", repr(wn), "--json", "-")
+    theirs = json.loads(p.stdout)
+    assert mine.keys() == theirs.keys()
+    assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
+
+
+@pytest.mark.parametrize("seed", [21, 22, 23])
+def test_root_locus_points_are_closed_loop_roots(seed):
+    rng = np.random.default_rng(seed)
+    num = [1.0, float(rng.uniform(1, 5))]
+    den = [1.0, float(rng.uniform(1, 4)), float(rng.uniform(1, 9)), 0.0]
+    r = gmslab.root_locus(num, den)
+    np.testing.assert_allclose(np.sort_complex(r["poles"]), np.sort_complex(np.roots(den)), atol=1e-9)
+    gains = r["gains"]
+    assert r["branches"].shape == (3, len(gains))
+    for k_index in rng.integers(1, len(gains), size=10):
+        k = gains[k_index]
+        expect = np.sort_complex(np.roots(np.polyadd(den, k * np.array(num))))
+        got = np.sort_complex(r["branches"][:, k_index])
+        np.testing.assert_allclose(got, expect, rtol=1e-6, atol=1e-6 * max(1.0, abs(expect).max()))
+
+
+@pytest.mark.parametrize("tag", [m["tag"] for m in gmslab.models()])
+def test_every_registry_model_steps_to_its_steady_state(tag):
+    m = gmslab.Model(tag)
+    rng = np.random.default_rng(abs(hash(tag)) % 1000)
+    v = float(rng.uniform(0.002, 0.02)) * (1 if rng.uniform() < 0.5 else -1)
+    f = m.run(np.full(20000, v), 1e-5)  # 0.2 s at constant velocity
+    assert f.shape == (20000,)
+    assert f[-1] == pytest.approx(m.steady_state(v), rel=1e-3, abs=1e-6)
+    m.reset()
+    assert m.step(v, 1e-5) == pytest.approx(f[0])
+    assert len(m.elements()) == len(m.params.elements)
+
+
+def test_figure_2a_is_the_preset_simulated():
+    fig = gmslab.figure("fig2a_presliding")
+    s = fig["panels"][0]["series"][0]
+    tr = gmslab.simulate(os.path.join(PRESETS, "fig2a_presliding.json"))
+    assert "um" in fig["panels"][0]["x_label"]
+    # The figure plots F_f against x [um] from the same run: every figure point is a trace point.
+    xs, fs = tr.x * 1e6, tr.friction
+    for i in np.linspace(0, len(s["x"]) - 1, 25).astype(int):
+        j = np.argmin(np.abs(xs - s["x"][i]) + np.abs(fs - s["y"][i]))
+        assert abs(xs[j] - s["x"][i]) < 1e-6 and abs(fs[j] - s["y"][i]) < 1e-9
+    assert "fig2a_presliding" in gmslab.figure_ids()
+    with pytest.raises(gmslab.InputError):
+        gmslab.figure("no_such_figure")
+
+
+def test_identify_report_matches_cli(cli, tmp_path):
+    rng = np.random.default_rng(5)
+    sc = gmslab.load_scenario(os.path.join(PRESETS, "fig2c_periodic_1hz.json"))
+    sc.run.duration = 2.0
+    sc.run.record_every = 100
+    tr = gmslab.simulate(sc)
+    data = tmp_path / "rec.txt"  # whitespace-separated, no header, decimal comma: columns by position
+    F = tr.friction + rng.normal(0, 0.01, len(tr.t))
+    rows = [" ".join(f"{v:.17g}".replace(".", ",") for v in r) for r in zip(tr.t, tr.x, F)]
+    data.write_text("\n".join(rows) + "\n")
+    opts = dict(columns="t=1,x=2,F=3", model="gms", elements="2", starts=1, max_evals=60, effects="offset")
+    rec = gmslab.load_record(str(data), "t=1,x=2,F=3")
+    np.testing.assert_array_equal(rec["x"], tr.x)  # 17 digits round-trip exactly
+    np.testing.assert_array_equal(rec["F"], F)
+    mine = gmslab.identify(str(data), **opts)
+    report = tmp_path / "rep.json"
+    cli("identify", "--data", str(data), "--columns", "t=1,x=2,F=3", "--model", "gms", "--elements", "2",
+        "--starts", "1", "--max-evals", "60", "--effects", "offset", "--report", str(report))
+    theirs = json.loads(report.read_text())
+    assert mine["rms_after"] == pytest.approx(theirs["rms_after"], rel=1e-12)
+    assert mine["effects_added"] == theirs["effects_added"]
+    assert [p["value"] for p in mine["parameters"]] == pytest.approx([p["value"] for p in theirs["parameters"]], rel=1e-12)
+    assert isinstance(mine["scenario"], gmslab.Scenario)
+    assert mine["scenario"] == gmslab.load_scenario(theirs["scenario_file"])
