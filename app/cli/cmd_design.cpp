@@ -115,6 +115,17 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
       } else
         os << "none: " << r["reason"].get<std::string>() << '\n';
     }
+  if (j.contains("frequency")) {
+    const auto& m = j["frequency"]["margins"];
+    const auto& c = j["frequency"]["closed_loop"];
+    const auto& n = j["frequency"]["nyquist"];
+    os << "margins (" << j["frequency"]["loop"].get<std::string>() << " loop): GM = " << f(m["gain_margin_db"])
+       << " dB at " << f(m["phase_crossover_rad_s"]) << " rad/s, PM = " << f(m["phase_margin_deg"]) << " deg at "
+       << f(m["gain_crossover_rad_s"]) << " rad/s; closed loop: bandwidth " << f(c["bandwidth_rad_s"])
+       << " rad/s, peak " << f(c["peak_db"]) << " dB; Nyquist: N = " << n["encirclements"].get<int>()
+       << ", P = " << n["open_rhp_poles"].get<int>() << ", Z = " << n["closed_rhp_poles"].get<int>()
+       << (n["stable"].get<bool>() ? " (stable)" : " (unstable)") << '\n';
+  }
   if (j.contains("simulation"))
     for (const auto& s : j["simulation"])
       os << "loop with friction, " << s["compensation"].get<std::string>()
@@ -161,6 +172,15 @@ int run_design(const Opts& o) {
       j["K"] = chosen->second.K;
       j["closed_loop_poles"] = poles_json(chosen->second.closed_loop_poles);
     }
+  }
+  {  // frequency responses of the chosen design's loop (the plant's own when there is none)
+    TransferFunction L = g;
+    if (chosen) {
+      const LeadDesign& d = chosen->second;
+      L = {g.num * Poly({d.Kc * d.z, d.Kc}), g.den * Poly({d.p, 1.0})};
+    }
+    j["frequency"] = to_json(frequency_response(L));
+    j["frequency"]["loop"] = chosen ? "compensated" : "plant";
   }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");

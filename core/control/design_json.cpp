@@ -79,6 +79,31 @@ nlohmann::json to_json(const LeadReport& r) {
   return j;
 }
 
+nlohmann::json to_json(const FrequencyReport& f) {
+  const Margins& m = f.margins;
+  const Nyquist& n = f.nyquist;
+  return {{"margins",
+           {{"gain_margin", num(m.gain_margin)},
+            {"gain_margin_db", num(m.gain_margin_db)},
+            {"phase_crossover_rad_s", num(m.phase_crossover)},
+            {"phase_margin_deg", num(m.phase_margin)},
+            {"gain_crossover_rad_s", num(m.gain_crossover)},
+            {"gain_crossovers_rad_s", m.gain_crossovers},
+            {"phase_crossovers_rad_s", m.phase_crossovers}}},
+          {"closed_loop",
+           {{"dc_gain", num(f.dc_gain)},
+            {"bandwidth_rad_s", num(f.bandwidth)},
+            {"peak_db", num(f.peak_db)},
+            {"peak_rad_s", num(f.peak_w)}}},
+          {"nyquist",
+           {{"open_rhp_poles", n.open_rhp_poles},
+            {"axis_poles", n.axis_poles},
+            {"encirclements", n.encirclements},
+            {"closed_rhp_poles", n.closed_rhp_poles},
+            {"marginal", n.marginal},
+            {"stable", n.stable}}}};
+}
+
 nlohmann::json to_json(const LoopMetrics& m) {
   return {{"steady_state_error_m", num(m.steady_state_error)},
           {"tail_max_error_m", num(m.tail_max_error)},

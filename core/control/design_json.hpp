@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/loop_simulation.hpp"
 
@@ -17,5 +18,11 @@ namespace gmslab::control {
 nlohmann::json to_json(const LeadReport& r);
 nlohmann::json to_json(const LoopMetrics& m);
 nlohmann::json poles_json(const std::vector<cplx>& poles);
+// The "frequency" key: margins {gain_margin, gain_margin_db, phase_crossover_rad_s,
+// phase_margin_deg, gain_crossover_rad_s, gain_crossovers_rad_s [..], phase_crossovers_rad_s [..]},
+// closed_loop {dc_gain, bandwidth_rad_s, peak_db, peak_rad_s}, nyquist {open_rhp_poles (P),
+// axis_poles, encirclements (N, clockwise), closed_rhp_poles (Z = N + P), marginal, stable}.
+// Infinite margins (no crossover) are null.
+nlohmann::json to_json(const FrequencyReport& f);
 
 }  // namespace gmslab::control

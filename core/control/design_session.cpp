@@ -88,6 +88,11 @@ DesignOutputs compute_design(const DesignInputs& in) {
         L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
       out.other_locus = root_locus(L2, lo);
     }
+    stage = "frequency response";
+    {
+      const double k = out.compensator ? out.compensator->Kc : 1.0;
+      out.frequency = frequency_response({out.loop.num * k, out.loop.den});
+    }
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);

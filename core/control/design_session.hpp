@@ -24,6 +24,7 @@
 #include <optional>
 #include <string>
 
+#include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -66,6 +67,9 @@ struct DesignOutputs {
   std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
   std::optional<RootLocus> zero_degree_locus;  // k < 0 branches of the drawn loop
   StepResponse step;
+  // Frequency responses of the drawn loop with its gain (Kc L, or the plant alone): Bode, margins,
+  // closed-loop bandwidth and peak, Nyquist (core/control/frequency.hpp).
+  std::optional<FrequencyReport> frequency;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;

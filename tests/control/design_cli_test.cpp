@@ -2,6 +2,8 @@
 // path with a simulated loop, and clear errors (exit code 2) for malformed input.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <complex>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -110,4 +112,28 @@ TEST(DesignCli, MalformedInputIsAClearErrorWithExitCode2) {
   EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "0", "--json", out}), 2);
   EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--simulate", "--json", out}), 2);
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// The "frequency" key: margins of the designed loop Kc (s + z) 4 / ((s + p) s (s + 2)), checked
+// against the loop evaluated from the JSON's own z, p, Kc (|L| = 1 at w_gc, L real negative at
+// w_pc, PM = 180 + arg L), and Nyquist's verdict against the closed-loop poles.
+TEST(DesignCli, FrequencyKeyReportsTheDesignedLoopsMargins) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5"}, "freq");
+  ASSERT_TRUE(j.contains("frequency"));
+  const auto& m = j["frequency"]["margins"];
+  const double z = j["z"].get<double>(), p = j["p"].get<double>(), Kc = j["Kc"].get<double>();
+  const auto L = [&](double w) {
+    const std::complex<double> s(0.0, w);
+    return Kc * (s + z) * 4.0 / ((s + p) * s * (s + 2.0));
+  };
+  const double wgc = m["gain_crossover_rad_s"].get<double>();
+  EXPECT_NEAR(std::abs(L(wgc)), 1.0, 1e-9);
+  EXPECT_NEAR(m["phase_margin_deg"].get<double>(), 180.0 + std::arg(L(wgc)) * 180.0 / M_PI, 1e-7);
+  EXPECT_TRUE(m["gain_margin"].is_null());  // type 1, one pole-zero pair: the phase never reaches -180
+  EXPECT_TRUE(m["phase_crossovers_rad_s"].empty());
+  bool stable = true;
+  for (const auto& pole : j["closed_loop_poles"]) stable &= pole[0].get<double>() < 0.0;
+  EXPECT_EQ(j["frequency"]["nyquist"]["stable"].get<bool>(), stable);
+  EXPECT_EQ(j["frequency"]["nyquist"]["axis_poles"].get<int>(), 1);
+  EXPECT_GT(j["frequency"]["closed_loop"]["bandwidth_rad_s"].get<double>(), 0.0);
 }
