@@ -242,7 +242,10 @@ void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generat
   ImGui::BeginChild("##design_plots", ImVec2(0, avail.y), false);
   const ImVec2 r = ImGui::GetContentRegionAvail();
   const float top = 0.52f * r.y;
-  draw_design_locus(d, ImVec2(r.x, top));
+  const float locus_w = std::floor(0.46f * r.x);
+  draw_design_locus(d, ImVec2(locus_w, top));
+  ImGui::SameLine();
+  draw_design_frequency(d, ImVec2(r.x - locus_w - ImGui::GetStyle().ItemSpacing.x, top));
   draw_design_responses(d, ImVec2(r.x, r.y - top - ImGui::GetStyle().ItemSpacing.y));
   ImGui::EndChild();
   recompute(d);  // drags this frame show next frame; recompute now so the state is never stale
