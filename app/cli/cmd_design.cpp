@@ -181,6 +181,11 @@ int run_design(const Opts& o) {
     }
     j["frequency"] = to_json(frequency_response(L));
     j["frequency"]["loop"] = chosen ? "compensated" : "plant";
+    if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
+      const auto fm = build_model(sc->friction);
+      const LeadDesign& d = chosen->second;
+      j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {d.Kc, d.z, d.p}));
+    }
   }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");

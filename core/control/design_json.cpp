@@ -104,6 +104,18 @@ nlohmann::json to_json(const FrequencyReport& f) {
             {"stable", n.stable}}}};
 }
 
+nlohmann::json to_json(const LimitCycleReport& r) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const LimitCycle& c : r.cycles)
+    a.push_back({{"velocity_amplitude_m_s", num(c.velocity_amplitude)},
+                 {"amplitude_m", num(c.amplitude)},
+                 {"frequency_rad_s", num(c.frequency)},
+                 {"period_s", num(c.period)},
+                 {"stable", c.stable},
+                 {"converged", c.converged}});
+  return {{"cycles", a}, {"note", r.note}};
+}
+
 nlohmann::json to_json(const LoopMetrics& m) {
   return {{"steady_state_error_m", num(m.steady_state_error)},
           {"tail_max_error_m", num(m.tail_max_error)},

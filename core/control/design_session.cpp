@@ -96,6 +96,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
+    stage = "describing function";
+    {
+      const auto fm = build_model(in.scenario.friction);
+      out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
+                                              DfOptions{400, 2});
+    }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";
     LoopConfig cfg;

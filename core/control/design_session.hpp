@@ -24,6 +24,7 @@
 #include <optional>
 #include <string>
 
+#include "core/control/describing_function.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
@@ -70,6 +71,10 @@ struct DesignOutputs {
   // Frequency responses of the drawn loop with its gain (Kc L, or the plant alone): Bode, margins,
   // closed-loop bandwidth and peak, Nyquist (core/control/frequency.hpp).
   std::optional<FrequencyReport> frequency;
+  // Limit cycles of the loop without compensation predicted by the describing function of the
+  // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
+  // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.
+  std::optional<LimitCycleReport> limit_cycles;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;
