@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/control/design_json.hpp"
 #include "ui/design_view.hpp"
 
 namespace gmslab::ui {
@@ -184,7 +185,15 @@ void compensator_section(DesignViewState& d) {
   bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
   ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
   ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
+  bool pi = c.p == 0.0;
+  if (ImGui::Checkbox("PI: p = 0 (integral action)", &pi)) c.p = pi ? 0.0 : 0.1 * c.z, ch = true;
+  tip("Kc (s + z) / s: the PI (the loops with friction then hunt where stiction allows; see DF rows)");
   if (ch) d.in.manual = c, d.dirty = true;
+  if (ImGui::SmallButton("copy MATLAB")) ImGui::SetClipboardText(control::compensator_matlab(c).c_str());
+  tip("C = tf([Kc, Kc z], [1, p]); to the clipboard");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("copy python-control")) ImGui::SetClipboardText(control::compensator_python(c).c_str());
+  tip("control.tf([Kc, Kc z], [1, p]) to the clipboard");
   if (d.in.manual) {
     if (ImGui::Button("back to the design")) d.in.manual.reset(), d.dirty = true;
     tip("Drop the manual compensator and use the computed lead again");

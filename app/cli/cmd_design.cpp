@@ -181,6 +181,7 @@ int run_design(const Opts& o) {
     }
     j["frequency"] = to_json(frequency_response(L));
     j["frequency"]["loop"] = chosen ? "compensated" : "plant";
+    if (chosen) j["compensator"] = compensator_json({chosen->second.Kc, chosen->second.z, chosen->second.p});
     if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
       const auto fm = build_model(sc->friction);
       const LeadDesign& d = chosen->second;

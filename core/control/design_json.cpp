@@ -1,6 +1,7 @@
 #include "core/control/design_json.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace gmslab::control {
@@ -114,6 +115,29 @@ nlohmann::json to_json(const LimitCycleReport& r) {
                  {"stable", c.stable},
                  {"converged", c.converged}});
   return {{"cycles", a}, {"note", r.note}};
+}
+
+namespace {
+std::string coeffs(const std::vector<double>& v) {
+  std::string s;
+  char buf[40];
+  for (double x : v) {
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    s += (s.empty() ? "" : ", ") + std::string(buf);
+  }
+  return "[" + s + "]";
+}
+}  // namespace
+
+std::string compensator_matlab(const LeadCompensator& c) {
+  return "C = tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ");";
+}
+std::string compensator_python(const LeadCompensator& c) {
+  return "import control\nC = control.tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ")";
+}
+nlohmann::json compensator_json(const LeadCompensator& c) {
+  return {{"num", {c.Kc, c.Kc * c.z}}, {"den", {1.0, c.p}}, {"Kc", c.Kc}, {"z", c.z}, {"p", c.p},
+          {"matlab", compensator_matlab(c)}, {"python", compensator_python(c)}};
 }
 
 nlohmann::json to_json(const LoopMetrics& m) {

@@ -28,5 +28,11 @@ nlohmann::json to_json(const FrequencyReport& f);
 // The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
 // stable, converged}], note.
 nlohmann::json to_json(const LimitCycleReport& r);
+// The compensator Kc (s + z) / (s + p) for export: {"num": [Kc, Kc z], "den": [1, p] (highest power
+// first), "Kc", "z", "p", "matlab": "C = tf([...], [...]);", "python": "C = control.tf([...], [...])"}.
+// Coefficients written with 17 significant digits (round-trip exact).
+nlohmann::json compensator_json(const LeadCompensator& c);
+std::string compensator_matlab(const LeadCompensator& c);
+std::string compensator_python(const LeadCompensator& c);
 
 }  // namespace gmslab::control

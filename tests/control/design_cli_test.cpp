@@ -136,4 +136,16 @@ TEST(DesignCli, FrequencyKeyReportsTheDesignedLoopsMargins) {
   EXPECT_EQ(j["frequency"]["nyquist"]["stable"].get<bool>(), stable);
   EXPECT_EQ(j["frequency"]["nyquist"]["axis_poles"].get<int>(), 1);
   EXPECT_GT(j["frequency"]["closed_loop"]["bandwidth_rad_s"].get<double>(), 0.0);
+  // Export: tf coefficients (highest power first) and code that rebuilds them to the last digit.
+  const auto& c = j["compensator"];
+  EXPECT_EQ(c["num"][0].get<double>(), Kc);
+  EXPECT_EQ(c["num"][1].get<double>(), Kc * z);
+  EXPECT_EQ(c["den"][1].get<double>(), p);
+  double a = 0, b = 0, one = 0, pp = 0;
+  ASSERT_EQ(std::sscanf(c["matlab"].get<std::string>().c_str(), "C = tf([%lf, %lf], [%lf, %lf]);", &a, &b, &one, &pp), 4);
+  EXPECT_EQ(a, Kc);
+  EXPECT_EQ(b, Kc * z);
+  EXPECT_EQ(pp, p);
+  ASSERT_EQ(std::sscanf(c["python"].get<std::string>().c_str(), "import control\nC = control.tf([%lf, %lf], [%lf, %lf])", &a, &b, &one, &pp), 4);
+  EXPECT_EQ(b, Kc * z);
 }
