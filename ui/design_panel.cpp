@@ -189,6 +189,15 @@ void compensator_section(DesignViewState& d) {
   if (ImGui::Checkbox("PI: p = 0 (integral action)", &pi)) c.p = pi ? 0.0 : 0.1 * c.z, ch = true;
   tip("Kc (s + z) / s: the PI (the loops with friction then hunt where stiction allows; see DF rows)");
   if (ch) d.in.manual = c, d.dirty = true;
+  if (c.z > c.p && d.out.report && !d.out.closed_loop_poles.empty()) {
+    const control::LagCost lc = control::lag_cost(d.out.report->type, c, d.out.closed_loop_poles);
+    const std::string kn = control::error_constant_name(d.out.report->type.n);
+    ImGui::TextColored(kDim, "lag: %s = %.4g (x%.3g over Kc alone: %.4g)\ncost: slow closed-loop pole %.4g%s, tau = %.3g s",
+                       kn.c_str(), lc.K, lc.factor, lc.K_gain_only, lc.slow_pole.real(),
+                       lc.slow_pole.imag() != 0.0 ? " (complex)" : "", lc.time_constant);
+    tip("The lag's zero and pole (z > p) buy the error constant factor z/p; the closed-loop pole left near -z "
+        "settles with time constant tau");
+  }
   if (ImGui::SmallButton("copy MATLAB")) ImGui::SetClipboardText(control::compensator_matlab(c).c_str());
   tip("C = tf([Kc, Kc z], [1, p]); to the clipboard");
   ImGui::SameLine();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 
 namespace gmslab::control {
 
@@ -25,6 +26,20 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
   if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
 }
 }  // namespace
+
+LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles) {
+  if (!(c.Kc > 0.0) || !(c.p >= 0.0) || !(c.z > c.p))
+    throw InputError("lag: need Kc > 0 and z > p >= 0 rad/s (a lag or a PI)");
+  LagCost r;
+  r.factor = c.p > 0.0 ? c.z / c.p : std::numeric_limits<double>::infinity();
+  r.K_gain_only = c.Kc * type.K0;
+  r.K = r.K_gain_only * r.factor;
+  double best = std::numeric_limits<double>::infinity();
+  for (const cplx& s : poles)
+    if (std::isfinite(s.real()) && std::abs(s + c.z) < best) best = std::abs(s + c.z), r.slow_pole = s;
+  r.time_constant = 1.0 / std::abs(r.slow_pole.real());
+  return r;
+}
 
 DesignOutputs compute_design(const DesignInputs& in) {
   DesignOutputs out;

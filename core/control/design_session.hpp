@@ -83,4 +83,18 @@ struct DesignOutputs {
 
 DesignOutputs compute_design(const DesignInputs& in);
 
+// A lag (z > p > 0) or PI (p = 0): what it buys and what it costs. The error constant is Kc (z/p) K0
+// against Kc K0 for the gain Kc alone (factor z/p; infinite for the PI: the type rises by one); the
+// cost is the slow closed-loop pole the lag zero leaves behind: the closed-loop pole nearest -z
+// (its time constant 1/|Re| stretches the settling tail).
+struct LagCost {
+  double factor = 0.0;       // z / p [-] (inf for p = 0)
+  double K = 0.0;            // error constant with the lag (Kc z/p K0; inf for p = 0)
+  double K_gain_only = 0.0;  // Kc K0
+  cplx slow_pole;            // [rad/s]
+  double time_constant = 0.0;  // 1 / |Re slow_pole| [s]
+};
+// Throws InputError unless z > p >= 0 and Kc > 0; `poles` are the loop's closed-loop poles.
+LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles);
+
 }  // namespace gmslab::control

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <random>
 
+#include "core/control/design_session.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/error.hpp"
@@ -158,4 +159,29 @@ TEST(Frequency, NyquistCountMatchesClosedLoopRoots) {
 TEST(Frequency, BadLoopIsAnInputError) {
   EXPECT_THROW(margins(tf({1, 0, 0}, {1, 1})), gmslab::InputError);
   EXPECT_THROW(frequency_response(tf({1}, {1, 1}), {.points = 1}), gmslab::InputError);
+}
+
+// Lag cost: the error constant is lim s^n Gc G (evaluated at small s, a second method), and the
+// slow pole is a closed-loop root near -z, between the lag zero and the origin's side for a
+// type-0 plant (the real-axis segment (-z, -p) is on the locus there).
+TEST(LagCost, ErrorConstantAndSlowPoleOverRandomLags) {
+  std::mt19937 rng(1205);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 100; ++i) {
+    const double a = 1 + 9 * u(rng), b = 1 + 9 * u(rng), K0 = 0.5 + u(rng);
+    const TransferFunction g{Poly({K0 * a * b}), Poly::from_roots({-a, -b})};  // type 0, G(0) = K0
+    const double z = 0.05 * std::min(a, b) * (0.2 + u(rng)), p = z / (2 + 20 * u(rng)), Kc = 1 + 10 * u(rng);
+    const LeadCompensator c{Kc, z, p};
+    const TransferFunction L{g.num * Poly({Kc * z, Kc}), g.den * Poly({p, 1.0})};
+    const std::vector<cplx> cl = closed_loop_poles(L, 1.0);
+    const LagCost lc = lag_cost(plant_type(g), c, cl);
+    const double s = 1e-9;
+    EXPECT_NEAR(lc.K, std::abs(L(cplx(s, 0.0))), 1e-6 * lc.K);
+    EXPECT_NEAR(lc.K / lc.K_gain_only, z / p, 1e-9 * z / p);
+    EXPECT_EQ(lc.slow_pole.imag(), 0.0);
+    EXPECT_LT(lc.slow_pole.real(), -p);
+    EXPECT_GT(lc.slow_pole.real(), -z);
+    EXPECT_NEAR(std::abs((L.den + L.num)(lc.slow_pole)) / std::abs(L.den(lc.slow_pole)), 0.0, 1e-6);
+  }
+  EXPECT_THROW(lag_cost({0, 1.0}, {1.0, 1.0, 2.0}, {}), gmslab::InputError);
 }
