@@ -85,33 +85,32 @@ void draw_bode(const control::FrequencyReport& f, ImVec2 size) {
 
 }  // namespace
 
-// Nyquist canvas: L(jw) for w > 0 (solid) and its mirror (w < 0, light), the unit circle, the
-// critical point -1 and, when given, the describing-function locus -1/N. Equal scales; the view
-// is the region around -1 that holds the phase crossovers (a type-n loop's curve leaves it).
-void draw_design_nyquist(const DesignViewState& d, ImVec2 size) {
+namespace {
+// A complex-plane canvas with equal scales: `curve` for w > 0 (dark) and its mirror (light), a
+// unit circle and the critical point -1 (Nyquist of L), or the locus -1/N and the predicted cycles
+// (harmonic balance in the H plane). Centre and half-height `R` of the view in data units.
+struct PlaneView {
+  const std::vector<cplx>* curve = nullptr;
+  bool critical = true;                      // unit circle and -1
+  const std::vector<cplx>* locus = nullptr;  // -1/N
+  const std::vector<control::LimitCycle>* cycles = nullptr;
+  double cx = -0.5, R = 1.7;
+};
+void draw_plane(const PlaneView& v, ImVec2 size, const char* title, bool title_ok) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("##nyquist", ImVec2(std::max(size.x, 8.0f), std::max(size.y, 8.0f)));
+  ImGui::InvisibleButton("##plane", ImVec2(std::max(size.x, 8.0f), std::max(size.y, 8.0f)));
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
   dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
   dl->AddRect(p0, p1, kAxis);
-  if (!d.out.frequency) return;
-  const control::FrequencyReport& f = *d.out.frequency;
-  const auto& ny = f.nyquist;
   const float title_h = 2 * ImGui::GetFontSize() + 6;
-  // View: at least [-2.2, 1.2] x [-1.7, 1.7]; grown to the phase crossovers' points (x1.3), capped.
-  double R = 1.7;
-  for (double w : f.margins.phase_crossovers) R = std::max(R, 1.3 * std::abs(d.out.loop.num(cplx(0, w)) /
-                                                                          d.out.loop.den(cplx(0, w))) *
-                                                                 (d.out.compensator ? d.out.compensator->Kc : 1.0));
-  R = std::min(R, 50.0);
   PlotTransform t;
   t.px0 = p0.x, t.px1 = p1.x, t.py0 = p0.y + title_h, t.py1 = p1.y;
   const double aspect = (t.px1 - t.px0) / std::max(1.0, t.py1 - t.py0);
-  double cx = -0.5, hw = R + 0.7, hh = R;
+  double hw = 1.4 * v.R, hh = v.R;
   if (hw / hh < aspect) hw = hh * aspect;
   else hh = hw / aspect;
-  t.x0 = cx - hw, t.x1 = cx + hw, t.y0 = -hh, t.y1 = hh;
+  t.x0 = v.cx - hw, t.x1 = v.cx + hw, t.y0 = -hh, t.y1 = hh;
   const auto P = [&](cplx s) {
     return ImVec2(static_cast<float>(t.to_px_x(s.real())), static_cast<float>(t.to_px_y(s.imag())));
   };
@@ -119,47 +118,102 @@ void draw_design_nyquist(const DesignViewState& d, ImVec2 size) {
   dl->AddLine(P(cplx(t.x0, 0)), P(cplx(t.x1, 0)), kGrid, 1.0f);
   dl->AddLine(P(cplx(0, t.y0)), P(cplx(0, t.y1)), kGrid, 1.0f);
   const float unit = static_cast<float>((t.px1 - t.px0) / (t.x1 - t.x0));
-  dl->AddCircle(P(0.0), unit, kGrid, 96, 1.0f);
-  const double far = 10 * (hw + hh);
+  if (v.critical) dl->AddCircle(P(0.0), unit, kGrid, 96, 1.0f);
+  const double far = 10 * (hw + hh + std::abs(v.cx));
+  const std::vector<cplx>& c = *v.curve;
   for (int mirror = 1; mirror >= 0; --mirror) {
     const ImU32 col = mirror ? IM_COL32(86, 180, 233, 160) : IM_COL32(0, 114, 178, 255);
-    for (std::size_t i = 1; i < ny.curve.size(); ++i) {
-      cplx a = ny.curve[i - 1], b = ny.curve[i];
+    for (std::size_t i = 1; i < c.size(); ++i) {
+      cplx a = c[i - 1], b = c[i];
       if (!std::isfinite(std::abs(a)) || !std::isfinite(std::abs(b)) || std::abs(a) > far || std::abs(b) > far) continue;
       if (mirror) a = std::conj(a), b = std::conj(b);
       dl->AddLine(P(a), P(b), col, mirror ? 1.2f : 2.0f);
     }
   }
-  // Direction of increasing w: an arrow head at the middle sample.
-  if (ny.curve.size() > 8) {
-    const std::size_t i = ny.curve.size() / 2;
-    const ImVec2 a = P(ny.curve[i - 1]), b = P(ny.curve[i + 1]);
+  if (c.size() > 8) {  // direction of increasing w: an arrow head at the middle sample
+    const std::size_t i = c.size() / 2;
+    const ImVec2 a = P(c[i - 1]), b = P(c[i + 1]);
     const float dx = b.x - a.x, dy = b.y - a.y, n = std::max(1e-3f, std::hypot(dx, dy));
-    const ImVec2 tip(b.x, b.y), u(dx / n, dy / n);
-    dl->AddTriangleFilled(tip, ImVec2(tip.x - 8 * u.x + 4 * u.y, tip.y - 8 * u.y - 4 * u.x),
-                          ImVec2(tip.x - 8 * u.x - 4 * u.y, tip.y - 8 * u.y + 4 * u.x), IM_COL32(0, 114, 178, 255));
+    const ImVec2 u(dx / n, dy / n);
+    dl->AddTriangleFilled(b, ImVec2(b.x - 8 * u.x + 4 * u.y, b.y - 8 * u.y - 4 * u.x),
+                          ImVec2(b.x - 8 * u.x - 4 * u.y, b.y - 8 * u.y + 4 * u.x), IM_COL32(0, 114, 178, 255));
   }
-  // @DF@
-  const ImVec2 m = P(-1.0);
-  dl->AddLine(ImVec2(m.x - 6, m.y - 6), ImVec2(m.x + 6, m.y + 6), kCritical, 2.5f);
-  dl->AddLine(ImVec2(m.x - 6, m.y + 6), ImVec2(m.x + 6, m.y - 6), kCritical, 2.5f);
-  dl->AddText(ImVec2(m.x + 6, m.y + 2), kCritical, "-1");
+  const ImU32 kDf = IM_COL32(204, 121, 167, 255);
+  if (v.locus)
+    for (std::size_t i = 1; i < v.locus->size(); ++i) dl->AddLine(P((*v.locus)[i - 1]), P((*v.locus)[i]), kDf, 2.0f);
+  if (v.cycles)
+    for (const auto& lc : *v.cycles) {
+      dl->AddCircleFilled(P(lc.point), 5.0f, lc.stable ? kDf : IM_COL32(255, 255, 255, 255));
+      dl->AddCircle(P(lc.point), 5.0f, kDf, 16, 1.5f);
+    }
+  if (v.critical) {
+    const ImVec2 m = P(-1.0);
+    dl->AddLine(ImVec2(m.x - 6, m.y - 6), ImVec2(m.x + 6, m.y + 6), kCritical, 2.5f);
+    dl->AddLine(ImVec2(m.x - 6, m.y + 6), ImVec2(m.x + 6, m.y - 6), kCritical, 2.5f);
+    dl->AddText(ImVec2(m.x + 6, m.y + 2), kCritical, "-1");
+  }
   dl->PopClipRect();
-  char buf[200];
+  dl->AddText(ImVec2(p0.x + 4, p0.y + 2), title_ok ? kText : kCritical, title);
+}
+}  // namespace
+
+// Nyquist of L with the critical point, or (d.harmonic_balance) the friction loop's H(jw) with the
+// describing function's -1/N(a) and the predicted cycles.
+void draw_design_nyquist(DesignViewState& d, ImVec2 size) {
+  if (!d.out.frequency) return;
+  const float y0 = ImGui::GetCursorPosY();
+  ImGui::Checkbox("harmonic balance (H, -1/N)", &d.harmonic_balance);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Off: Nyquist plot of L = Kc Gc G with the critical point -1.\n"
+                      "On: the friction loop v = -H(s) F, H = s G / (1 + Gc G) [m/(N s)] (blue) and -1/N(a) of the\n"
+                      "scenario's friction (pink, a = velocity amplitude); dots: predicted limit cycles\n"
+                      "(filled: stable, hollow: unstable threshold).");
+  size.y -= ImGui::GetCursorPosY() - y0;
+  char buf[240];
+  if (d.harmonic_balance && d.out.limit_cycles) {
+    const control::LimitCycleReport& r = *d.out.limit_cycles;
+    PlaneView v;
+    v.curve = &r.h_curve;
+    v.critical = false;
+    v.locus = &r.locus;
+    v.cycles = &r.cycles;
+    double R = 0.0;
+    for (const auto& lc : r.cycles) R = std::max(R, 1.5 * std::abs(lc.point));
+    if (R == 0.0)
+      for (const cplx& h : r.h_curve) R = std::max(R, std::abs(h));
+    v.R = R > 0 ? R : 1.0;
+    v.cx = -0.3 * v.R;
+    if (r.cycles.empty()) {
+      std::snprintf(buf, sizeof buf, "H(jw) [m/(N s)], -1/N(a): no cycle predicted");
+    } else {
+      const auto& c = r.cycles.front();
+      std::snprintf(buf, sizeof buf, "H(jw) [m/(N s)], -1/N(a)\ncycle %.3g mm, %.3g ms, %s%s", c.amplitude * 1e3,
+                    c.period * 1e3, c.stable ? "stable" : "unstable", r.cycles.size() > 1 ? " (+ more)" : "");
+    }
+    draw_plane(v, size, buf, true);
+    return;
+  }
+  const control::FrequencyReport& f = *d.out.frequency;
+  const auto& ny = f.nyquist;
+  // View: at least [-2.2, 1.2] x [-1.7, 1.7]; grown to the phase crossovers' points (x1.3), capped.
+  PlaneView v;
+  v.curve = &ny.curve;
+  const double k = d.out.compensator ? d.out.compensator->Kc : 1.0;
+  for (double w : f.margins.phase_crossovers)
+    v.R = std::max(v.R, 1.3 * k * std::abs(d.out.loop.num(cplx(0, w)) / d.out.loop.den(cplx(0, w))));
+  v.R = std::min(v.R, 50.0);
   std::snprintf(buf, sizeof buf, "Nyquist L(jw), critical point -1\nN = %d, P = %d, Z = N + P = %d%s", ny.encirclements,
                 ny.open_rhp_poles, ny.closed_rhp_poles,
                 ny.marginal ? " (marginal)" : ny.stable ? " (stable)" : " (UNSTABLE)");
-  dl->AddText(ImVec2(p0.x + 4, p0.y + 2), ny.stable ? kText : kCritical, buf);
+  draw_plane(v, size, buf, ny.stable);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("L(jw) for w > 0 (dark blue, arrow: increasing w) and w < 0 (light blue); unit circle grey;\n"
                       "N: clockwise encirclements of -1 along the D-contour indented around the %d imaginary-axis\n"
-                      "pole(s); P: open-loop poles in the right half plane; Z: closed-loop poles there.\n"
-                      "Pink: -1/N(A) of the friction (describing function), dots: predicted limit cycles\n"
-                      "(filled: stable, hollow: unstable).",
+                      "pole(s); P: open-loop poles in the right half plane; Z: closed-loop poles there.",
                       ny.axis_poles);
 }
 
-void draw_design_frequency(const DesignViewState& d, ImVec2 size) {
+void draw_design_frequency(DesignViewState& d, ImVec2 size) {
   if (!d.out.frequency) {
     ImGui::Dummy(size);
     return;
@@ -170,7 +224,9 @@ void draw_design_frequency(const DesignViewState& d, ImVec2 size) {
   draw_bode(*d.out.frequency, ImVec2(wb, size.y));
   ImGui::EndGroup();
   ImGui::SameLine();
+  ImGui::BeginGroup();
   draw_design_nyquist(d, ImVec2(size.x - wb - gap, size.y));
+  ImGui::EndGroup();
 }
 
 }  // namespace gmslab::ui

@@ -39,7 +39,7 @@ void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generat
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);
 // Bode (open loop with margins, closed-loop magnitude) beside the Nyquist plot (ui/design_frequency.cpp).
-void draw_design_frequency(const DesignViewState& d, ImVec2 size);
-void draw_design_nyquist(const DesignViewState& d, ImVec2 size);
+void draw_design_frequency(DesignViewState& d, ImVec2 size);
+void draw_design_nyquist(DesignViewState& d, ImVec2 size);
 
 }  // namespace gmslab::ui
