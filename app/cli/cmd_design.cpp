@@ -119,12 +119,23 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
     const auto& m = j["frequency"]["margins"];
     const auto& c = j["frequency"]["closed_loop"];
     const auto& n = j["frequency"]["nyquist"];
-    os << "margins (" << j["frequency"]["loop"].get<std::string>() << " loop): GM = " << f(m["gain_margin_db"])
-       << " dB at " << f(m["phase_crossover_rad_s"]) << " rad/s, PM = " << f(m["phase_margin_deg"]) << " deg at "
-       << f(m["gain_crossover_rad_s"]) << " rad/s; closed loop: bandwidth " << f(c["bandwidth_rad_s"])
+    // null margins are infinite (no crossover)
+    const auto gm = m["gain_margin_db"].is_null() ? std::string("inf (no phase crossover)")
+                                                  : f(m["gain_margin_db"]) + " dB at " + f(m["phase_crossover_rad_s"]) + " rad/s";
+    const auto pm = m["phase_margin_deg"].is_null() ? std::string("inf (no gain crossover)")
+                                                    : f(m["phase_margin_deg"]) + " deg at " + f(m["gain_crossover_rad_s"]) + " rad/s";
+    os << "margins (" << j["frequency"]["loop"].get<std::string>() << " loop): GM = " << gm << ", PM = " << pm
+       << "; closed loop: bandwidth " << f(c["bandwidth_rad_s"])
        << " rad/s, peak " << f(c["peak_db"]) << " dB; Nyquist: N = " << n["encirclements"].get<int>()
        << ", P = " << n["open_rhp_poles"].get<int>() << ", Z = " << n["closed_rhp_poles"].get<int>()
        << (n["stable"].get<bool>() ? " (stable)" : " (unstable)") << '\n';
+  }
+  if (j.contains("limit_cycles")) {
+    const auto& lc = j["limit_cycles"];
+    if (lc["cycles"].empty()) os << "describing function: no limit cycle predicted (" << lc["note"].get<std::string>() << ")\n";
+    for (const auto& c : lc["cycles"])
+      os << "describing function: " << (c["stable"].get<bool>() ? "stable" : "unstable (threshold)")
+         << " limit cycle, amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"]) << " s\n";
   }
   if (j.contains("simulation"))
     for (const auto& s : j["simulation"])

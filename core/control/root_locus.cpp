@@ -105,8 +105,27 @@ std::vector<cplx> match(const std::vector<cplx>& prev, const std::vector<cplx>& 
 // closed_loop_poles() (eigenvalues) when a seed is missing (NaN: a root at infinity), the degree
 // differs, or the iteration does not converge in 40 sweeps (converged: every correction below 1e-9
 // relative; Aberth converges cubically, so the corrected roots are then at rounding level).
-std::vector<cplx> continued_roots(const TransferFunction& L, double k, const std::vector<cplx>& seed) {
+std::vector<cplx> continued_roots(const TransferFunction& L, double k, const std::vector<cplx>& seed0,
+                                  double k0) {
   const Poly c = L.den + L.num * k;
+  // Predictor: each root moved along its tangent dz/dk = -num(z) / P'(z), P = den + k0 num, over
+  // k - k0 (at most 0.3 of its distance to the nearest other root, so roots do not swap).
+  std::vector<cplx> seed = seed0;
+  if (std::none_of(seed0.begin(), seed0.end(), is_nan)) {
+    const Poly P = L.den + L.num * k0;
+    const Poly dP = P.derivative();
+    for (std::size_t i = 0; i < seed0.size(); ++i) {
+      const cplx d = dP(seed0[i]);
+      if (std::norm(d) == 0.0) continue;
+      cplx step = -L.num(seed0[i]) * (k - k0) / d;
+      double near = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < seed0.size(); ++j)
+        if (j != i) near = std::min(near, std::norm(seed0[j] - seed0[i]));
+      const double lim = 0.09 * near;  // (0.3 |distance|)^2
+      if (std::norm(step) > lim) step *= std::sqrt(lim / std::norm(step));
+      if (std::isfinite(step.real()) && std::isfinite(step.imag())) seed[i] += step;
+    }
+  }
   const int n = c.degree();
   if (n < 1 || static_cast<int>(seed.size()) != n || std::any_of(seed.begin(), seed.end(), is_nan))
     return closed_loop_poles(L, k);
@@ -248,7 +267,7 @@ RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt) {
   double k_prev = 0.0;
   while (!stack.empty()) {
     const double k = stack.back();
-    std::vector<cplx> m = match(prev, continued_roots(L, k, prev));
+    std::vector<cplx> m = match(prev, continued_roots(L, k, prev, k_prev));
     double jump = 0.0;
     for (std::size_t b = 0; b < nb; ++b) jump = std::max(jump, distance_in_view(prev[b], m[b], rl.view));
     const bool can_split = static_cast<int>(rl.gains.size() + stack.size()) < opt.max_samples &&
