@@ -97,6 +97,13 @@ void check(const TransferFunction& L) { L.check_proper("frequency response"); }
 }  // namespace
 
 double continuous_phase(const TransferFunction& H, double w) { return Factored(H).phase(w); }
+std::vector<double> continuous_phase(const TransferFunction& H, const std::vector<double>& w) {
+  const Factored f(H);
+  std::vector<double> out;
+  out.reserve(w.size());
+  for (double x : w) out.push_back(f.phase(x));
+  return out;
+}
 
 Margins margins(const TransferFunction& L) {
   check(L);

@@ -78,5 +78,6 @@ Margins margins(const TransferFunction& L);
 Nyquist nyquist_count(const TransferFunction& L);
 // arg H(jw) [rad], continuous in w > 0 (the sum of its factors' angles plus the sign of the gain).
 double continuous_phase(const TransferFunction& H, double w);
+std::vector<double> continuous_phase(const TransferFunction& H, const std::vector<double>& w);  // [rad]
 
 }  // namespace gmslab::control
