@@ -27,12 +27,15 @@ void vline(const char* label, double x, double y0, double y1, int color) {
   PlotLine(label, xs, ys, 2, {.color = color, .line = LineStyle::Dashed, .thickness = 1.0f});
 }
 
-void draw_bode(const control::FrequencyReport& f, ImVec2 size) {
+void draw_bode(const control::FrequencyReport& f, const control::DiscreteFrequencyReport* dz, ImVec2 size) {
   const auto& o = f.open;
   const auto& c = f.closed;
   const auto& m = f.margins;
   std::vector<double> lw(o.w.size());
   for (std::size_t i = 0; i < o.w.size(); ++i) lw[i] = std::log10(o.w[i]);
+  std::vector<double> dzw;
+  if (dz)
+    for (double w : dz->open.w) dzw.push_back(std::log10(w));
   const float gap = ImGui::GetStyle().ItemSpacing.y;
   const float h = std::floor(0.5f * (size.y - gap));
   static char title[200];
@@ -51,6 +54,7 @@ void draw_bode(const control::FrequencyReport& f, ImVec2 size) {
     SetupAxes("log10 w [rad/s]", "|L| blue, |T| green [dB]");
     PlotLine("open loop L", lw.data(), o.mag_db.data(), lw.size(), {.color = 0, .x_sorted = true});
     PlotLine("closed loop T", lw.data(), c.mag_db.data(), lw.size(), {.color = 2, .x_sorted = true});
+    if (dz) PlotLine("sampled L", dzw.data(), dz->open.mag_db.data(), dzw.size(), {.color = 1, .x_sorted = true});
     const double x0 = lw.empty() ? 0 : lw.front(), x1 = lw.empty() ? 1 : lw.back();
     const double zx[2] = {x0, x1}, zy[2] = {0.0, 0.0};
     PlotLine("0 dB", zx, zy, 2, {.color = 6, .line = LineStyle::Dotted, .thickness = 1.0f});
@@ -66,12 +70,18 @@ void draw_bode(const control::FrequencyReport& f, ImVec2 size) {
                       "dashed: gain crossover w_gc (|L| = 1) and phase crossover w_pc (L real < 0),\n"
                       "both found as polynomial roots; peak %.3g dB at %.4g rad/s",
                       f.peak_db, f.peak_w);
-  std::snprintf(title, sizeof title, "PM %s deg at %s rad/s",
-                num(m.phase_margin, "%.3g", pm, sizeof pm), num(m.gain_crossover, "%.4g", gm, sizeof gm));
+  char spm[32];
+  if (dz)
+    std::snprintf(title, sizeof title, "PM %s deg (sampled %s) at %s rad/s", num(m.phase_margin, "%.3g", pm, sizeof pm),
+                  num(dz->margins.phase_margin, "%.3g", spm, sizeof spm), num(m.gain_crossover, "%.4g", gm, sizeof gm));
+  else
+    std::snprintf(title, sizeof title, "PM %s deg at %s rad/s",
+                  num(m.phase_margin, "%.3g", pm, sizeof pm), num(m.gain_crossover, "%.4g", gm, sizeof gm));
   po.title = title;
   if (BeginPlot("##bode_phase", ImVec2(size.x, size.y - h - gap), po)) {
     SetupAxes("log10 w [rad/s]", "arg L [deg]");
     PlotLine("arg L", lw.data(), o.phase_deg.data(), lw.size(), {.color = 0, .x_sorted = true});
+    if (dz) PlotLine("sampled arg L", dzw.data(), dz->open.phase_deg.data(), dzw.size(), {.color = 1, .x_sorted = true});
     const double x0 = lw.empty() ? 0 : lw.front(), x1 = lw.empty() ? 1 : lw.back();
     const double zx[2] = {x0, x1}, zy[2] = {-180.0, -180.0};
     PlotLine("-180 deg", zx, zy, 2, {.color = 6, .line = LineStyle::Dotted, .thickness = 1.0f});
@@ -221,7 +231,13 @@ void draw_design_frequency(DesignViewState& d, ImVec2 size) {
   const float gap = ImGui::GetStyle().ItemSpacing.x;
   const float wb = std::floor(0.5f * (size.x - gap));
   ImGui::BeginGroup();
-  draw_bode(*d.out.frequency, ImVec2(wb, size.y));
+  draw_bode(*d.out.frequency, d.out.discrete ? &*d.out.discrete : nullptr, ImVec2(wb, size.y));
+  if (d.out.discrete && ImGui::IsItemHovered())
+    ImGui::SetTooltip("Vermillion: the loop sampled at T = %.3g s (Tustin controller, ZOH plant) up to the Nyquist\n"
+                      "frequency %.4g rad/s: PM %.3g deg at %.4g rad/s, GM %.3g dB; %s",
+                      d.out.discrete->T, d.out.discrete->nyquist_frequency, d.out.discrete->margins.phase_margin,
+                      d.out.discrete->margins.gain_crossover, d.out.discrete->margins.gain_margin_db,
+                      d.out.discrete->nyquist.stable ? "stable" : "UNSTABLE (closed-loop poles outside the unit circle)");
   ImGui::EndGroup();
   ImGui::SameLine();
   ImGui::BeginGroup();

@@ -193,6 +193,12 @@ int run_design(const Opts& o) {
     j["frequency"] = to_json(frequency_response(L));
     j["frequency"]["loop"] = chosen ? "compensated" : "plant";
     if (chosen) j["compensator"] = compensator_json({chosen->second.Kc, chosen->second.z, chosen->second.p});
+    if (chosen && o.T > 0.0) {  // the sampled loop: Tustin controller, ZOH plant
+      const LeadDesign& d = chosen->second;
+      const TransferFunction Cz = tustin({Poly({d.Kc * d.z, d.Kc}), Poly({d.p, 1.0})}, o.T);
+      const TransferFunction Gz = zoh(g, o.T);
+      j["frequency"]["discrete"] = to_json(discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, o.T));
+    }
     if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
       const auto fm = build_model(sc->friction);
       const LeadDesign& d = chosen->second;

@@ -105,6 +105,18 @@ nlohmann::json to_json(const FrequencyReport& f) {
             {"stable", n.stable}}}};
 }
 
+nlohmann::json to_json(const DiscreteFrequencyReport& f) {
+  FrequencyReport c;
+  c.margins = f.margins;
+  c.nyquist = f.nyquist;
+  const nlohmann::json j = to_json(c);
+  return {{"sample_time_s", f.T},
+          {"nyquist_frequency_rad_s", f.nyquist_frequency},
+          {"margins", j["margins"]},
+          {"nyquist", j["nyquist"]},
+          {"closed_loop_poles_z", poles_json(f.closed_loop_poles)}};
+}
+
 nlohmann::json to_json(const LimitCycleReport& r) {
   nlohmann::json a = nlohmann::json::array();
   for (const LimitCycle& c : r.cycles)

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/control/describing_function.hpp"
+#include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -25,6 +26,9 @@ nlohmann::json poles_json(const std::vector<cplx>& poles);
 // axis_poles, encirclements (N, clockwise), closed_rhp_poles (Z = N + P), marginal, stable}.
 // Infinite margins (no crossover) are null.
 nlohmann::json to_json(const FrequencyReport& f);
+// The sampled loop: {sample_time_s, nyquist_frequency_rad_s, margins {...as above}, nyquist {...},
+// closed_loop_poles_z [[re, im], ...]}.
+nlohmann::json to_json(const DiscreteFrequencyReport& f);
 // The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
 // stable, converged}], note.
 nlohmann::json to_json(const LimitCycleReport& r);

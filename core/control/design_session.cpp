@@ -108,6 +108,13 @@ DesignOutputs compute_design(const DesignInputs& in) {
       const double k = out.compensator ? out.compensator->Kc : 1.0;
       out.frequency = frequency_response({out.loop.num * k, out.loop.den});
     }
+    if (in.sample_time > 0.0 && out.compensator) {
+      stage = "discrete frequency response";
+      const LeadCompensator& c = *out.compensator;
+      const TransferFunction Cz = tustin({Poly({c.Kc * c.z, c.Kc}), Poly({c.p, 1.0})}, in.sample_time);
+      const TransferFunction Gz = zoh(out.plant.g, in.sample_time);
+      out.discrete = discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, in.sample_time);
+    }
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);

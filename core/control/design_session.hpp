@@ -25,6 +25,7 @@
 #include <string>
 
 #include "core/control/describing_function.hpp"
+#include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
@@ -71,6 +72,8 @@ struct DesignOutputs {
   // Frequency responses of the drawn loop with its gain (Kc L, or the plant alone): Bode, margins,
   // closed-loop bandwidth and peak, Nyquist (core/control/frequency.hpp).
   std::optional<FrequencyReport> frequency;
+  // With a sample time T > 0: the sampled loop Kc Tustin(Gc) ZOH(G) up to the Nyquist frequency.
+  std::optional<DiscreteFrequencyReport> discrete;
   // Limit cycles of the loop without compensation predicted by the describing function of the
   // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
   // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.

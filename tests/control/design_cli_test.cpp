@@ -149,3 +149,19 @@ TEST(DesignCli, FrequencyKeyReportsTheDesignedLoopsMargins) {
   ASSERT_EQ(std::sscanf(c["python"].get<std::string>().c_str(), "import control\nC = control.tf([%lf, %lf], [%lf, %lf])", &a, &b, &one, &pp), 4);
   EXPECT_EQ(b, Kc * z);
 }
+
+// With --sample-time the sampled loop's margins are reported (frequency.discrete), below the
+// Nyquist frequency, and approach the continuous ones as T -> 0 (the hold's delay T/2 costs
+// w_gc T/2 rad of phase margin).
+TEST(DesignCli, SampleTimeAddsTheSampledLoopsMargins) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                         "--sample-time", "0.01"}, "sampled");
+  ASSERT_TRUE(j["frequency"].contains("discrete"));
+  const auto& d = j["frequency"]["discrete"];
+  const double wgc = j["frequency"]["margins"]["gain_crossover_rad_s"].get<double>();
+  const double pm = j["frequency"]["margins"]["phase_margin_deg"].get<double>();
+  EXPECT_NEAR(d["nyquist_frequency_rad_s"].get<double>(), M_PI / 0.01, 1e-9);
+  EXPECT_NEAR(d["margins"]["gain_crossover_rad_s"].get<double>(), wgc, 0.02 * wgc);
+  EXPECT_NEAR(d["margins"]["phase_margin_deg"].get<double>(), pm - wgc * 0.01 / 2 * 180 / M_PI, 0.5);
+  EXPECT_TRUE(d["nyquist"]["stable"].get<bool>());
+}
