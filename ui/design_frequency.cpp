@@ -33,9 +33,18 @@ void draw_bode(const control::FrequencyReport& f, const control::DiscreteFrequen
   const auto& m = f.margins;
   std::vector<double> lw(o.w.size());
   for (std::size_t i = 0; i < o.w.size(); ++i) lw[i] = std::log10(o.w[i]);
-  std::vector<double> dzw;
-  if (dz)
+  std::vector<double> dzw, dz_phase;
+  if (dz && !dz->open.w.empty() && !o.w.empty()) {
     for (double w : dz->open.w) dzw.push_back(std::log10(w));
+    // The sampled phase is defined modulo 360 deg: align it with the continuous one where the two
+    // loops agree (the lowest sampled frequency, nearest continuous sample).
+    const std::size_t i = static_cast<std::size_t>(
+        std::lower_bound(o.w.begin(), o.w.end(), dz->open.w.front()) - o.w.begin());
+    const double ref = o.phase_deg[std::min(i, o.w.size() - 1)];
+    const double shift = 360.0 * std::round((ref - dz->open.phase_deg.front()) / 360.0);
+    for (double ph : dz->open.phase_deg) dz_phase.push_back(ph + shift);
+  }
+  if (dzw.empty()) dz = nullptr;
   const float gap = ImGui::GetStyle().ItemSpacing.y;
   const float h = std::floor(0.5f * (size.y - gap));
   static char title[200];
@@ -81,7 +90,7 @@ void draw_bode(const control::FrequencyReport& f, const control::DiscreteFrequen
   if (BeginPlot("##bode_phase", ImVec2(size.x, size.y - h - gap), po)) {
     SetupAxes("log10 w [rad/s]", "arg L [deg]");
     PlotLine("arg L", lw.data(), o.phase_deg.data(), lw.size(), {.color = 0, .x_sorted = true});
-    if (dz) PlotLine("sampled arg L", dzw.data(), dz->open.phase_deg.data(), dzw.size(), {.color = 1, .x_sorted = true});
+    if (dz) PlotLine("sampled arg L", dzw.data(), dz_phase.data(), dzw.size(), {.color = 1, .x_sorted = true});
     const double x0 = lw.empty() ? 0 : lw.front(), x1 = lw.empty() ? 1 : lw.back();
     const double zx[2] = {x0, x1}, zy[2] = {-180.0, -180.0};
     PlotLine("-180 deg", zx, zy, 2, {.color = 6, .line = LineStyle::Dotted, .thickness = 1.0f});
