@@ -1,6 +1,7 @@
 // Control benchmarks: root locus of a 10th-order plant, full lead designs (reachable, and with
 // relocation along three paths), the friction loop, and one full recomputation of the design
-// view (locus + design + linear step + both nonlinear loops). Target for the view: < 16 ms.
+// view (locus + design + Bode / Nyquist + describing-function prediction + linear step + both
+// nonlinear loops); frequency responses of a 10th-order loop; the view-rate limit-cycle prediction. Target for the view: < 16 ms.
 #include <benchmark/benchmark.h>
 
 #include "core/control/design_session.hpp"
@@ -55,6 +56,22 @@ static void BM_FrictionLoop1s(benchmark::State& st) {
   st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_FrictionLoop1s)->Unit(benchmark::kMillisecond);
+
+static void BM_FrequencyResponse10thOrder(benchmark::State& st) {
+  const TransferFunction L = tenth_order();
+  const TransferFunction K{L.num * 5.0, L.den};
+  for (auto _ : st) benchmark::DoNotOptimize(frequency_response(K).margins.phase_margin);
+}
+BENCHMARK(BM_FrequencyResponse10thOrder)->Unit(benchmark::kMicrosecond);
+
+static void BM_LimitCyclesViewRate(benchmark::State& st) {  // as the design view runs it
+  const Scenario s = fig4();
+  const auto m = build_model(s.friction);
+  const LeadCompensator C{4440.18, 8.47263, 94.05};
+  for (auto _ : st)
+    benchmark::DoNotOptimize(predict_limit_cycles(stepped(*m), s.plant, C, 1e-6, 10.0, {400, 2}).cycles.size());
+}
+BENCHMARK(BM_LimitCyclesViewRate)->Unit(benchmark::kMillisecond);
 
 static void BM_DesignViewFrame(benchmark::State& st) {
   DesignInputs in;

@@ -257,7 +257,8 @@ double zeta_for_overshoot(double os) {
 
 void draw_design_locus(DesignViewState& d, ImVec2 size) {
   const float y_before = ImGui::GetCursorPosY();
-  ImGui::PushTextWrapPos(0.0f);
+  ImGui::BeginGroup();
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + size.x);
   ImGui::TextDisabled("Locus in Kc.  x pole  o zero  green: compensator  square: closed loop at Kc  "
                       "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s%s",
                       d.out.other_locus ? "  grey: other regime" : "",
@@ -327,6 +328,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   const char* label = "Re s [rad/s] (horizontal), Im s [rad/s] (vertical)";
   dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
   handle_input(d, t, hovered);
+  ImGui::EndGroup();
 }
 
 }  // namespace gmslab::ui

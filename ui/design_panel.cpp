@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/control/design_json.hpp"
 #include "ui/design_view.hpp"
 
 namespace gmslab::ui {
@@ -184,7 +185,24 @@ void compensator_section(DesignViewState& d) {
   bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
   ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
   ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
+  bool pi = c.p == 0.0;
+  if (ImGui::Checkbox("PI: p = 0 (integral action)", &pi)) c.p = pi ? 0.0 : 0.1 * c.z, ch = true;
+  tip("Kc (s + z) / s: the PI (the loops with friction then hunt where stiction allows; see DF rows)");
   if (ch) d.in.manual = c, d.dirty = true;
+  if (c.z > c.p && d.out.report && !d.out.closed_loop_poles.empty()) {
+    const control::LagCost lc = control::lag_cost(d.out.report->type, c, d.out.closed_loop_poles);
+    const std::string kn = control::error_constant_name(d.out.report->type.n);
+    ImGui::TextColored(kDim, "lag: %s = %.4g (x%.3g over Kc alone: %.4g)\ncost: slow closed-loop pole %.4g%s, tau = %.3g s",
+                       kn.c_str(), lc.K, lc.factor, lc.K_gain_only, lc.slow_pole.real(),
+                       lc.slow_pole.imag() != 0.0 ? " (complex)" : "", lc.time_constant);
+    tip("The lag's zero and pole (z > p) buy the error constant factor z/p; the closed-loop pole left near -z "
+        "settles with time constant tau");
+  }
+  if (ImGui::SmallButton("copy MATLAB")) ImGui::SetClipboardText(control::compensator_matlab(c).c_str());
+  tip("C = tf([Kc, Kc z], [1, p]); to the clipboard");
+  ImGui::SameLine();
+  if (ImGui::SmallButton("copy python-control")) ImGui::SetClipboardText(control::compensator_python(c).c_str());
+  tip("control.tf([Kc, Kc z], [1, p]) to the clipboard");
   if (d.in.manual) {
     if (ImGui::Button("back to the design")) d.in.manual.reset(), d.dirty = true;
     tip("Drop the manual compensator and use the computed lead again");
@@ -242,7 +260,10 @@ void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generat
   ImGui::BeginChild("##design_plots", ImVec2(0, avail.y), false);
   const ImVec2 r = ImGui::GetContentRegionAvail();
   const float top = 0.52f * r.y;
-  draw_design_locus(d, ImVec2(r.x, top));
+  const float locus_w = std::floor(0.46f * r.x);
+  draw_design_locus(d, ImVec2(locus_w, top));
+  ImGui::SameLine();
+  draw_design_frequency(d, ImVec2(r.x - locus_w - ImGui::GetStyle().ItemSpacing.x, top));
   draw_design_responses(d, ImVec2(r.x, r.y - top - ImGui::GetStyle().ItemSpacing.y));
   ImGui::EndChild();
   recompute(d);  // drags this frame show next frame; recompute now so the state is never stale

@@ -52,7 +52,21 @@ void metrics_table(const DesignViewState& d) {
       "limit cycle (hunting) half peak-to-peak; '-': the loop does not hunt");
   row("cycle period", if_hunting(a, a.cycle_period), if_hunting(b, b.cycle_period), 1e3, "ms",
       "limit cycle period; '-': the loop does not hunt");
+  // Describing-function prediction (loop without compensation) beside the simulated cycle.
+  const control::LimitCycle* pc = nullptr;
+  if (d.out.limit_cycles)
+    for (const auto& c : d.out.limit_cycles->cycles)
+      if (!pc || (c.stable && !pc->stable)) pc = &c;
+  const char* help = "describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
+                     "H = s G / (1 + Gc G) (loop without compensation); '-': no cycle predicted";
+  row("DF ampl.", pc ? pc->amplitude : NAN, NAN, 1e3, "mm", help);
+  row("DF period", pc ? pc->period : NAN, NAN, 1e3, "ms", help);
   ImGui::EndTable();
+  if (pc)
+    ImGui::TextDisabled("DF: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
+                        pc->stable ? "" : ":\nlarger motions grow");
+  else if (d.out.limit_cycles)
+    ImGui::TextDisabled("DF: no cycle predicted");
 }
 }  // namespace
 

@@ -4,6 +4,8 @@
 //   design_locus.cpp      the root-locus canvas: zeta/wn grid, requirement shading, asymptotes,
 //                         branches, poles (x) / zeros (o), draggable s_d, zero and pole, click a
 //                         branch to read its gain, damping and all closed-loop poles
+//   design_frequency.cpp  Bode (margins, crossovers, closed-loop magnitude) and Nyquist (critical
+//                         point, encirclements) of the same loop, recomputed with the locus
 //   design_responses.cpp  the linked responses: linear step response, nonlinear loop with the
 //                         scenario's friction without and with compensation
 // Every edit marks the state dirty; the panel recomputes everything (core/control/
@@ -36,5 +38,8 @@ void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generat
 
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);
+// Bode (open loop with margins, closed-loop magnitude) beside the Nyquist plot (ui/design_frequency.cpp).
+void draw_design_frequency(DesignViewState& d, ImVec2 size);
+void draw_design_nyquist(DesignViewState& d, ImVec2 size);
 
 }  // namespace gmslab::ui

@@ -82,6 +82,7 @@ struct DesignViewState {
   control::cplx picked_s;
   std::vector<control::cplx> picked_poles;
   PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
+  bool harmonic_balance = false;     // the Nyquist canvas shows H(jw) and -1/N (describing function)
 };
 
 // The Identify panel (ui/identify_panel.hpp).

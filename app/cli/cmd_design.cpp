@@ -107,6 +107,28 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
       } else
         os << "none: " << r["reason"].get<std::string>() << '\n';
     }
+  if (j.contains("frequency")) {
+    const auto& m = j["frequency"]["margins"];
+    const auto& c = j["frequency"]["closed_loop"];
+    const auto& n = j["frequency"]["nyquist"];
+    // null margins are infinite (no crossover)
+    const auto gm = m["gain_margin_db"].is_null() ? std::string("inf (no phase crossover)")
+                                                  : f(m["gain_margin_db"]) + " dB at " + f(m["phase_crossover_rad_s"]) + " rad/s";
+    const auto pm = m["phase_margin_deg"].is_null() ? std::string("inf (no gain crossover)")
+                                                    : f(m["phase_margin_deg"]) + " deg at " + f(m["gain_crossover_rad_s"]) + " rad/s";
+    os << "margins (" << j["frequency"]["loop"].get<std::string>() << " loop): GM = " << gm << ", PM = " << pm
+       << "; closed loop: bandwidth " << f(c["bandwidth_rad_s"])
+       << " rad/s, peak " << f(c["peak_db"]) << " dB; Nyquist: N = " << n["encirclements"].get<int>()
+       << ", P = " << n["open_rhp_poles"].get<int>() << ", Z = " << n["closed_rhp_poles"].get<int>()
+       << (n["stable"].get<bool>() ? " (stable)" : " (unstable)") << '\n';
+  }
+  if (j.contains("limit_cycles")) {
+    const auto& lc = j["limit_cycles"];
+    if (lc["cycles"].empty()) os << "describing function: no limit cycle predicted (" << lc["note"].get<std::string>() << ")\n";
+    for (const auto& c : lc["cycles"])
+      os << "describing function: " << (c["stable"].get<bool>() ? "stable" : "unstable (threshold)")
+         << " limit cycle, amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"]) << " s\n";
+  }
   if (j.contains("simulation"))
     for (const auto& s : j["simulation"])
       os << "loop with friction, " << s["compensation"].get<std::string>()
@@ -141,11 +163,16 @@ int run_design(const Opts& o) {
   plant["den"] = g.den.descending_coeffs();
   if (o.simulate && !sc) throw InputError("--simulate needs --preset (the friction to simulate with)");
 
-  const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin});
+  const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin}, o.T);
   const LeadReport& r = d.report;
   const auto& chosen = d.chosen;
   nlohmann::json j = d.json;
   j["plant"] = plant;
+  if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
+    const auto fm = build_model(sc->friction);
+    const LeadDesign& ld = chosen->second;
+    j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
+  }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
     j["simulation"] = simulate(*sc, o, chosen->second);

@@ -1,6 +1,9 @@
 #include "core/control/design_json.hpp"
 
+#include "core/control/discrete.hpp"
+
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 namespace gmslab::control {
@@ -79,6 +82,78 @@ nlohmann::json to_json(const LeadReport& r) {
   return j;
 }
 
+nlohmann::json to_json(const FrequencyReport& f) {
+  const Margins& m = f.margins;
+  const Nyquist& n = f.nyquist;
+  return {{"margins",
+           {{"gain_margin", num(m.gain_margin)},
+            {"gain_margin_db", num(m.gain_margin_db)},
+            {"phase_crossover_rad_s", num(m.phase_crossover)},
+            {"phase_margin_deg", num(m.phase_margin)},
+            {"gain_crossover_rad_s", num(m.gain_crossover)},
+            {"gain_crossovers_rad_s", m.gain_crossovers},
+            {"phase_crossovers_rad_s", m.phase_crossovers}}},
+          {"closed_loop",
+           {{"dc_gain", num(f.dc_gain)},
+            {"bandwidth_rad_s", num(f.bandwidth)},
+            {"peak_db", num(f.peak_db)},
+            {"peak_rad_s", num(f.peak_w)}}},
+          {"nyquist",
+           {{"open_rhp_poles", n.open_rhp_poles},
+            {"axis_poles", n.axis_poles},
+            {"encirclements", n.encirclements},
+            {"closed_rhp_poles", n.closed_rhp_poles},
+            {"marginal", n.marginal},
+            {"stable", n.stable}}}};
+}
+
+nlohmann::json to_json(const DiscreteFrequencyReport& f) {
+  FrequencyReport c;
+  c.margins = f.margins;
+  c.nyquist = f.nyquist;
+  const nlohmann::json j = to_json(c);
+  return {{"sample_time_s", f.T},
+          {"nyquist_frequency_rad_s", f.nyquist_frequency},
+          {"margins", j["margins"]},
+          {"nyquist", j["nyquist"]},
+          {"closed_loop_poles_z", poles_json(f.closed_loop_poles)}};
+}
+
+nlohmann::json to_json(const LimitCycleReport& r) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const LimitCycle& c : r.cycles)
+    a.push_back({{"velocity_amplitude_m_s", num(c.velocity_amplitude)},
+                 {"amplitude_m", num(c.amplitude)},
+                 {"frequency_rad_s", num(c.frequency)},
+                 {"period_s", num(c.period)},
+                 {"stable", c.stable},
+                 {"converged", c.converged}});
+  return {{"cycles", a}, {"note", r.note}};
+}
+
+namespace {
+std::string coeffs(const std::vector<double>& v) {
+  std::string s;
+  char buf[40];
+  for (double x : v) {
+    std::snprintf(buf, sizeof buf, "%.17g", x);
+    s += (s.empty() ? "" : ", ") + std::string(buf);
+  }
+  return "[" + s + "]";
+}
+}  // namespace
+
+std::string compensator_matlab(const LeadCompensator& c) {
+  return "C = tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ");";
+}
+std::string compensator_python(const LeadCompensator& c) {
+  return "import control\nC = control.tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ")";
+}
+nlohmann::json compensator_json(const LeadCompensator& c) {
+  return {{"num", {c.Kc, c.Kc * c.z}}, {"den", {1.0, c.p}}, {"Kc", c.Kc}, {"z", c.z}, {"p", c.p},
+          {"matlab", compensator_matlab(c)}, {"python", compensator_python(c)}};
+}
+
 nlohmann::json to_json(const LoopMetrics& m) {
   return {{"steady_state_error_m", num(m.steady_state_error)},
           {"tail_max_error_m", num(m.tail_max_error)},
@@ -100,7 +175,7 @@ std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport
 }  // namespace
 
 DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
-                           const LeadOptions& options) {
+                           const LeadOptions& options, double sample_time) {
   DesignResult out{lead_design(g, root, K, options), std::nullopt, {}};
   const LeadReport& r = out.report;
   nlohmann::json& j = out.json;
@@ -113,6 +188,23 @@ DesignResult design_report(const TransferFunction& g, const DominantRoot& root, 
       j["z"] = out.chosen->second.z, j["p"] = out.chosen->second.p, j["Kc"] = out.chosen->second.Kc;
       j["K"] = out.chosen->second.K;
       j["closed_loop_poles"] = poles_json(out.chosen->second.closed_loop_poles);
+    }
+  }
+  const auto& chosen = out.chosen;
+  {  // frequency responses of the chosen design's loop (the plant's own when there is none)
+    TransferFunction L = g;
+    if (chosen) {
+      const LeadDesign& d = chosen->second;
+      L = {g.num * Poly({d.Kc * d.z, d.Kc}), g.den * Poly({d.p, 1.0})};
+    }
+    j["frequency"] = to_json(frequency_response(L));
+    j["frequency"]["loop"] = chosen ? "compensated" : "plant";
+    if (chosen) j["compensator"] = compensator_json({chosen->second.Kc, chosen->second.z, chosen->second.p});
+    if (chosen && sample_time > 0.0) {  // the sampled loop: Tustin controller, ZOH plant
+      const LeadDesign& d = chosen->second;
+      const TransferFunction Cz = tustin({Poly({d.Kc * d.z, d.Kc}), Poly({d.p, 1.0})}, sample_time);
+      const TransferFunction Gz = zoh(g, sample_time);
+      j["frequency"]["discrete"] = to_json(discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, sample_time));
     }
   }
   return out;

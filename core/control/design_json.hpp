@@ -12,6 +12,9 @@
 #include <string>
 #include <utility>
 
+#include "core/control/describing_function.hpp"
+#include "core/control/discrete.hpp"
+#include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/loop_simulation.hpp"
 
@@ -20,6 +23,24 @@ namespace gmslab::control {
 nlohmann::json to_json(const LeadReport& r);
 nlohmann::json to_json(const LoopMetrics& m);
 nlohmann::json poles_json(const std::vector<cplx>& poles);
+// The "frequency" key: margins {gain_margin, gain_margin_db, phase_crossover_rad_s,
+// phase_margin_deg, gain_crossover_rad_s, gain_crossovers_rad_s [..], phase_crossovers_rad_s [..]},
+// closed_loop {dc_gain, bandwidth_rad_s, peak_db, peak_rad_s}, nyquist {open_rhp_poles (P),
+// axis_poles, encirclements (N, clockwise), closed_rhp_poles (Z = N + P), marginal, stable}.
+// Infinite margins (no crossover) are null.
+nlohmann::json to_json(const FrequencyReport& f);
+// The sampled loop: {sample_time_s, nyquist_frequency_rad_s, margins {...as above}, nyquist {...},
+// closed_loop_poles_z [[re, im], ...]}.
+nlohmann::json to_json(const DiscreteFrequencyReport& f);
+// The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
+// stable, converged}], note.
+nlohmann::json to_json(const LimitCycleReport& r);
+// The compensator Kc (s + z) / (s + p) for export: {"num": [Kc, Kc z], "den": [1, p] (highest power
+// first), "Kc", "z", "p", "matlab": "C = tf([...], [...]);", "python": "C = control.tf([...], [...])"}.
+// Coefficients written with 17 significant digits (round-trip exact).
+nlohmann::json compensator_json(const LeadCompensator& c);
+std::string compensator_matlab(const LeadCompensator& c);
+std::string compensator_python(const LeadCompensator& c);
 
 // The design `gmslab design` reports (and Python's gmslab.design): lead_design() for plant g, its
 // JSON (to_json) with "max_ratio" and the chosen design: the requested one, the best relocation,
@@ -30,7 +51,10 @@ struct DesignResult {
   std::optional<std::pair<std::string, LeadDesign>> chosen;  // kind, design
   nlohmann::json json;
 };
+// Also "frequency" (margins, bandwidth, Nyquist of the chosen design's loop, else the plant's own;
+// "frequency.loop" says which), "compensator" (exported coefficients), and with sample_time > 0
+// "frequency.discrete" (Tustin controller, ZOH plant).
 DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
-                           const LeadOptions& options);
+                           const LeadOptions& options, double sample_time = 0.0);
 
 }  // namespace gmslab::control

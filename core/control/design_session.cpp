@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 
 namespace gmslab::control {
 
@@ -25,6 +26,20 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
   if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
 }
 }  // namespace
+
+LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles) {
+  if (!(c.Kc > 0.0) || !(c.p >= 0.0) || !(c.z > c.p))
+    throw InputError("lag: need Kc > 0 and z > p >= 0 rad/s (a lag or a PI)");
+  LagCost r;
+  r.factor = c.p > 0.0 ? c.z / c.p : std::numeric_limits<double>::infinity();
+  r.K_gain_only = c.Kc * type.K0;
+  r.K = r.K_gain_only * r.factor;
+  double best = std::numeric_limits<double>::infinity();
+  for (const cplx& s : poles)
+    if (std::isfinite(s.real()) && std::abs(s + c.z) < best) best = std::abs(s + c.z), r.slow_pole = s;
+  r.time_constant = 1.0 / std::abs(r.slow_pole.real());
+  return r;
+}
 
 DesignOutputs compute_design(const DesignInputs& in) {
   DesignOutputs out;
@@ -88,9 +103,27 @@ DesignOutputs compute_design(const DesignInputs& in) {
         L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
       out.other_locus = root_locus(L2, lo);
     }
+    stage = "frequency response";
+    {
+      const double k = out.compensator ? out.compensator->Kc : 1.0;
+      out.frequency = frequency_response({out.loop.num * k, out.loop.den});
+    }
+    if (in.sample_time > 0.0 && out.compensator) {
+      stage = "discrete frequency response";
+      const LeadCompensator& c = *out.compensator;
+      const TransferFunction Cz = tustin({Poly({c.Kc * c.z, c.Kc}), Poly({c.p, 1.0})}, in.sample_time);
+      const TransferFunction Gz = zoh(out.plant.g, in.sample_time);
+      out.discrete = discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, in.sample_time);
+    }
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
+    stage = "describing function";
+    {
+      const auto fm = build_model(in.scenario.friction);
+      out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
+                                              DfOptions{400, 2});
+    }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";
     LoopConfig cfg;

@@ -24,6 +24,9 @@
 #include <optional>
 #include <string>
 
+#include "core/control/describing_function.hpp"
+#include "core/control/discrete.hpp"
+#include "core/control/frequency.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -66,6 +69,15 @@ struct DesignOutputs {
   std::optional<RootLocus> other_locus;  // the other regime's plant with the same compensator
   std::optional<RootLocus> zero_degree_locus;  // k < 0 branches of the drawn loop
   StepResponse step;
+  // Frequency responses of the drawn loop with its gain (Kc L, or the plant alone): Bode, margins,
+  // closed-loop bandwidth and peak, Nyquist (core/control/frequency.hpp).
+  std::optional<FrequencyReport> frequency;
+  // With a sample time T > 0: the sampled loop Kc Tustin(Gc) ZOH(G) up to the Nyquist frequency.
+  std::optional<DiscreteFrequencyReport> discrete;
+  // Limit cycles of the loop without compensation predicted by the describing function of the
+  // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
+  // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.
+  std::optional<LimitCycleReport> limit_cycles;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;
@@ -73,5 +85,19 @@ struct DesignOutputs {
 };
 
 DesignOutputs compute_design(const DesignInputs& in);
+
+// A lag (z > p > 0) or PI (p = 0): what it buys and what it costs. The error constant is Kc (z/p) K0
+// against Kc K0 for the gain Kc alone (factor z/p; infinite for the PI: the type rises by one); the
+// cost is the slow closed-loop pole the lag zero leaves behind: the closed-loop pole nearest -z
+// (its time constant 1/|Re| stretches the settling tail).
+struct LagCost {
+  double factor = 0.0;       // z / p [-] (inf for p = 0)
+  double K = 0.0;            // error constant with the lag (Kc z/p K0; inf for p = 0)
+  double K_gain_only = 0.0;  // Kc K0
+  cplx slow_pole;            // [rad/s]
+  double time_constant = 0.0;  // 1 / |Re slow_pole| [s]
+};
+// Throws InputError unless z > p >= 0 and Kc > 0; `poles` are the loop's closed-loop poles.
+LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles);
 
 }  // namespace gmslab::control

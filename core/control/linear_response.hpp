@@ -16,7 +16,7 @@ namespace gmslab::control {
 struct LeadCompensator {
   double Kc = 1.0;  // gain [N/m for a force-to-position plant]
   double z = 1.0;   // zero at -z [rad/s], > 0
-  double p = 1.0;   // pole at -p [rad/s], > 0 (p = z: a pure gain)
+  double p = 1.0;   // pole at -p [rad/s], > 0 (p = z: a pure gain; p = 0: PI, in the loop simulation)
   TransferFunction tf() const { return {Poly({Kc * z, Kc}), Poly({p, 1.0})}; }
 };
 

@@ -46,8 +46,8 @@ void check_config(const Scenario& s, const LoopConfig& c) {
     if (!ok) bad.push_back(what);
   };
   need(s.plant.mass > 0.0, "plant.mass must be > 0 kg");
-  need(c.C.Kc > 0.0 && c.C.z > 0.0 && c.C.p > 0.0 && std::isfinite(c.C.Kc + c.C.z + c.C.p),
-       "compensator: Kc, z, p must be finite and > 0");
+  need(c.C.Kc > 0.0 && c.C.z > 0.0 && c.C.p >= 0.0 && std::isfinite(c.C.Kc + c.C.z + c.C.p),
+       "compensator: Kc, z must be finite and > 0, p finite and >= 0 (p = 0: PI)");
   need(c.dt > 0.0 && c.dt <= 0.1, "dt must be in (0, 0.1] s");
   need(c.duration > 0.0 && c.duration / c.dt <= 1e8, "duration must be > 0 s and at most 1e8 steps of dt");
   need(c.record_every >= 1, "record_every must be >= 1");
@@ -81,7 +81,7 @@ class LeadController {
  public:
   LeadController(const LeadCompensator& c, double h, double T) : c_(c), T_(T) {
     decay_ = std::exp(-c.p * h);
-    gain_ = (1.0 - decay_) / c.p;
+    gain_ = c.p > 0.0 ? (1.0 - decay_) / c.p : h;  // p = 0: the PI's integrator
     if (T > 0.0) {
       const double w = 2.0 / T;
       a_ = -(c.p - w) / (w + c.p);

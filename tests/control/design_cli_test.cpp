@@ -2,6 +2,8 @@
 // path with a simulated loop, and clear errors (exit code 2) for malformed input.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <complex>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -110,4 +112,56 @@ TEST(DesignCli, MalformedInputIsAClearErrorWithExitCode2) {
   EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "0", "--json", out}), 2);
   EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--simulate", "--json", out}), 2);
   EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// The "frequency" key: margins of the designed loop Kc (s + z) 4 / ((s + p) s (s + 2)), checked
+// against the loop evaluated from the JSON's own z, p, Kc (|L| = 1 at w_gc, L real negative at
+// w_pc, PM = 180 + arg L), and Nyquist's verdict against the closed-loop poles.
+TEST(DesignCli, FrequencyKeyReportsTheDesignedLoopsMargins) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5"}, "freq");
+  ASSERT_TRUE(j.contains("frequency"));
+  const auto& m = j["frequency"]["margins"];
+  const double z = j["z"].get<double>(), p = j["p"].get<double>(), Kc = j["Kc"].get<double>();
+  const auto L = [&](double w) {
+    const std::complex<double> s(0.0, w);
+    return Kc * (s + z) * 4.0 / ((s + p) * s * (s + 2.0));
+  };
+  const double wgc = m["gain_crossover_rad_s"].get<double>();
+  EXPECT_NEAR(std::abs(L(wgc)), 1.0, 1e-9);
+  EXPECT_NEAR(m["phase_margin_deg"].get<double>(), 180.0 + std::arg(L(wgc)) * 180.0 / M_PI, 1e-7);
+  EXPECT_TRUE(m["gain_margin"].is_null());  // type 1, one pole-zero pair: the phase never reaches -180
+  EXPECT_TRUE(m["phase_crossovers_rad_s"].empty());
+  bool stable = true;
+  for (const auto& pole : j["closed_loop_poles"]) stable &= pole[0].get<double>() < 0.0;
+  EXPECT_EQ(j["frequency"]["nyquist"]["stable"].get<bool>(), stable);
+  EXPECT_EQ(j["frequency"]["nyquist"]["axis_poles"].get<int>(), 1);
+  EXPECT_GT(j["frequency"]["closed_loop"]["bandwidth_rad_s"].get<double>(), 0.0);
+  // Export: tf coefficients (highest power first) and code that rebuilds them to the last digit.
+  const auto& c = j["compensator"];
+  EXPECT_EQ(c["num"][0].get<double>(), Kc);
+  EXPECT_EQ(c["num"][1].get<double>(), Kc * z);
+  EXPECT_EQ(c["den"][1].get<double>(), p);
+  double a = 0, b = 0, one = 0, pp = 0;
+  ASSERT_EQ(std::sscanf(c["matlab"].get<std::string>().c_str(), "C = tf([%lf, %lf], [%lf, %lf]);", &a, &b, &one, &pp), 4);
+  EXPECT_EQ(a, Kc);
+  EXPECT_EQ(b, Kc * z);
+  EXPECT_EQ(pp, p);
+  ASSERT_EQ(std::sscanf(c["python"].get<std::string>().c_str(), "import control\nC = control.tf([%lf, %lf], [%lf, %lf])", &a, &b, &one, &pp), 4);
+  EXPECT_EQ(b, Kc * z);
+}
+
+// With --sample-time the sampled loop's margins are reported (frequency.discrete), below the
+// Nyquist frequency, and approach the continuous ones as T -> 0 (the hold's delay T/2 costs
+// w_gc T/2 rad of phase margin).
+TEST(DesignCli, SampleTimeAddsTheSampledLoopsMargins) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                         "--sample-time", "0.01"}, "sampled");
+  ASSERT_TRUE(j["frequency"].contains("discrete"));
+  const auto& d = j["frequency"]["discrete"];
+  const double wgc = j["frequency"]["margins"]["gain_crossover_rad_s"].get<double>();
+  const double pm = j["frequency"]["margins"]["phase_margin_deg"].get<double>();
+  EXPECT_NEAR(d["nyquist_frequency_rad_s"].get<double>(), M_PI / 0.01, 1e-9);
+  EXPECT_NEAR(d["margins"]["gain_crossover_rad_s"].get<double>(), wgc, 0.02 * wgc);
+  EXPECT_NEAR(d["margins"]["phase_margin_deg"].get<double>(), pm - wgc * 0.01 / 2 * 180 / M_PI, 0.5);
+  EXPECT_TRUE(d["nyquist"]["stable"].get<bool>());
 }
