@@ -304,6 +304,25 @@ void AssemblySimulation::reset() {
   prescribed_.push_back(1);
   for (std::size_t i = 0; i < nb; ++i) h_over_m_[i] = sc_.run.dt / sc_.plant.bodies[i].mass;
   xp_.assign(sc_.plant.drives.size(), 0.0);
+  const int g = static_cast<int>(nb);
+  auto slot = [g](int i) { return i < 0 ? g : i; };
+  springs_c_.clear();
+  dampers_c_.clear();
+  contacts_c_.clear();
+  for (const auto& s : sc_.plant.springs) springs_c_.push_back({s.a, slot(s.b), s.stiffness});
+  for (const auto& s : sc_.plant.dampers) dampers_c_.push_back({s.a, slot(s.b), s.damping});
+  for (const auto& c : sc_.plant.contacts) {
+    CompiledContact cc{c.a, slot(c.b), 0, 0.0, 0.0, 0.0};
+    const bool fa = !prescribed_[cc.a], fb = !prescribed_[cc.b];
+    cc.mode = (fa ? 1 : 0) | (fb ? 2 : 0);
+    if (fa) cc.ma = sc_.plant.bodies[cc.a].mass;
+    if (fb) cc.mb = sc_.plant.bodies[cc.b].mass;
+    cc.m_eff = cc.mode == 3 ? cc.ma * cc.mb / (cc.ma + cc.mb) : cc.mode == 1 ? cc.ma : cc.mode == 2 ? cc.mb : 0.0;
+    contacts_c_.push_back(cc);
+  }
+  has_prescribed_ = false;
+  for (const auto& d : sc_.plant.drives) has_prescribed_ = has_prescribed_ || prescribes(d.kind);
+  one_body_ = nb == 1 && !has_prescribed_;
   for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
     const auto& d = sc_.plant.drives[i];
     if (d.kind == DrivePart::Kind::Displacement) x_[d.body] = d.signal(0.0);
@@ -366,124 +385,186 @@ void AssemblySimulation::record() {
   }
 }
 
-void AssemblySimulation::compute_step() {
+std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
+  const double h = sc_.run.dt;
+  const Assembly& p = sc_.plant;
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
+  const double hm = h_over_m_[0];
+  const double m = contacts_c_.empty() ? 0.0 : contacts_c_[0].m_eff;
+  double x = x_[0], v = v_[0];
+  std::size_t done = 0;
+  for (; done < n && step_ < total_steps_; ++done) {
+    const double t = time();
+    double f = 0.0;
+    for (std::size_t i = 0; i < p.drives.size(); ++i) {
+      const auto& d = p.drives[i];
+      double fd;
+      if (d.kind == DrivePart::Kind::Force) {
+        fd = d.signal(t);
+      } else {  // pull (one free body: no prescribed motion)
+        double xp, rate;
+        if (d.point_velocity) {
+          xp = xp_[i];
+          rate = d.signal(t);
+          xp_[i] += 0.5 * h * (rate + d.signal(t + h));
+        } else {
+          xp = d.signal(t);
+          rate = d.signal.rate_at(t);
+        }
+        fd = d.pull_spring * (xp - x) + d.pull_damper * (rate - v);
+      }
+      f_drive_[i] = fd;
+      f += fd;
+    }
+    for (std::size_t i = 0; i < springs_c_.size(); ++i) {
+      const double fs = springs_c_[i].c * (x - 0.0);
+      f_spring_[i] = fs;
+      f -= fs;
+    }
+    for (std::size_t i = 0; i < dampers_c_.size(); ++i) {
+      const double fd = dampers_c_[i].c * (v - 0.0);
+      f_damper_[i] = fd;
+      f -= fd;
+    }
+    for (std::size_t j = 0; j < contacts_c_.size(); ++j) {
+      const double F = models_[j]->step(state_[j], {v, h, f, m});
+      f_contact_[j] = F;
+      v_rel_[j] = v;
+      f -= F;
+    }
+    v += f * hm;
+    x += h * v;
+    ++step_;
+    if (!std::isfinite(f + x + v)) {
+      x_[0] = x;
+      v_[0] = v;
+      diverged();
+    }
+    if (--until_record_ == 0 || step_ == total_steps_) {
+      x_[0] = x;
+      v_[0] = v;
+      record();
+      until_record_ = every;
+    }
+  }
+  x_[0] = x;
+  v_[0] = v;
+  return done;
+}
+
+double AssemblySimulation::compute_step() {
   const double h = sc_.run.dt, t = time();
   const Assembly& p = sc_.plant;
   const std::size_t nb = p.bodies.size();
-  const int g = static_cast<int>(nb);  // ground slot
-  auto slot = [g](int i) { return i < 0 ? g : i; };
+  double* __restrict x = x_.data();
+  double* __restrict v = v_.data();
+  double* __restrict cv = cv_.data();
+  double* __restrict f = f_.data();
   // 1. prescribed motion: contact velocity over the step; x and v at t + h are set in 4.
   for (std::size_t i = 0; i <= nb; ++i) {
-    f_[i] = 0.0;
-    cv_[i] = v_[i];
+    f[i] = 0.0;
+    cv[i] = v[i];
   }
-  for (std::size_t i = 0; i < p.drives.size(); ++i) {
-    const auto& d = p.drives[i];
-    if (d.kind == DrivePart::Kind::Displacement) cv_[d.body] = (d.signal(t + h) - x_[d.body]) / h;
-    else if (d.kind == DrivePart::Kind::Velocity) cv_[d.body] = 0.5 * (d.signal(t) + d.signal(t + h));
-  }
+  if (has_prescribed_)
+    for (const auto& d : p.drives) {
+      if (d.kind == DrivePart::Kind::Displacement) cv[d.body] = (d.signal(t + h) - x[d.body]) / h;
+      else if (d.kind == DrivePart::Kind::Velocity) cv[d.body] = 0.5 * (d.signal(t) + d.signal(t + h));
+    }
   // 2. non-friction forces: drives, springs, dampers (in this order; the one-body sum of Simulation).
-  double drive_power = 0.0;
   for (std::size_t i = 0; i < p.drives.size(); ++i) {
     const auto& d = p.drives[i];
     if (d.kind == DrivePart::Kind::Force) {
       f_drive_[i] = d.signal(t);
-      f_[d.body] += f_drive_[i];
+      f[d.body] += f_drive_[i];
     } else if (d.kind == DrivePart::Kind::Pull) {
       double xp, rate;
       if (d.point_velocity) {
         xp = xp_[i];
         rate = d.signal(t);
+        xp_[i] += 0.5 * h * (rate + d.signal(t + h));
       } else {
         xp = d.signal(t);
         rate = d.signal.rate_at(t);
       }
-      f_drive_[i] = d.pull_spring * (xp - x_[d.body]) + d.pull_damper * (rate - v_[d.body]);
-      f_[d.body] += f_drive_[i];
-      if (d.point_velocity) xp_[i] += 0.5 * h * (d.signal(t) + d.signal(t + h));
+      f_drive_[i] = d.pull_spring * (xp - x[d.body]) + d.pull_damper * (rate - v[d.body]);
+      f[d.body] += f_drive_[i];
     }
   }
-  (void)drive_power;
-  for (std::size_t i = 0; i < p.springs.size(); ++i) {
-    const auto& s = p.springs[i];
-    const int a = s.a, b = slot(s.b);
-    const double fs = s.stiffness * (x_[a] - x_[b]);
-    f_spring_[i] = fs;
-    f_[a] -= fs;
-    f_[b] += fs;
+  double* __restrict fs_out = f_spring_.data();
+  for (std::size_t i = 0; i < springs_c_.size(); ++i) {
+    const Link& s = springs_c_[i];
+    const double fs = s.c * (x[s.a] - x[s.b]);
+    fs_out[i] = fs;
+    f[s.a] -= fs;
+    f[s.b] += fs;
   }
-  for (std::size_t i = 0; i < p.dampers.size(); ++i) {
-    const auto& s = p.dampers[i];
-    const int a = s.a, b = slot(s.b);
-    const double fd = s.damping * (v_[a] - v_[b]);
-    f_damper_[i] = fd;
-    f_[a] -= fd;
-    f_[b] += fd;
+  double* __restrict fd_out = f_damper_.data();
+  for (std::size_t i = 0; i < dampers_c_.size(); ++i) {
+    const Link& s = dampers_c_[i];
+    const double fd = s.c * (v[s.a] - v[s.b]);
+    fd_out[i] = fd;
+    f[s.a] -= fd;
+    f[s.b] += fd;
   }
   // 3. contacts, each with its relative velocity frozen over the step.
-  for (std::size_t j = 0; j < models_.size(); ++j) {
-    const auto& c = p.contacts[j];
-    const int a = c.a, b = slot(c.b);
-    const bool fa = !prescribed_[a], fb = !prescribed_[b];
-    const double vr = cv_[a] - cv_[b];
-    double m_eff = 0.0, f_other = 0.0;
-    if (fa && fb) {
-      const double ma = p.bodies[a].mass, mb = p.bodies[b].mass;
-      m_eff = ma * mb / (ma + mb);
-      f_other = m_eff * (f_[a] / ma - f_[b] / mb);
-    } else if (fa) {
-      m_eff = p.bodies[a].mass;
-      f_other = f_[a];
-    } else if (fb) {
-      m_eff = p.bodies[b].mass;
-      f_other = -f_[b];
-    }
-    const double F = models_[j]->step(state_[j], {vr, h, f_other, m_eff});
+  for (std::size_t j = 0; j < contacts_c_.size(); ++j) {
+    const CompiledContact& c = contacts_c_[j];
+    const double vr = cv[c.a] - cv[c.b];
+    double f_other = 0.0;
+    if (c.mode == 3) f_other = c.m_eff * (f[c.a] / c.ma - f[c.b] / c.mb);
+    else if (c.mode == 1) f_other = f[c.a];
+    else if (c.mode == 2) f_other = -f[c.b];
+    const double F = models_[j]->step(state_[j], {vr, h, f_other, c.m_eff});
     f_contact_[j] = F;
     v_rel_[j] = vr;
-    f_[a] -= F;
-    f_[b] += F;
+    f[c.a] -= F;
+    f[c.b] += F;
   }
   // 4. bodies.
+  const double* __restrict hm = h_over_m_.data();
+  double probe = 0.0;
   for (std::size_t i = 0; i < nb; ++i) {
     if (!prescribed_[i]) {
-      v_[i] += f_[i] * h_over_m_[i];
-      x_[i] += h * v_[i];
+      v[i] += f[i] * hm[i];
+      x[i] += h * v[i];
     }
+    probe += f[i];
   }
+  if (!has_prescribed_) return probe + x[0] + v[0];
   for (std::size_t i = 0; i < p.drives.size(); ++i) {
     const auto& d = p.drives[i];
     if (!prescribes(d.kind)) continue;
     // The force the drive must supply to hold the motion against the parts (inertia left out).
-    f_drive_[i] = -f_[d.body];
+    f_drive_[i] = -f[d.body];
     if (d.kind == DrivePart::Kind::Displacement) {
-      x_[d.body] = d.signal(t + h);
-      v_[d.body] = cv_[d.body];
+      x[d.body] = d.signal(t + h);
+      v[d.body] = cv[d.body];
     } else {
-      x_[d.body] += cv_[d.body] * h;
-      v_[d.body] = d.signal(t + h);
+      x[d.body] += cv[d.body] * h;
+      v[d.body] = d.signal(t + h);
     }
   }
+  for (std::size_t i = 0; i < nb; ++i) probe += x[i] + v[i];
+  return probe;
+}
+
+void AssemblySimulation::diverged() const {
+  std::ostringstream o;
+  o << "simulation diverged at t = " << time() << " s (non-finite state). The step limit of this plant "
+    << "with contacts stuck is dt < " << stability_limit_dt(sc_.plant) << " s (run.dt = " << sc_.run.dt
+    << " s); lower run.dt or soften the stiffest part, or lower the dampers (explicit damping needs "
+    << "dt < 2 m / sum c).";
+  throw SimulationError(o.str());
 }
 
 std::size_t AssemblySimulation::advance(std::size_t n) {
+  if (one_body_) return advance_one_body(n);
   const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
-  const std::size_t nb = sc_.plant.bodies.size();
   std::size_t done = 0;
   for (; done < n && step_ < total_steps_; ++done) {
-    compute_step();
+    const double probe = compute_step();
     ++step_;
-    double sum = 0.0;
-    for (std::size_t i = 0; i < nb; ++i) sum += x_[i] + v_[i];
-    for (const double F : f_contact_) sum += F;
-    if (!std::isfinite(sum)) {
-      std::ostringstream o;
-      o << "simulation diverged at t = " << time() << " s (non-finite state). The step limit of this plant "
-        << "with contacts stuck is dt < " << stability_limit_dt(sc_.plant) << " s (run.dt = " << sc_.run.dt
-        << " s); lower run.dt or soften the stiffest part, or lower the dampers (explicit damping needs "
-        << "dt < 2 m / sum c).";
-      throw SimulationError(o.str());
-    }
+    if (!std::isfinite(probe)) diverged();
     if (--until_record_ == 0 || step_ == total_steps_) {
       record();
       until_record_ = every;

@@ -168,7 +168,14 @@ class AssemblySimulation {
 
  private:
   void record();
-  void compute_step();
+  // One step of the general plant; returns a sum of the new state and forces (non-finite when
+  // any of them is).
+  double compute_step();
+  // The case of one free body (every part then ties it to ground): compute_step's sums in the
+  // same order, with x and v kept in registers across steps - a store and reload per partial
+  // sum lengthens the chain v -> forces -> friction -> v that bounds a step's time.
+  std::size_t advance_one_body(std::size_t n);
+  [[noreturn]] void diverged() const;  // one free body, every part to ground: the same sums in registers
 
   AssemblyScenario sc_;
   std::vector<std::unique_ptr<FrictionModel>> models_;
@@ -180,6 +187,13 @@ class AssemblySimulation {
   std::vector<double> x_, v_, cv_, f_, h_over_m_;
   std::vector<std::uint8_t> prescribed_;
   std::vector<double> xp_;  // per drive: drive point position (pull with point_velocity)
+  // The parts compiled for the step loop (ground = slot nb).
+  struct Link { int a, b; double c; };
+  struct CompiledContact { int a, b; int mode; double ma, mb, m_eff; };  // mode: 1 a free, 2 b free, 3 both
+  std::vector<Link> springs_c_, dampers_c_;
+  std::vector<CompiledContact> contacts_c_;
+  bool has_prescribed_ = false;
+  bool one_body_ = false;
   // Last step's part forces (outputs).
   std::vector<double> f_contact_, f_spring_, f_damper_, f_drive_, v_rel_;
 };
