@@ -1,0 +1,568 @@
+#include "ui/plant_view.hpp"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "core/io/assembly_io.hpp"
+#include "ui/plot.hpp"
+
+namespace gmslab::ui {
+
+namespace {
+bool prescribed_kind(DrivePart::Kind k) { return k == DrivePart::Kind::Displacement || k == DrivePart::Kind::Velocity; }
+}  // namespace
+
+PlantLayout layout_plant(const Assembly& a, float W, float H) {
+  PlantLayout l;
+  l.width = W;
+  l.height = H;
+  const int nb = static_cast<int>(a.bodies.size());
+  l.bodies.assign(nb, {});
+  l.level.assign(nb, 0);
+  // Stacking: a body in contact with another sits on it (the first such contact decides).
+  std::vector<int> support(nb, -1);
+  for (const auto& c : a.contacts)
+    if (c.b != kGround && support[c.a] < 0 && c.a != c.b) support[c.a] = c.b;
+  for (int pass = 0; pass < nb; ++pass)
+    for (int i = 0; i < nb; ++i)
+      if (support[i] >= 0) l.level[i] = std::min(3, l.level[support[i]] + 1);
+  // Break cycles (a on b on a): the one with the higher index goes down.
+  for (int i = 0; i < nb; ++i)
+    if (support[i] >= 0 && support[support[i]] == i && i > support[i]) support[i] = -1, l.level[i] = 0;
+  std::vector<int> base;
+  for (int i = 0; i < nb; ++i)
+    if (support[i] < 0) base.push_back(i);
+  const float margin_l = std::max(40.0f, 0.07f * W), margin_r = std::max(60.0f, 0.12f * W);
+  l.wall_x = margin_l;
+  l.floor_y = H * 0.74f;
+  const int nbase = std::max<int>(1, static_cast<int>(base.size()));
+  const float col = (W - margin_l - margin_r) / static_cast<float>(nbase);
+  const int max_level = nb ? *std::max_element(l.level.begin(), l.level.end()) : 0;
+  const float pad_h = std::max(8.0f, H * 0.035f);
+  const float bh = std::min({H * 0.2f, 90.0f, (l.floor_y - H * 0.3f) / static_cast<float>(max_level + 1) - pad_h});
+  const float bw = std::min(col * 0.42f, 150.0f);
+  for (int k = 0; k < static_cast<int>(base.size()); ++k) {
+    const float cx = margin_l + col * (static_cast<float>(k) + 0.5f);
+    l.bodies[base[k]] = {cx - 0.5f * bw, l.floor_y - pad_h - bh, cx + 0.5f * bw, l.floor_y - pad_h};
+  }
+  for (int lev = 1; lev <= max_level; ++lev) {
+    for (int i = 0; i < nb; ++i) {
+      if (l.level[i] != lev || support[i] < 0) continue;
+      std::vector<int> siblings;
+      for (int j = 0; j < nb; ++j)
+        if (support[j] == support[i] && l.level[j] == lev) siblings.push_back(j);
+      const int k = static_cast<int>(std::find(siblings.begin(), siblings.end(), i) - siblings.begin());
+      const Box& s = l.bodies[support[i]];
+      const float w = (s.x1 - s.x0) * 0.7f / static_cast<float>(siblings.size());
+      const float cx = s.x0 + (s.x1 - s.x0) * (static_cast<float>(k) + 0.5f) / static_cast<float>(siblings.size());
+      l.bodies[i] = {cx - 0.5f * w, s.y0 - pad_h - bh * 0.8f, cx + 0.5f * w, s.y0 - pad_h};
+    }
+  }
+  // Springs and dampers: between neighbours on one level, straight between facing sides (springs
+  // in the upper part of the blocks, dampers in the lower); to ground, to the wall or a post
+  // left of the body; otherwise over the bodies.
+  auto left_neighbour = [&](int i) {
+    int best = -1;
+    for (int j = 0; j < nb; ++j)
+      if (j != i && l.level[j] == l.level[i] && l.bodies[j].x1 <= l.bodies[i].x0 &&
+          (best < 0 || l.bodies[j].x1 > l.bodies[best].x1))
+        best = j;
+    return best;
+  };
+  auto adjacent = [&](int i, int j) { return l.level[i] == l.level[j] && (left_neighbour(i) == j || left_neighbour(j) == i); };
+  std::vector<int> lane_count(static_cast<std::size_t>((nb + 1) * (nb + 1)), 0);
+  auto link = [&](int ia, int ib, bool damper) {
+    const int key = (ia + 1) * (nb + 1) + (ib + 1);
+    const int lane = lane_count[key]++;
+    const Box& A = l.bodies[ia];
+    const float frac = (damper ? 0.7f : 0.3f) + 0.12f * static_cast<float>(lane % 3) * (damper ? -1.0f : 1.0f);
+    PlantLayout::Link k;
+    if (ib == kGround) {
+      const int nbr = left_neighbour(ia);
+      const float gx = nbr < 0 ? l.wall_x : 0.5f * (l.bodies[nbr].x1 + A.x0);
+      k = {A.x0, A.y0 + frac * (A.y1 - A.y0), gx, A.y0 + frac * (A.y1 - A.y0), 0.0f};
+    } else if (adjacent(ia, ib)) {
+      const Box& B = l.bodies[ib];
+      const float y = std::max(A.y0, B.y0) + frac * (std::min(A.y1, B.y1) - std::max(A.y0, B.y0));
+      if (A.x1 <= B.x0) k = {A.x1, y, B.x0, y, 0.0f};
+      else k = {A.x0, y, B.x1, y, 0.0f};
+    } else {
+      const Box& B = l.bodies[ib];
+      k = {A.cx(), A.y0, B.cx(), B.y0, 0.12f * H + 0.04f * H * static_cast<float>(lane)};
+    }
+    return k;
+  };
+  for (const auto& s : a.springs) l.springs.push_back(link(s.a, s.b, false));
+  for (const auto& d : a.dampers) l.dampers.push_back(link(d.a, d.b, true));
+  for (const auto& c : a.contacts) {
+    const Box& A = l.bodies[c.a];
+    if (c.b == kGround || support[c.a] != c.b) {
+      l.contacts.push_back({A.x0 + 0.12f * (A.x1 - A.x0), A.y1, A.x1 - 0.12f * (A.x1 - A.x0),
+                            c.b == kGround ? l.floor_y : A.y1 + pad_h});
+    } else {
+      l.contacts.push_back({A.x0 + 0.08f * (A.x1 - A.x0), A.y1, A.x1 - 0.08f * (A.x1 - A.x0), l.bodies[c.b].y0});
+    }
+  }
+  // Drives above their body; a pull drive's point at the right margin on the same height.
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const Box& A = l.bodies[a.drives[i].body];
+    PlantLayout::DriveGlyph g;
+    g.x = A.cx();
+    g.y = A.y0 - 0.07f * H - 0.05f * H * static_cast<float>(i % 2);
+    g.px = W - 0.5f * margin_r;
+    g.py = g.y;
+    l.drives.push_back(g);
+  }
+  return l;
+}
+
+PlantPose rest_pose(const Assembly& a) {
+  PlantPose p;
+  p.x.assign(a.bodies.size(), 0.0);
+  p.contact_force.assign(a.contacts.size(), 0.0);
+  p.slipping.assign(a.contacts.size(), 0);
+  p.spring_force.assign(a.springs.size(), 0.0);
+  p.drive_force.assign(a.drives.size(), 0.0);
+  p.drive_point.assign(a.drives.size(), 0.0);
+  return p;
+}
+
+PlantPose pose_of(const AssemblySimulation& sim) {
+  const Assembly& a = sim.scenario().plant;
+  PlantPose p = rest_pose(a);
+  const AssemblyTrace& tr = sim.trace();
+  p.t = sim.time();
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) p.x[i] = sim.positions()[i];
+  if (tr.size() == 0) return p;
+  const std::size_t k = tr.size() - 1;
+  for (std::size_t c = 0; c < tr.channels.size(); ++c) {
+    const auto& ch = tr.channels[c];
+    const double y = tr.at(k, c);
+    switch (ch.kind) {
+      case Channel::Kind::ContactForce: p.contact_force[ch.index] = y; break;
+      case Channel::Kind::SpringForce: p.spring_force[ch.index] = y; break;
+      case Channel::Kind::DriveForce: p.drive_force[ch.index] = y; break;
+      default: break;
+    }
+  }
+  for (std::size_t j = 0; j < a.contacts.size(); ++j) p.slipping[j] = tr.contact_slip[j][k];
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const auto& d = a.drives[i];
+    if (d.kind == DrivePart::Kind::Pull && !d.point_velocity) p.drive_point[i] = d.signal(p.t);
+    else if (d.kind == DrivePart::Kind::Pull)  // the point's position: x + stretch of its spring
+      p.drive_point[i] = p.x[d.body] + p.drive_force[i] / d.pull_spring;
+  }
+  return p;
+}
+
+double auto_magnification(const PlantLayout& l, const AssemblyTrace& tr) {
+  double xmax = 0.0;
+  for (std::size_t c = 0; c < tr.channels.size(); ++c) {
+    if (tr.channels[c].kind != Channel::Kind::Position) continue;
+    for (std::size_t k = 0; k < tr.size(); ++k) xmax = std::max(xmax, std::abs(tr.at(k, c)));
+  }
+  float col = l.width;
+  for (const auto& b : l.bodies) col = std::min(col, b.x1 - b.x0);
+  if (!(xmax > 0.0)) return 1.0;
+  return 0.5 * col / xmax;
+}
+
+namespace {
+const ImU32 kInk = IM_COL32(30, 30, 34, 255);
+const ImU32 kDimInk = IM_COL32(90, 90, 98, 255);
+const ImU32 kBody = IM_COL32(205, 215, 228, 255);
+const ImU32 kStick = IM_COL32(0, 114, 178, 255);
+const ImU32 kSlip = IM_COL32(230, 120, 0, 255);
+const ImU32 kDrive = IM_COL32(0, 158, 115, 255);
+
+std::string num(double v, const char* unit) {
+  char buf[64];
+  const double a = std::abs(v);
+  if (a != 0.0 && (a < 1e-3 || a >= 1e5)) std::snprintf(buf, sizeof buf, "%.3g %s", v, unit);
+  else std::snprintf(buf, sizeof buf, "%.4g %s", v, unit);
+  return buf;
+}
+
+void hatch(ImDrawList* dl, ImVec2 p0, ImVec2 p1, ImU32 col, float step = 7.0f) {
+  dl->PushClipRect(p0, p1, true);
+  const float h = p1.y - p0.y;
+  for (float x = p0.x - h; x < p1.x; x += step) dl->AddLine({x, p1.y}, {x + h, p0.y}, col, 1.0f);
+  dl->PopClipRect();
+}
+
+void text_centered(ImDrawList* dl, float cx, float y, ImU32 col, const std::string& s) {
+  const ImVec2 sz = ImGui::CalcTextSize(s.c_str());
+  dl->AddText({cx - 0.5f * sz.x, y}, col, s.c_str());
+}
+
+void zigzag(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float amp) {
+  const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
+  if (len < 1.0f) return;
+  const float ux = dx / len, uy = dy / len, nx = -uy, ny = ux;
+  const int n = 8;
+  const float lead = std::min(10.0f, 0.15f * len);
+  ImVec2 pts[n + 4];
+  int k = 0;
+  pts[k++] = a;
+  pts[k++] = {a.x + ux * lead, a.y + uy * lead};
+  for (int i = 0; i < n; ++i) {
+    const float s = lead + (len - 2 * lead) * (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
+    const float o = (i % 2 ? -amp : amp);
+    pts[k++] = {a.x + ux * s + nx * o, a.y + uy * s + ny * o};
+  }
+  pts[k++] = {b.x - ux * lead, b.y - uy * lead};
+  pts[k++] = b;
+  dl->AddPolyline(pts, k, col, 0, 1.8f);
+}
+
+void dashpot(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float amp) {
+  const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
+  if (len < 1.0f) return;
+  const float ux = dx / len, uy = dy / len, nx = -uy, ny = ux;
+  // Cylinder (open towards b) fixed to b's side, piston rod from a.
+  const float cyl0 = 0.45f * len, cyl1 = 0.8f * len, piston = std::clamp(0.6f * len, cyl0 + 3.0f, cyl1 - 3.0f);
+  auto P = [&](float s, float o) { return ImVec2(a.x + ux * s + nx * o, a.y + uy * s + ny * o); };
+  dl->AddLine(a, P(piston, 0), col, 1.8f);
+  dl->AddLine(P(piston, -0.7f * amp), P(piston, 0.7f * amp), col, 2.5f);
+  dl->AddLine(P(cyl0, -amp), P(cyl1, -amp), col, 1.8f);
+  dl->AddLine(P(cyl0, amp), P(cyl1, amp), col, 1.8f);
+  dl->AddLine(P(cyl1, -amp), P(cyl1, amp), col, 1.8f);
+  dl->AddLine(P(cyl1, 0), b, col, 1.8f);
+}
+
+void arrow(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float thick = 2.5f) {
+  const float dx = b.x - a.x, dy = b.y - a.y, len = std::sqrt(dx * dx + dy * dy);
+  if (len < 1.0f) return;
+  const float ux = dx / len, uy = dy / len, head = std::min(12.0f, 0.5f * len);
+  dl->AddLine(a, {b.x - ux * head * 0.8f, b.y - uy * head * 0.8f}, col, thick);
+  dl->AddTriangleFilled(b, {b.x - ux * head - uy * head * 0.5f, b.y - uy * head + ux * head * 0.5f},
+                        {b.x - ux * head + uy * head * 0.5f, b.y - uy * head - ux * head * 0.5f}, col);
+}
+
+std::string model_label(const ModelParams& p) {
+  std::string s = p.model;
+  for (auto& ch : s) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  const auto& info = model_info(p.model);
+  if (info.scalar_index("Fs") >= 0) s += ", Fs " + num(p.scalar("Fs"), "N");
+  if (!p.elements.empty()) s += ", N = " + std::to_string(p.elements.size());
+  return s;
+}
+
+std::string signal_label(const Signal& s, const char* unit) {
+  switch (s.kind) {
+    case Signal::Kind::Constant: return num(s.value, unit);
+    case Signal::Kind::Ramp: return num(s.slope, (std::string(unit) + "/s").c_str()) + " ramp";
+    case Signal::Kind::Sine: return num(s.amplitude, unit) + " sine " + num(s.frequency, "Hz");
+    default: return std::string(to_string(s.kind));
+  }
+}
+}  // namespace
+
+void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
+                double px_per_m) {
+  const float lh = ImGui::GetTextLineHeight();
+  auto dx = [&](int body) {
+    if (body < 0) return 0.0f;
+    const double d = pose.x[static_cast<std::size_t>(body)] * px_per_m;
+    return static_cast<float>(std::clamp(d, -0.45 * l.width, 0.45 * l.width));
+  };
+  // Ground: floor and left wall, hatched.
+  const float fy = Y + l.floor_y;
+  dl->AddRectFilled({X, fy}, {X + l.width, fy + 14.0f}, IM_COL32(235, 235, 238, 255));
+  hatch(dl, {X, fy}, {X + l.width, fy + 14.0f}, kDimInk);
+  dl->AddLine({X, fy}, {X + l.width, fy}, kInk, 2.0f);
+  const float wall_top = Y + 0.22f * l.height;
+  dl->AddRectFilled({X + l.wall_x - 14.0f, wall_top}, {X + l.wall_x, fy}, IM_COL32(235, 235, 238, 255));
+  hatch(dl, {X + l.wall_x - 14.0f, wall_top}, {X + l.wall_x, fy}, kDimInk);
+  dl->AddLine({X + l.wall_x, wall_top}, {X + l.wall_x, fy}, kInk, 2.0f);
+  // Springs and dampers.
+  auto draw_link = [&](const PlantLayout::Link& k, int ia, int ib, bool damper, const std::string& label) {
+    const ImVec2 pa(X + k.ax + dx(ia), Y + k.ay), pb(X + k.bx + dx(ib), Y + k.by);
+    const float amp = damper ? 6.0f : 7.0f;
+    const ImU32 col = kInk;
+    if (k.lift > 0.0f) {
+      const ImVec2 ua(pa.x, pa.y - k.lift), ub(pb.x, pb.y - k.lift);
+      dl->AddLine(pa, ua, col, 1.5f);
+      dl->AddLine(pb, ub, col, 1.5f);
+      damper ? dashpot(dl, ua, ub, col, amp) : zigzag(dl, ua, ub, col, amp);
+      text_centered(dl, 0.5f * (ua.x + ub.x), ua.y - lh - 4.0f, kDimInk, label);
+    } else {
+      if (ib == kGround && k.bx > l.wall_x + 1.0f) {  // a post on the floor
+        dl->AddLine({pb.x, pb.y - 8.0f}, {pb.x, fy}, kInk, 2.0f);
+        hatch(dl, {pb.x - 6.0f, pb.y - 8.0f}, {pb.x, fy}, kDimInk, 5.0f);
+      }
+      damper ? dashpot(dl, pb, pa, col, amp) : zigzag(dl, pa, pb, col, amp);
+      // Labels above springs, below dampers, between the ends.
+      text_centered(dl, 0.5f * (pa.x + pb.x), damper ? pa.y + amp + 2.0f : pa.y - amp - lh - 2.0f, kDimInk, label);
+    }
+  };
+  for (std::size_t i = 0; i < a.springs.size(); ++i) {
+    const auto& s = a.springs[i];
+    std::string label = s.name + " " + num(s.stiffness, "N/m");
+    if (pose.t > 0.0) label += ", " + num(pose.spring_force[i], "N");
+    draw_link(l.springs[i], s.a, s.b, false, label);
+  }
+  for (std::size_t i = 0; i < a.dampers.size(); ++i) {
+    const auto& d = a.dampers[i];
+    if (d.damping == 0.0) continue;  // a zero damper draws nothing (one-body presets carry one)
+    draw_link(l.dampers[i], d.a, d.b, true, d.name + " " + num(d.damping, "N s/m"));
+  }
+  // Contacts: hatched pads coloured by stick / slip, with their force.
+  for (std::size_t j = 0; j < a.contacts.size(); ++j) {
+    const auto& c = a.contacts[j];
+    const Box& p = l.contacts[j];
+    const float off = c.b == kGround ? dx(c.a) : dx(c.a);
+    const ImU32 col = pose.slipping[j] ? kSlip : kStick;
+    const ImVec2 p0(X + p.x0 + off, Y + p.y0), p1(X + p.x1 + off, Y + p.y1);
+    dl->AddRectFilled(p0, p1, (col & 0x00FFFFFF) | 0x55000000);
+    hatch(dl, p0, p1, col, 5.0f);
+    dl->AddRect(p0, p1, col, 0.0f, 0, 2.0f);
+    std::string label = c.name + ": " + model_label(c.friction);
+    std::string force = std::string(pose.slipping[j] ? "slip" : "stick") + ", F = " + num(pose.contact_force[j], "N");
+    if (c.b == kGround) {
+      // Under the floor, staggered so neighbours do not overlap.
+      const float ly = fy + 18.0f + static_cast<float>(j % 2) * 2.2f * lh;
+      text_centered(dl, 0.5f * (p0.x + p1.x), ly, kInk, label);
+      text_centered(dl, 0.5f * (p0.x + p1.x), ly + lh, col, force);
+    } else {
+      const float lx = X + l.bodies[c.a].x1 + off + 8.0f;
+      dl->AddText({lx, p0.y - 0.5f * lh}, kInk, label.c_str());
+      dl->AddText({lx, p0.y + 0.5f * lh}, col, force.c_str());
+    }
+  }
+  // Bodies.
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    const Box& b = l.bodies[i];
+    const float o = dx(static_cast<int>(i));
+    const ImVec2 p0(X + b.x0 + o, Y + b.y0), p1(X + b.x1 + o, Y + b.y1);
+    dl->AddRectFilled(p0, p1, kBody, 3.0f);
+    dl->AddRect(p0, p1, kInk, 3.0f, 0, 2.0f);
+    const std::string m = num(a.bodies[i].mass, "kg");
+    text_centered(dl, 0.5f * (p0.x + p1.x), 0.5f * (p0.y + p1.y) - lh, kInk, a.bodies[i].name);
+    text_centered(dl, 0.5f * (p0.x + p1.x), 0.5f * (p0.y + p1.y), kDimInk, m);
+    // No contact under a floor body: rollers (frictionless support).
+    bool supported = false;
+    for (const auto& c : a.contacts) supported = supported || c.a == static_cast<int>(i);
+    if (!supported && l.level[i] == 0) {
+      const float r = 0.5f * (fy - p1.y);
+      for (float f : {0.25f, 0.75f}) dl->AddCircle({p0.x + f * (p1.x - p0.x), p1.y + r}, r, kInk, 12, 1.5f);
+    }
+  }
+  // Drives.
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const auto& d = a.drives[i];
+    const auto& g = l.drives[i];
+    const float o = dx(d.body);
+    const ImVec2 s(X + g.x + o, Y + g.y);
+    const Box& b = l.bodies[d.body];
+    dl->AddLine({s.x, Y + b.y0}, s, kDrive, 2.0f);
+    if (d.kind == DrivePart::Kind::Pull) {
+      const float po = static_cast<float>(std::clamp(pose.drive_point[i] * px_per_m, -0.1 * l.width, 0.1 * l.width));
+      const ImVec2 pt(X + g.px + po, Y + g.py);
+      if (d.pull_damper > 0.0) {
+        zigzag(dl, s, {pt.x, pt.y}, kDrive, 6.0f);
+        dashpot(dl, {pt.x, pt.y + 16.0f}, {s.x, s.y + 16.0f}, kDrive, 5.0f);
+        dl->AddLine({s.x, s.y}, {s.x, s.y + 16.0f}, kDrive, 1.5f);
+        dl->AddLine({pt.x, pt.y}, {pt.x, pt.y + 16.0f}, kDrive, 1.5f);
+      } else {
+        zigzag(dl, s, pt, kDrive, 6.0f);
+      }
+      dl->AddCircleFilled(pt, 5.0f, kDrive);
+      arrow(dl, {pt.x + 8.0f, pt.y}, {pt.x + 40.0f, pt.y}, kDrive);
+      std::string l1 = d.name + ": " + num(d.pull_spring, "N/m");
+      if (d.pull_damper > 0.0) l1 += ", " + num(d.pull_damper, "N s/m");
+      text_centered(dl, 0.5f * (s.x + pt.x), s.y - 8.0f - 2.0f * lh, kInk, l1);
+      text_centered(dl, 0.5f * (s.x + pt.x), s.y - 8.0f - lh, kDrive,
+                    (d.point_velocity ? "v_p " : "x_p ") + signal_label(d.signal, d.point_velocity ? "m/s" : "m") +
+                        (pose.t > 0.0 ? ", F = " + num(pose.drive_force[i], "N") : std::string()));
+    } else {
+      const bool force = d.kind == DrivePart::Kind::Force;
+      const double f = pose.drive_force[i];
+      float len = 60.0f;
+      if (force && pose.t > 0.0) {
+        double fmax = 0.0;
+        if (d.signal.kind == Signal::Kind::Sine) fmax = std::abs(d.signal.offset) + std::abs(d.signal.amplitude);
+        else if (d.signal.kind == Signal::Kind::Constant) fmax = std::abs(d.signal.value);
+        if (fmax > 0.0) len = static_cast<float>(std::clamp(f / fmax, -1.0, 1.0) * 60.0);
+      }
+      if (std::abs(len) < 4.0f) len = len < 0 ? -4.0f : 4.0f;
+      arrow(dl, s, {s.x + len, s.y}, kDrive, force ? 3.0f : 2.0f);
+      if (prescribed_kind(d.kind)) dl->AddCircle(s, 6.0f, kDrive, 12, 2.0f);
+      const char* what = force ? "F " : d.kind == DrivePart::Kind::Displacement ? "x " : "v ";
+      const char* unit = force ? "N" : d.kind == DrivePart::Kind::Displacement ? "m" : "m/s";
+      std::string l1 = d.name + ": " + what + signal_label(d.signal, unit);
+      text_centered(dl, s.x, s.y - 8.0f - 2.0f * lh, kInk, l1);
+      if (pose.t > 0.0) text_centered(dl, s.x, s.y - 8.0f - lh, kDrive, "F = " + num(f, "N"));
+    }
+  }
+  // Time and scale.
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "t = %.3f s    displacements magnified: 1 mm shown as %.3g px", pose.t, px_per_m * 1e-3);
+  dl->AddText({X + 6.0f, Y + 4.0f}, kDimInk, buf);
+  dl->AddRectFilled({X + 6.0f, Y + 8.0f + lh}, {X + 20.0f, Y + 8.0f + 2 * lh - 2}, kStick);
+  dl->AddText({X + 24.0f, Y + 8.0f + lh}, kInk, "stick");
+  dl->AddRectFilled({X + 74.0f, Y + 8.0f + lh}, {X + 88.0f, Y + 8.0f + 2 * lh - 2}, kSlip);
+  dl->AddText({X + 92.0f, Y + 8.0f + lh}, kInk, "slip");
+}
+
+void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::string& path) {
+  auto sim = std::make_unique<AssemblySimulation>(s);  // validates first
+  st.scenario = std::make_unique<AssemblyScenario>(s);
+  st.sim = std::move(sim);
+  st.path = path;
+  st.running = false;
+  st.error.clear();
+  st.plotted.assign(st.sim->trace().channels.size(), 0);
+  // Plot the positions by default.
+  for (std::size_t c = 0; c < st.plotted.size(); ++c)
+    st.plotted[c] = st.sim->trace().channels[c].kind == Channel::Kind::Position ||
+                    st.sim->trace().channels[c].kind == Channel::Kind::ContactForce;
+}
+
+void plant_run_until(PlantPanelState& st, double t) {
+  if (!st.sim) return;
+  const double dt = st.scenario->run.dt;
+  while (!st.sim->finished() && (t < 0.0 || st.sim->time() + 0.5 * dt < t)) {
+    const auto left = t < 0.0 ? std::size_t{1} << 20
+                              : static_cast<std::size_t>(std::max(1.0, std::ceil((t - st.sim->time()) / dt - 0.5)));
+    st.sim->advance(std::min<std::size_t>(left, std::size_t{1} << 20));
+  }
+}
+
+void draw_plant_panel(PlantPanelState& st, double frame_dt) {
+  const float left_w = std::min(340.0f, ImGui::GetContentRegionAvail().x * 0.28f);
+  ImGui::BeginChild("##plant_controls", ImVec2(left_w, 0), true);
+  ImGui::TextUnformatted("Assembled plant preset");
+  ImGui::SetNextItemWidth(-1);
+  ImGui::InputText("##plant_path", &st.path);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Preset file (JSON): schema_version 2 (assembled plant) or 1 (one body), e.g. presets/two_mass_drive.json");
+  if (ImGui::Button("Load")) {
+    try {
+      load_plant(st, load_assembly_scenario(st.path), st.path);
+    } catch (const std::exception& e) {
+      st.error = std::string("load failed: ") + e.what();
+    }
+  }
+  if (st.sim) {
+    ImGui::SameLine();
+    if (ImGui::Button(st.running ? "Pause" : "Run")) st.running = !st.running;
+    ImGui::SameLine();
+    if (ImGui::Button("Reset")) {
+      st.sim->reset();
+      st.running = false;
+    }
+    ImGui::SetNextItemWidth(-1);
+    float sp = static_cast<float>(st.speed);
+    if (ImGui::SliderFloat("##speed", &sp, 0.01f, 10.0f, "speed %.2f x", ImGuiSliderFlags_Logarithmic)) st.speed = sp;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Simulated seconds per wall-clock second");
+    ImGui::SetNextItemWidth(-1);
+    ImGui::SliderFloat("##mag", &st.magnification, 0.0f, 1000.0f, st.magnification == 0.0f ? "magnification auto" : "%.1f px/mm",
+                       ImGuiSliderFlags_Logarithmic);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Displacement magnification of the schematic [px per mm of displacement]; 0 = auto (the largest "
+                        "displacement so far spans half the narrowest body)");
+    ImGui::Separator();
+    const auto& sc = *st.scenario;
+    ImGui::TextWrapped("%s", sc.name.c_str());
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.35f, 0.35f, 0.38f, 1.0f));
+    ImGui::TextWrapped("%s", sc.description.c_str());
+    ImGui::PopStyleColor();
+    const auto w = modal_frequencies(sc.plant, true);
+    std::string modes;
+    for (double wi : w) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%s%.3g", modes.empty() ? "" : ", ", wi / (2 * M_PI));
+      modes += b;
+    }
+    ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
+    ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", stability_limit_dt(sc.plant), sc.run.dt);
+    ImGui::Separator();
+    ImGui::TextUnformatted("Plotted outputs");
+    const auto& ch = st.sim->trace().channels;
+    for (std::size_t c = 0; c < ch.size() && c < st.plotted.size(); ++c) {
+      bool on = st.plotted[c];
+      const std::string label = ch[c].name + " [" + ch[c].unit + "]";
+      if (ImGui::Checkbox(label.c_str(), &on)) st.plotted[c] = on;
+    }
+  }
+  if (!st.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
+    ImGui::TextWrapped("%s", st.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::EndChild();
+  ImGui::SameLine();
+  ImGui::BeginChild("##plant_view", ImVec2(0, 0), false);
+  if (!st.sim) {
+    ImGui::TextUnformatted("No plant loaded: enter a preset path on the left and press Load.");
+    ImGui::EndChild();
+    return;
+  }
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float canvas_h = std::max(220.0f, avail.y * 0.52f);
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  const Assembly& a = st.scenario->plant;
+  const PlantLayout l = layout_plant(a, avail.x, canvas_h);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(origin, {origin.x + avail.x, origin.y + canvas_h}, IM_COL32(255, 255, 255, 255));
+  const double mag = st.magnification > 0.0f ? st.magnification * 1e3 : auto_magnification(l, st.sim->trace());
+  draw_plant(dl, origin.x, origin.y, l, a, pose_of(*st.sim), mag);
+  ImGui::Dummy(ImVec2(avail.x, canvas_h));
+  // Plots of the chosen outputs: lengths, velocities and forces on separate axes.
+  const auto& tr = st.sim->trace();
+  struct Group {
+    const char* id;
+    const char* name;
+    const char* unit;
+    std::vector<Channel::Kind> kinds;
+  };
+  const Group groups[] = {{"##plant_x", "x", "m", {Channel::Kind::Position}},
+                          {"##plant_v", "v", "m/s", {Channel::Kind::Velocity}},
+                          {"##plant_f", "F", "N",
+                           {Channel::Kind::ContactForce, Channel::Kind::SpringForce, Channel::Kind::DamperForce,
+                            Channel::Kind::DriveForce}}};
+  std::vector<const Group*> shown;
+  for (const auto& g : groups)
+    for (std::size_t c = 0; c < tr.channels.size(); ++c)
+      if (c < st.plotted.size() && st.plotted[c] &&
+          std::find(g.kinds.begin(), g.kinds.end(), tr.channels[c].kind) != g.kinds.end()) {
+        shown.push_back(&g);
+        break;
+      }
+  std::vector<std::vector<double>> series(tr.channels.size());  // per channel, alive until EndPlot
+  const float ph = shown.empty() ? 0.0f : (ImGui::GetContentRegionAvail().y - 4.0f) / static_cast<float>(shown.size());
+  for (const Group* g : shown) {
+    if (BeginPlot(g->id, ImVec2(-1, ph))) {
+      SetupAxesSI("t", "s", g->name, g->unit);
+      SetupFitRangeX(0.0, st.scenario->run.duration);
+      int color = 0;
+      for (std::size_t c = 0; c < tr.channels.size(); ++c) {
+        if (!st.plotted[c] || std::find(g->kinds.begin(), g->kinds.end(), tr.channels[c].kind) == g->kinds.end()) continue;
+        series[c] = tr.series(tr.channels[c].name);
+        SeriesStyle s;
+        s.color = color++;
+        s.x_sorted = true;
+        PlotLine(tr.channels[c].name.c_str(), tr.t.data(), series[c].data(), tr.size(), s);
+      }
+      EndPlot();
+    }
+  }
+  ImGui::EndChild();
+  if (st.running) {
+    try {
+      plant_run_until(st, st.sim->time() + st.speed * frame_dt);
+      if (st.sim->finished()) st.running = false;
+    } catch (const std::exception& e) {
+      st.running = false;
+      st.error = std::string("run stopped: ") + e.what();
+    }
+  }
+}
+
+}  // namespace gmslab::ui
