@@ -24,16 +24,25 @@ PlantLayout layout_plant(const Assembly& a, float W, float H) {
   const int nb = static_cast<int>(a.bodies.size());
   l.bodies.assign(nb, {});
   l.level.assign(nb, 0);
-  // Stacking: a body in contact with another sits on it (the first such contact decides).
+  // Stacking: a body in contact with another sits on it (its first such contact), unless that
+  // would close a cycle or stack more than three high; then it stands on the floor.
   std::vector<int> support(nb, -1);
-  for (const auto& c : a.contacts)
-    if (c.b != kGround && support[c.a] < 0 && c.a != c.b) support[c.a] = c.b;
-  for (int pass = 0; pass < nb; ++pass)
-    for (int i = 0; i < nb; ++i)
-      if (support[i] >= 0) l.level[i] = std::min(3, l.level[support[i]] + 1);
-  // Break cycles (a on b on a): the one with the higher index goes down.
-  for (int i = 0; i < nb; ++i)
-    if (support[i] >= 0 && support[support[i]] == i && i > support[i]) support[i] = -1, l.level[i] = 0;
+  auto depth = [&](int i) {
+    int d = 0;
+    for (int j = support[i]; j >= 0 && d <= nb; j = support[j]) ++d;
+    return d;
+  };
+  for (const auto& c : a.contacts) {
+    if (c.b == kGround || c.a == c.b || support[c.a] >= 0) continue;
+    bool cycle = false;
+    for (int j = c.b; j >= 0; j = support[j]) cycle = cycle || j == c.a;
+    if (cycle || depth(c.b) >= 2) continue;
+    bool carries = false;  // c.a already carries a stack: keep it on its level
+    for (int j = 0; j < nb; ++j) carries = carries || support[j] == c.a;
+    if (carries && depth(c.b) >= 1) continue;
+    support[c.a] = c.b;
+  }
+  for (int i = 0; i < nb; ++i) l.level[i] = depth(i);
   std::vector<int> base;
   for (int i = 0; i < nb; ++i)
     if (support[i] < 0) base.push_back(i);
@@ -85,6 +94,7 @@ PlantLayout layout_plant(const Assembly& a, float W, float H) {
     if (ib == kGround) {
       const int nbr = left_neighbour(ia);
       const float gx = nbr < 0 ? l.wall_x : 0.5f * (l.bodies[nbr].x1 + A.x0);
+      l.wall = l.wall || nbr < 0;
       k = {A.x0, A.y0 + frac * (A.y1 - A.y0), gx, A.y0 + frac * (A.y1 - A.y0), 0.0f};
     } else if (adjacent(ia, ib)) {
       const Box& B = l.bodies[ib];
@@ -108,13 +118,19 @@ PlantLayout layout_plant(const Assembly& a, float W, float H) {
       l.contacts.push_back({A.x0 + 0.08f * (A.x1 - A.x0), A.y1, A.x1 - 0.08f * (A.x1 - A.x0), l.bodies[c.b].y0});
     }
   }
-  // Drives above their body; a pull drive's point at the right margin on the same height.
+  // Drives from the body's right face when nothing is to its right, else from above; a pull
+  // drive's point towards the right margin on the same height.
   for (std::size_t i = 0; i < a.drives.size(); ++i) {
-    const Box& A = l.bodies[a.drives[i].body];
+    const int ib = a.drives[i].body;
+    const Box& A = l.bodies[ib];
+    bool right_free = true;
+    for (int j = 0; j < nb; ++j)
+      if (j != ib && l.bodies[j].x0 >= A.x1 - 1.0f && l.bodies[j].y1 > A.y0 && l.bodies[j].y0 < A.y1) right_free = false;
     PlantLayout::DriveGlyph g;
-    g.x = A.cx();
-    g.y = A.y0 - 0.07f * H - 0.05f * H * static_cast<float>(i % 2);
-    g.px = W - 0.5f * margin_r;
+    g.side = right_free;
+    g.x = right_free ? A.x1 : A.cx();
+    g.y = right_free ? A.cy() : A.y0 - 0.07f * H - 0.05f * H * static_cast<float>(i % 2);
+    g.px = std::max(g.x + 0.5f * margin_r, W - 0.8f * margin_r);
     g.py = g.y;
     l.drives.push_back(g);
   }
@@ -277,9 +293,11 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
   hatch(dl, {X, fy}, {X + l.width, fy + 14.0f}, kDimInk);
   dl->AddLine({X, fy}, {X + l.width, fy}, kInk, 2.0f);
   const float wall_top = Y + 0.22f * l.height;
+  if (l.wall) {
   dl->AddRectFilled({X + l.wall_x - 14.0f, wall_top}, {X + l.wall_x, fy}, IM_COL32(235, 235, 238, 255));
   hatch(dl, {X + l.wall_x - 14.0f, wall_top}, {X + l.wall_x, fy}, kDimInk);
   dl->AddLine({X + l.wall_x, wall_top}, {X + l.wall_x, fy}, kInk, 2.0f);
+  }
   // Springs and dampers.
   auto draw_link = [&](const PlantLayout::Link& k, int ia, int ib, bool damper, const std::string& label) {
     const ImVec2 pa(X + k.ax + dx(ia), Y + k.ay), pb(X + k.bx + dx(ib), Y + k.by);
@@ -297,8 +315,11 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
         hatch(dl, {pb.x - 6.0f, pb.y - 8.0f}, {pb.x, fy}, kDimInk, 5.0f);
       }
       damper ? dashpot(dl, pb, pa, col, amp) : zigzag(dl, pa, pb, col, amp);
-      // Labels above springs, below dampers, between the ends.
-      text_centered(dl, 0.5f * (pa.x + pb.x), damper ? pa.y + amp + 2.0f : pa.y - amp - lh - 2.0f, kDimInk, label);
+      // Labels above springs, below dampers, between the ends; without the name in a narrow gap.
+      std::string text = label;
+      if (ImGui::CalcTextSize(text.c_str()).x > std::abs(pb.x - pa.x) - 4.0f && text.find(' ') != std::string::npos)
+        text = text.substr(text.find(' ') + 1);
+      text_centered(dl, 0.5f * (pa.x + pb.x), damper ? pa.y + amp + 2.0f : pa.y - amp - lh - 2.0f, kDimInk, text);
     }
   };
   for (std::size_t i = 0; i < a.springs.size(); ++i) {
@@ -360,9 +381,10 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
     const float o = dx(d.body);
     const ImVec2 s(X + g.x + o, Y + g.y);
     const Box& b = l.bodies[d.body];
-    dl->AddLine({s.x, Y + b.y0}, s, kDrive, 2.0f);
+    if (!g.side) dl->AddLine({s.x, Y + b.y0}, s, kDrive, 2.0f);
     if (d.kind == DrivePart::Kind::Pull) {
-      const float po = static_cast<float>(std::clamp(pose.drive_point[i] * px_per_m, -0.1 * l.width, 0.1 * l.width));
+      const double room = std::max(0.0, static_cast<double>(l.width - g.px - 40.0f));  // arrow stays inside
+      const float po = static_cast<float>(std::clamp(pose.drive_point[i] * px_per_m, -0.1 * l.width, std::min(0.1 * l.width, room)));
       const ImVec2 pt(X + g.px + po, Y + g.py);
       if (d.pull_damper > 0.0) {
         zigzag(dl, s, {pt.x, pt.y}, kDrive, 6.0f);
@@ -373,7 +395,7 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
         zigzag(dl, s, pt, kDrive, 6.0f);
       }
       dl->AddCircleFilled(pt, 5.0f, kDrive);
-      arrow(dl, {pt.x + 8.0f, pt.y}, {pt.x + 40.0f, pt.y}, kDrive);
+      arrow(dl, {pt.x + 8.0f, pt.y}, {pt.x + 34.0f, pt.y}, kDrive);
       std::string l1 = d.name + ": " + num(d.pull_spring, "N/m");
       if (d.pull_damper > 0.0) l1 += ", " + num(d.pull_damper, "N s/m");
       text_centered(dl, 0.5f * (s.x + pt.x), s.y - 8.0f - 2.0f * lh, kInk, l1);

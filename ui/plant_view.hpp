@@ -33,6 +33,7 @@ struct PlantLayout {
   float width = 0, height = 0;
   float floor_y = 0;          // top of the ground hatch
   float wall_x = 0;           // right face of the left wall (ground for parts to ground)
+  bool wall = false;          // some part ties to the wall
   std::vector<Box> bodies;    // per body
   std::vector<int> level;     // per body: 0 on the floor, 1 on top of a level-0 body, ...
   struct Link {               // a spring or damper
@@ -45,6 +46,7 @@ struct PlantLayout {
   struct DriveGlyph {
     float x = 0, y = 0;       // where the arrow / drive spring starts on the body
     float px = 0, py = 0;     // pull: the drive point at rest
+    bool side = false;        // from the body's right face (nothing there), else from above
   };
   std::vector<DriveGlyph> drives;
 };

@@ -144,8 +144,9 @@ struct AssemblyTrace {
 
 class AssemblySimulation {
  public:
-  // A contact is in gross slip when |v_rel| exceeds this or all its elements slip [m/s].
-  static constexpr double kSlipVelocity = 1e-6;
+  // A contact is in gross slip when |v_rel| exceeds this or all its elements slip [m/s] (the
+  // window's default slip velocity, ViewSettings::slip_velocity).
+  static constexpr double kSlipVelocity = 1e-4;
   static constexpr std::size_t kMaxRecordedElements = 64;
 
   explicit AssemblySimulation(const AssemblyScenario& s);  // validates; throws InputError
