@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/control/assembly_plant.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "ui/plot.hpp"
@@ -456,6 +457,54 @@ void plant_run_until(PlantPanelState& st, double t) {
   }
 }
 
+namespace {
+// The linear plant from a chosen drive to a chosen body's position: its poles and zeros [Hz].
+void linear_plant_section(PlantPanelState& st) {
+  const Assembly& a = st.scenario->plant;
+  ImGui::TextUnformatted("Linear plant G(s) = x / u");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("From a force drive (u = F [N]) or pull drive (u = x_p [m]) to a body's position x [m], with every "
+                      "contact stuck (springs sum k_i, micro-damping) or sliding at v0 = 10 Vs (damping dF_ss/dv)");
+  auto combo = [](const char* id, int& sel, const std::vector<std::string>& items) {
+    sel = std::clamp(sel, 0, std::max(0, static_cast<int>(items.size()) - 1));
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::BeginCombo(id, items.empty() ? "" : items[static_cast<std::size_t>(sel)].c_str())) {
+      for (std::size_t i = 0; i < items.size(); ++i)
+        if (ImGui::Selectable(items[i].c_str(), sel == static_cast<int>(i))) sel = static_cast<int>(i);
+      ImGui::EndCombo();
+    }
+  };
+  std::vector<std::string> drives, outputs;
+  for (const auto& d : a.drives) drives.push_back("from " + d.name + " (" + to_string(d.kind) + ")");
+  for (const auto& b : a.bodies) outputs.push_back("to x." + b.name);
+  combo("##tf_drive", st.tf_drive, drives);
+  combo("##tf_output", st.tf_output, outputs);
+  ImGui::Checkbox("contacts sliding", &st.tf_sliding);
+  if (drives.empty()) return;
+  try {
+    const auto g = control::assembly_transfer_function(a, static_cast<std::size_t>(st.tf_drive),
+                                                       "x." + a.bodies[static_cast<std::size_t>(st.tf_output)].name,
+                                                       st.tf_sliding ? control::Regime::Sliding : control::Regime::Presliding);
+    auto list = [](std::vector<control::cplx> r) {
+      std::string s;
+      std::sort(r.begin(), r.end(), [](auto p, auto q) { return std::abs(p) < std::abs(q); });
+      for (const auto& z : r) {
+        if (z.imag() < 0.0) continue;  // one of each conjugate pair
+        char b[64];
+        if (z.imag() > 0.0) std::snprintf(b, sizeof b, "%s%.3g Hz (zeta %.2g)", s.empty() ? "" : ", ", std::abs(z) / (2 * M_PI), -z.real() / std::abs(z));
+        else std::snprintf(b, sizeof b, "%s%.3g rad/s", s.empty() ? "" : ", ", z.real());
+        s += b;
+      }
+      return s.empty() ? std::string("none") : s;
+    };
+    ImGui::TextWrapped("poles: %s", list(g.poles()).c_str());
+    ImGui::TextWrapped("zeros: %s", list(g.zeros()).c_str());
+  } catch (const std::exception& e) {
+    ImGui::TextWrapped("%s", e.what());
+  }
+}
+}  // namespace
+
 void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   const float left_w = std::min(340.0f, ImGui::GetContentRegionAvail().x * 0.28f);
   ImGui::BeginChild("##plant_controls", ImVec2(left_w, 0), true);
@@ -504,6 +553,8 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
     }
     ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
     ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", stability_limit_dt(sc.plant), sc.run.dt);
+    ImGui::Separator();
+    linear_plant_section(st);
     ImGui::Separator();
     ImGui::TextUnformatted("Plotted outputs");
     const auto& ch = st.sim->trace().channels;

@@ -83,6 +83,8 @@ struct PlantPanelState {
   double speed = 1.0;                  // simulated s per wall-clock s
   float magnification = 0.0f;          // px per mm; 0 = auto
   std::vector<std::uint8_t> plotted;   // per output channel
+  int tf_drive = 0, tf_output = 0;     // linear plant: drive index, body index of the output
+  bool tf_sliding = true;              // contacts sliding at their default v0 (else stuck)
   std::string error;
 };
 

@@ -1,6 +1,8 @@
 #include "core/io/assembly_io.hpp"
 
+#include <cstdio>
 #include <filesystem>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
@@ -169,6 +171,36 @@ AssemblyScenario load_assembly_scenario(const std::string& path) {
   if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes > (64u << 20))
     throw InputError(path + ": the file is " + std::to_string(bytes) + " bytes; a preset may be at most 64 MiB");
   return assembly_scenario_from_json(parse_json(read_file(path), path), path);
+}
+
+void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out) {
+  out << "t_s";
+  for (const auto& c : tr.channels) out << ',' << c.name << '_' << (c.unit == "m/s" ? "mps" : c.unit);
+  std::vector<std::string> contacts;
+  for (const auto& c : tr.channels)
+    if (c.kind == Channel::Kind::ContactForce) contacts.push_back(c.name.substr(2));
+  for (const auto& n : contacts) out << ",slip." << n;
+  out << '\n';
+  char buf[32];
+  const std::size_t nc = tr.channels.size();
+  for (std::size_t k = 0; k < tr.size(); ++k) {
+    std::snprintf(buf, sizeof buf, "%.17g", tr.t[k]);
+    out << buf;
+    for (std::size_t c = 0; c < nc; ++c) {
+      std::snprintf(buf, sizeof buf, ",%.17g", tr.values[k * nc + c]);
+      out << buf;
+    }
+    for (std::size_t j = 0; j < tr.contact_slip.size(); ++j) out << ',' << static_cast<int>(tr.contact_slip[j][k]);
+    out << '\n';
+  }
+}
+
+std::size_t save_assembly_trace_csv(const AssemblyScenario& s, const std::string& path) {
+  const AssemblyTrace tr = simulate(s);
+  std::ostringstream o;
+  write_assembly_trace_csv(tr, o);
+  write_file_atomic(path, o.str());
+  return tr.size();
 }
 
 void save_assembly_scenario(const AssemblyScenario& s, const std::string& path) {

@@ -21,6 +21,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 
 #include "core/sim/assembly.hpp"
@@ -34,6 +35,12 @@ nlohmann::json to_json(const AssemblyScenario& s);
 AssemblyScenario assembly_scenario_from_json(const nlohmann::json& j, const std::string& file);
 AssemblyScenario load_assembly_scenario(const std::string& path);
 void save_assembly_scenario(const AssemblyScenario& s, const std::string& path);  // atomic
+// The trace as CSV: t_s, every output channel (name_unit: x.motor_m, v.motor_mps, F.shaft_N), then
+// each contact's gross-slip flag (slip.CONTACT, 1 = slipping). Full precision (%.17g).
+void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out);
+// Simulates and writes the CSV atomically; returns the sample count. The trace is kept in memory
+// while it runs (unlike the one-body streamed writer).
+std::size_t save_assembly_trace_csv(const AssemblyScenario& s, const std::string& path);
 // schema_version of a preset file's JSON (0 when absent or not an integer).
 int preset_schema_version(const nlohmann::json& j);
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <numeric>
 #include <random>
+#include <sstream>
 #include <unistd.h>
 
 #include "core/error.hpp"
@@ -419,6 +420,30 @@ std::string load_error(const std::string& text) {
 std::string with_plant(const std::string& plant) {
   return R"({"schema_version": 2, "name": "t", "plant": )" + plant +
          R"(, "run": {"dt": 1e-5, "duration": 1}})";
+}
+
+TEST(AssemblyIo, TraceCsvHasEveryOutputAndSlipFlag) {
+  AssemblyScenario s = load_assembly_scenario(preset("slider_on_table.json"));
+  s.run.duration = 0.5;
+  const auto tr = simulate(s);
+  std::ostringstream o;
+  write_assembly_trace_csv(tr, o);
+  std::istringstream in(o.str());
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "t_s,x.slider_m,v.slider_mps,x.table_m,v.table_mps,F.pad_N,F.holder_N,F.bearing_N,F.belt_N,slip.pad");
+  std::size_t rows = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 9) << line;
+  }
+  EXPECT_EQ(rows, tr.size());
+  // Full precision: the last row's table position reads back exactly.
+  const std::string last = o.str().substr(o.str().rfind('\n', o.str().size() - 2) + 1);
+  std::istringstream cells(last);
+  std::string cell;
+  for (int i = 0; i < 4; ++i) std::getline(cells, cell, ',');
+  EXPECT_EQ(std::stod(cell), tr.series("x.table").back());
 }
 
 TEST(AssemblyIo, LoadingErrorsNameTheKeyPath) {
