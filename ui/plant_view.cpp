@@ -10,6 +10,7 @@
 #include "core/control/assembly_plant.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
+#include "ui/param_editor.hpp"
 #include "ui/plot.hpp"
 
 namespace gmslab::ui {
@@ -433,6 +434,245 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
   dl->AddText({X + 92.0f, Y + 8.0f + lh}, kInk, "slip");
 }
 
+
+const char* to_string(PartRef::Kind k) {
+  switch (k) {
+    case PartRef::Kind::None: return "none";
+    case PartRef::Kind::Body: return "body";
+    case PartRef::Kind::Spring: return "spring";
+    case PartRef::Kind::Damper: return "damper";
+    case PartRef::Kind::Contact: return "contact";
+    case PartRef::Kind::Drive: return "drive";
+  }
+  return "?";
+}
+
+namespace {
+float seg_dist(float px, float py, float ax, float ay, float bx, float by) {
+  const float dx = bx - ax, dy = by - ay, len2 = dx * dx + dy * dy;
+  float t = len2 > 0.0f ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0.0f;
+  t = std::clamp(t, 0.0f, 1.0f);
+  const float qx = ax + t * dx - px, qy = ay + t * dy - py;
+  return std::sqrt(qx * qx + qy * qy);
+}
+float body_dx(const PlantLayout& l, const PlantPose& pose, double mag, int body) {
+  if (body < 0) return 0.0f;
+  const double d = pose.x[static_cast<std::size_t>(body)] * mag;
+  return static_cast<float>(std::clamp(d, -0.45 * l.width, 0.45 * l.width));
+}
+}  // namespace
+
+PartRef hit_test(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double mag, float mx, float my) {
+  auto dx = [&](int b) { return body_dx(l, pose, mag, b); };
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const auto& g = l.drives[i];
+    const float x = g.x + dx(a.drives[i].body);
+    if (std::hypot(mx - x, my - g.y) < 10.0f || (a.drives[i].kind == DrivePart::Kind::Pull && seg_dist(mx, my, x, g.y, g.px, g.py) < 6.0f))
+      return {PartRef::Kind::Drive, static_cast<int>(i)};
+  }
+  for (std::size_t j = 0; j < a.contacts.size(); ++j) {
+    const Box& p = l.contacts[j];
+    const float o = dx(a.contacts[j].a);
+    if (mx >= p.x0 + o && mx <= p.x1 + o && my >= p.y0 && my <= p.y1) return {PartRef::Kind::Contact, static_cast<int>(j)};
+  }
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    const Box& b = l.bodies[i];
+    const float o = dx(static_cast<int>(i));
+    if (mx >= b.x0 + o && mx <= b.x1 + o && my >= b.y0 && my <= b.y1) return {PartRef::Kind::Body, static_cast<int>(i)};
+  }
+  auto near_link = [&](const PlantLayout::Link& k, int ia, int ib) {
+    const float ax = k.ax + dx(ia), bx = k.bx + dx(ib);
+    if (k.lift > 0.0f) return seg_dist(mx, my, ax, k.ay - k.lift, bx, k.by - k.lift) < 8.0f;
+    return seg_dist(mx, my, ax, k.ay, bx, k.by) < 8.0f;
+  };
+  for (std::size_t i = 0; i < a.springs.size(); ++i)
+    if (near_link(l.springs[i], a.springs[i].a, a.springs[i].b)) return {PartRef::Kind::Spring, static_cast<int>(i)};
+  for (std::size_t i = 0; i < a.dampers.size(); ++i)
+    if (near_link(l.dampers[i], a.dampers[i].a, a.dampers[i].b)) return {PartRef::Kind::Damper, static_cast<int>(i)};
+  return {};
+}
+
+Assembly remove_part(const Assembly& a, PartRef p) {
+  Assembly out = a;
+  auto erase = [&](auto& v) {
+    if (p.index >= 0 && p.index < static_cast<int>(v.size())) v.erase(v.begin() + p.index);
+  };
+  switch (p.kind) {
+    case PartRef::Kind::None: break;
+    case PartRef::Kind::Spring: erase(out.springs); break;
+    case PartRef::Kind::Damper: erase(out.dampers); break;
+    case PartRef::Kind::Contact: erase(out.contacts); break;
+    case PartRef::Kind::Drive: erase(out.drives); break;
+    case PartRef::Kind::Body: {
+      if (p.index < 0 || p.index >= static_cast<int>(a.bodies.size())) break;
+      erase(out.bodies);
+      auto map = [&](int i) { return i == kGround ? kGround : i > p.index ? i - 1 : i; };
+      auto keep = [&](auto& v) {
+        std::erase_if(v, [&](const auto& x) { return x.a == p.index || x.b == p.index; });
+        for (auto& x : v) x.a = map(x.a), x.b = map(x.b);
+      };
+      keep(out.springs);
+      keep(out.dampers);
+      keep(out.contacts);
+      std::erase_if(out.drives, [&](const DrivePart& d) { return d.body == p.index; });
+      for (auto& d : out.drives) d.body = map(d.body);
+      break;
+    }
+  }
+  return out;
+}
+
+PartRef add_part(Assembly& a, PartRef::Kind kind, int at) {
+  auto used = [&](const std::string& n) {
+    for (const auto& x : a.bodies) if (x.name == n) return true;
+    for (const auto& x : a.springs) if (x.name == n) return true;
+    for (const auto& x : a.dampers) if (x.name == n) return true;
+    for (const auto& x : a.contacts) if (x.name == n) return true;
+    for (const auto& x : a.drives) if (x.name == n) return true;
+    return false;
+  };
+  auto fresh = [&](const std::string& base) {
+    for (int n = 1;; ++n)
+      if (!used(base + std::to_string(n))) return base + std::to_string(n);
+  };
+  if (at < 0 || at >= static_cast<int>(a.bodies.size())) at = a.bodies.empty() ? kGround : 0;
+  switch (kind) {
+    case PartRef::Kind::None: return {};
+    case PartRef::Kind::Body: {
+      a.bodies.push_back({fresh("body"), 1.0});
+      const int i = static_cast<int>(a.bodies.size()) - 1;
+      a.springs.push_back({fresh("spring"), i, at, 1000.0});
+      return {kind, i};
+    }
+    case PartRef::Kind::Spring: a.springs.push_back({fresh("spring"), at, kGround, 1000.0}); return {kind, static_cast<int>(a.springs.size()) - 1};
+    case PartRef::Kind::Damper: a.dampers.push_back({fresh("damper"), at, kGround, 1.0}); return {kind, static_cast<int>(a.dampers.size()) - 1};
+    case PartRef::Kind::Contact:
+      a.contacts.push_back({fresh("contact"), at, kGround, model_info("gms").defaults()});
+      return {kind, static_cast<int>(a.contacts.size()) - 1};
+    case PartRef::Kind::Drive:
+      a.drives.push_back({fresh("drive"), DrivePart::Kind::Force, at, Signal::constant(1.0)});
+      return {kind, static_cast<int>(a.drives.size()) - 1};
+  }
+  return {};
+}
+
+bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited) {
+  try {
+    auto sim = std::make_unique<AssemblySimulation>(edited);
+    if (st.scenario) st.undo.push_back(*st.scenario);
+    st.redo.clear();
+    st.scenario = std::make_unique<AssemblyScenario>(edited);
+    st.sim = std::move(sim);
+    st.running = false;
+    st.plotted.assign(st.sim->trace().channels.size(), 1);
+    st.edit_msg.clear();
+    return true;
+  } catch (const std::exception& e) {
+    st.edit_msg = e.what();
+    return false;
+  }
+}
+
+namespace {
+void swap_to(PlantPanelState& st, std::vector<AssemblyScenario>& from, std::vector<AssemblyScenario>& to) {
+  if (from.empty() || !st.scenario) return;
+  AssemblyScenario s = std::move(from.back());
+  from.pop_back();
+  to.push_back(*st.scenario);
+  st.scenario = std::make_unique<AssemblyScenario>(s);
+  st.sim = std::make_unique<AssemblySimulation>(s);  // was valid when it was pushed
+  st.running = false;
+  st.plotted.assign(st.sim->trace().channels.size(), 1);
+  st.selected = {};
+  st.edit_msg.clear();
+}
+
+// The selected part's fields; an edit is applied only when the plant validates.
+void part_editor(PlantPanelState& st) {
+  AssemblyScenario ed = *st.scenario;
+  Assembly& a = ed.plant;
+  const PartRef sel = st.selected;
+  bool changed = false;
+  std::vector<std::string> ends{"ground"};
+  for (const auto& b : a.bodies) ends.push_back(b.name);
+  auto end_combo = [&](const char* label, int& idx, bool ground_ok) {
+    int k = idx + 1;
+    ImGui::SetNextItemWidth(-80);
+    if (ImGui::BeginCombo(label, ends[static_cast<std::size_t>(std::clamp(k, 0, static_cast<int>(ends.size()) - 1))].c_str())) {
+      for (std::size_t i = ground_ok ? 0 : 1; i < ends.size(); ++i)
+        if (ImGui::Selectable(ends[i].c_str(), k == static_cast<int>(i))) idx = static_cast<int>(i) - 1, changed = true;
+      ImGui::EndCombo();
+    }
+  };
+  auto number = [&](const char* label, double& v, const char* tip) {
+    ImGui::SetNextItemWidth(-80);
+    if (ImGui::InputDouble(label, &v, 0, 0, "%.6g", ImGuiInputTextFlags_EnterReturnsTrue)) changed = true;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", tip);
+  };
+  auto name = [&](std::string& n) {
+    ImGui::SetNextItemWidth(-80);
+    if (ImGui::InputText("name", &n, ImGuiInputTextFlags_EnterReturnsTrue)) changed = true;
+  };
+  ImGui::Text("Selected %s", to_string(sel.kind));
+  ImGui::PushID("part");
+  switch (sel.kind) {
+    case PartRef::Kind::None: ImGui::TextUnformatted("(click a part of the schematic)"); break;
+    case PartRef::Kind::Body: {
+      auto& b = a.bodies[static_cast<std::size_t>(sel.index)];
+      name(b.name);
+      number("mass [kg]", b.mass, "Mass of the body [kg], (0, 1e9]");
+      break;
+    }
+    case PartRef::Kind::Spring: {
+      auto& x = a.springs[static_cast<std::size_t>(sel.index)];
+      name(x.name);
+      end_combo("a", x.a, false);
+      end_combo("b", x.b, true);
+      number("k [N/m]", x.stiffness, "Stiffness [N/m], [0, 1e12]; force on a: -k (x_a - x_b)");
+      break;
+    }
+    case PartRef::Kind::Damper: {
+      auto& x = a.dampers[static_cast<std::size_t>(sel.index)];
+      name(x.name);
+      end_combo("a", x.a, false);
+      end_combo("b", x.b, true);
+      number("c [N s/m]", x.damping, "Damping [N s/m], [0, 1e12]; force on a: -c (v_a - v_b)");
+      break;
+    }
+    case PartRef::Kind::Contact: {
+      auto& x = a.contacts[static_cast<std::size_t>(sel.index)];
+      name(x.name);
+      end_combo("a", x.a, false);
+      end_combo("b", x.b, true);
+      if (edit_model_choice("model", x.friction)) changed = true;
+      if (edit_model_params("##contact_params", x.friction)) changed = true;
+      break;
+    }
+    case PartRef::Kind::Drive: {
+      auto& d = a.drives[static_cast<std::size_t>(sel.index)];
+      name(d.name);
+      end_combo("body", d.body, false);
+      if (d.kind == DrivePart::Kind::Pull) {
+        number("k_p [N/m]", d.pull_spring, "Spring from the drive point to the body [N/m], (0, 1e12]");
+        number("c_p [N s/m]", d.pull_damper, "Damper from the drive point to the body [N s/m], [0, 1e12]");
+      }
+      if (d.signal.kind == Signal::Kind::Constant) number("value", d.signal.value, "Constant drive value (N, m or m/s by kind)");
+      if (d.signal.kind == Signal::Kind::Sine) {
+        number("amplitude", d.signal.amplitude, "Sine amplitude (N, m or m/s by kind)");
+        number("frequency [Hz]", d.signal.frequency, "Sine frequency [Hz]");
+      }
+      if (d.signal.kind == Signal::Kind::Ramp) number("slope", d.signal.slope, "Ramp slope (per s)");
+      break;
+    }
+  }
+  ImGui::PopID();
+  if (changed) apply_plant_edit(st, ed);
+}
+}  // namespace
+
+void plant_undo(PlantPanelState& st) { swap_to(st, st.undo, st.redo); }
+void plant_redo(PlantPanelState& st) { swap_to(st, st.redo, st.undo); }
+
 void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::string& path) {
   auto sim = std::make_unique<AssemblySimulation>(s);  // validates first
   st.scenario = std::make_unique<AssemblyScenario>(s);
@@ -440,6 +680,10 @@ void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::strin
   st.path = path;
   st.running = false;
   st.error.clear();
+  st.selected = {};
+  st.undo.clear();
+  st.redo.clear();
+  st.edit_msg.clear();
   st.plotted.assign(st.sim->trace().channels.size(), 0);
   // Plot the positions by default.
   for (std::size_t c = 0; c < st.plotted.size(); ++c)
@@ -539,6 +783,42 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       ImGui::SetTooltip("Displacement magnification of the schematic [px per mm of displacement]; 0 = auto (the largest "
                         "displacement so far spans half the narrowest body)");
     ImGui::Separator();
+    // Palette: add a part at the selected body (or the first), delete, undo / redo.
+    const int at = st.selected.kind == PartRef::Kind::Body ? st.selected.index : 0;
+    const PartRef::Kind kinds[] = {PartRef::Kind::Body, PartRef::Kind::Spring, PartRef::Kind::Damper, PartRef::Kind::Contact,
+                                   PartRef::Kind::Drive};
+    for (auto k : kinds) {
+      if (k != PartRef::Kind::Body) ImGui::SameLine();
+      const std::string label = std::string("+") + to_string(k);
+      if (ImGui::SmallButton(label.c_str())) {
+        AssemblyScenario ed = *st.scenario;
+        const PartRef added = add_part(ed.plant, k, at);
+        if (apply_plant_edit(st, ed)) st.selected = added;
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Add a %s at the selected body (to ground); then edit it below", to_string(k));
+    }
+    ImGui::BeginDisabled(st.selected.kind == PartRef::Kind::None);
+    if (ImGui::SmallButton("delete")) {
+      AssemblyScenario ed = *st.scenario;
+      ed.plant = remove_part(ed.plant, st.selected);
+      if (apply_plant_edit(st, ed)) st.selected = {};
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(st.undo.empty());
+    if (ImGui::SmallButton("undo")) plant_undo(st);
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(st.redo.empty());
+    if (ImGui::SmallButton("redo")) plant_redo(st);
+    ImGui::EndDisabled();
+    part_editor(st);
+    if (!st.edit_msg.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
+      ImGui::TextWrapped("Not applied: %s", st.edit_msg.c_str());
+      ImGui::PopStyleColor();
+    }
+    ImGui::Separator();
     const auto& sc = *st.scenario;
     ImGui::TextWrapped("%s", sc.name.c_str());
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.35f, 0.35f, 0.38f, 1.0f));
@@ -585,8 +865,27 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddRectFilled(origin, {origin.x + avail.x, origin.y + canvas_h}, IM_COL32(255, 255, 255, 255));
   const double mag = st.magnification > 0.0f ? st.magnification * 1e3 : auto_magnification(l, st.sim->trace());
-  draw_plant(dl, origin.x, origin.y, l, a, pose_of(*st.sim), mag);
-  ImGui::Dummy(ImVec2(avail.x, canvas_h));
+  const PlantPose pose = pose_of(*st.sim);
+  draw_plant(dl, origin.x, origin.y, l, a, pose, mag);
+  ImGui::InvisibleButton("##plant_canvas", ImVec2(avail.x, canvas_h));
+  if (ImGui::IsItemClicked()) {
+    const ImVec2 m = ImGui::GetMousePos();
+    st.selected = hit_test(l, a, pose, mag, m.x - origin.x, m.y - origin.y);
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Click a part to edit it (left column)");
+  {  // the selected block or pad, outlined
+    const auto& sel = st.selected;
+    const Box* b = nullptr;
+    int body = -1;
+    if (sel.kind == PartRef::Kind::Body && sel.index < static_cast<int>(l.bodies.size())) b = &l.bodies[sel.index], body = sel.index;
+    if (sel.kind == PartRef::Kind::Contact && sel.index < static_cast<int>(l.contacts.size()))
+      b = &l.contacts[sel.index], body = a.contacts[sel.index].a;
+    if (b) {
+      const float o = body_dx(l, pose, mag, body);
+      dl->AddRect({origin.x + b->x0 + o - 4, origin.y + b->y0 - 4}, {origin.x + b->x1 + o + 4, origin.y + b->y1 + 4},
+                  IM_COL32(204, 121, 167, 255), 3.0f, 0, 2.5f);
+    }
+  }
   // Plots of the chosen outputs: lengths, velocities and forces on separate axes.
   const auto& tr = st.sim->trace();
   struct Group {

@@ -74,6 +74,24 @@ double auto_magnification(const PlantLayout& l, const AssemblyTrace& tr);
 void draw_plant(ImDrawList* dl, float x0, float y0, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
                 double px_per_m);
 
+// Editing: a part of the plant, what the mouse hits, and the edits (pure data; the panel applies an
+// edit only when the edited plant validates, with undo / redo).
+struct PartRef {
+  enum class Kind { None, Body, Spring, Damper, Contact, Drive };
+  Kind kind = Kind::None;
+  int index = -1;
+  bool operator==(const PartRef&) const = default;
+};
+const char* to_string(PartRef::Kind k);
+// The part under canvas point (mx, my) for the layout drawn with `pose` and `px_per_m`; None if
+// nothing is within 6 px. Drives and contacts before bodies, springs and dampers last.
+PartRef hit_test(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double px_per_m, float mx, float my);
+// The plant without the part; removing a body removes every part attached to it and renumbers.
+Assembly remove_part(const Assembly& a, PartRef p);
+// The plant with a new part (unique name "<kind><n>") attached to body `at` and ground (a body:
+// tied to `at` - or ground when the plant is empty - by a 1000 N/m spring). Returns its ref.
+PartRef add_part(Assembly& a, PartRef::Kind kind, int at);
+
 // The Plant panel's state: its own assembled scenario and run (v1 presets load as one body).
 struct PlantPanelState {
   std::string path;
@@ -85,6 +103,9 @@ struct PlantPanelState {
   std::vector<std::uint8_t> plotted;   // per output channel
   int tf_drive = 0, tf_output = 0;     // linear plant: drive index, body index of the output
   bool tf_sliding = true;              // contacts sliding at their default v0 (else stuck)
+  PartRef selected;                    // the part being edited
+  std::vector<AssemblyScenario> undo, redo;
+  std::string edit_msg;                // why the last edit was not applied
   std::string error;
 };
 
@@ -92,6 +113,11 @@ struct PlantPanelState {
 void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::string& path);
 // Runs to simulated time t (t < 0: the end). Throws SimulationError.
 void plant_run_until(PlantPanelState& st, double t);
+// Applies an edited scenario when it validates (the run restarts; the old one goes on the undo
+// stack); else keeps the plant and sets edit_msg. Returns whether it was applied.
+bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited);
+void plant_undo(PlantPanelState& st);
+void plant_redo(PlantPanelState& st);
 void draw_plant_panel(PlantPanelState& st, double frame_dt);
 
 }  // namespace gmslab::ui

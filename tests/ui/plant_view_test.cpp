@@ -97,6 +97,76 @@ TEST(PlantLayout, RandomAssembliesAreLaidOutSoundly) {
   }
 }
 
+TEST(PlantEdit, HitTestFindsEachPartWhereItIsDrawn) {
+  for (const char* name : {"two_mass_drive.json", "slider_on_table.json", "three_body_chain.json"}) {
+    SCOPED_TRACE(name);
+    const auto s = load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/" + name);
+    const Assembly& a = s.plant;
+    const PlantLayout l = layout_plant(a, 1200.0f, 420.0f);
+    PlantPose pose = rest_pose(a);
+    std::mt19937 rng(7);
+    for (auto& x : pose.x) x = std::uniform_real_distribution<double>(-0.01, 0.01)(rng);  // moved bodies
+    const double mag = 2000.0;  // px per m
+    auto off = [&](int b) { return static_cast<float>(pose.x[b] * mag); };
+    for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+      const Box& b = l.bodies[i];
+      EXPECT_EQ(hit_test(l, a, pose, mag, b.x0 + off(i) + 3.0f, b.y0 + 3.0f), (PartRef{PartRef::Kind::Body, static_cast<int>(i)}));
+    }
+    for (std::size_t j = 0; j < a.contacts.size(); ++j) {
+      const Box& p = l.contacts[j];
+      EXPECT_EQ(hit_test(l, a, pose, mag, p.cx() + off(a.contacts[j].a), p.cy()), (PartRef{PartRef::Kind::Contact, static_cast<int>(j)}));
+    }
+    for (std::size_t i = 0; i < a.springs.size(); ++i) {
+      const auto& k = l.springs[i];
+      const float ax = k.ax + off(a.springs[i].a), bx = k.bx + (a.springs[i].b >= 0 ? off(a.springs[i].b) : 0.0f);
+      EXPECT_EQ(hit_test(l, a, pose, mag, 0.5f * (ax + bx), 0.5f * (k.ay + k.by) - k.lift),
+                (PartRef{PartRef::Kind::Spring, static_cast<int>(i)}));
+    }
+    EXPECT_EQ(hit_test(l, a, pose, mag, 2.0f, 2.0f), PartRef{});  // empty corner
+  }
+}
+
+TEST(PlantEdit, RemovingABodyRemovesItsPartsAndRenumbers) {
+  const auto s = load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/three_body_chain.json");
+  const Assembly a = remove_part(s.plant, {PartRef::Kind::Body, 1});  // the middle body
+  ASSERT_EQ(a.bodies.size(), 2u);
+  EXPECT_EQ(a.bodies[1].name, "b3");
+  EXPECT_TRUE(a.springs.empty()) << "both chain springs touched b2";
+  EXPECT_TRUE(a.dampers.empty());
+  ASSERT_EQ(a.contacts.size(), 2u);
+  EXPECT_EQ(a.contacts[1].a, 1) << "b3's contact now names index 1";
+  EXPECT_TRUE(validate(a).empty());  // both bodies still have a contact to ground
+  // Removing a drive or a part by index drops exactly it.
+  EXPECT_EQ(remove_part(s.plant, {PartRef::Kind::Spring, 0}).springs.size(), 1u);
+  EXPECT_EQ(remove_part(s.plant, {PartRef::Kind::Spring, 0}).springs[0].name, "k23");
+}
+
+TEST(PlantEdit, EditsApplyOnlyWhenValidAndUndoRedoRestore) {
+  PlantPanelState st;
+  const auto s = load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/two_mass_drive.json");
+  load_plant(st, s, "two_mass_drive.json");
+  AssemblyScenario ed = *st.scenario;
+  const PartRef body = add_part(ed.plant, PartRef::Kind::Body, 1);
+  EXPECT_EQ(ed.plant.bodies[body.index].name, "body1");
+  ASSERT_TRUE(apply_plant_edit(st, ed));
+  EXPECT_EQ(st.scenario->plant.bodies.size(), 3u);
+  // A negative mass is not applied; the message names the key.
+  AssemblyScenario bad = *st.scenario;
+  bad.plant.bodies[0].mass = -1.0;
+  EXPECT_FALSE(apply_plant_edit(st, bad));
+  EXPECT_NE(st.edit_msg.find("plant.bodies[0].mass"), std::string::npos) << st.edit_msg;
+  EXPECT_EQ(st.scenario->plant.bodies[0].mass, 0.5);
+  // Removing the load's spring leaves the new body floating: rejected.
+  AssemblyScenario floating = *st.scenario;
+  floating.plant = remove_part(floating.plant, {PartRef::Kind::Spring, 1});
+  EXPECT_FALSE(apply_plant_edit(st, floating));
+  plant_undo(st);
+  EXPECT_EQ(*st.scenario, s);
+  plant_redo(st);
+  EXPECT_EQ(st.scenario->plant.bodies.size(), 3u);
+  EXPECT_NO_THROW(plant_run_until(st, 0.1));
+}
+
 int run(const std::string& cmd) {
   const int rc = std::system((cmd + " 2>/dev/null").c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
