@@ -352,10 +352,10 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
       const float ly = fy + 18.0f + static_cast<float>(j % 2) * 2.2f * lh;
       text_centered(dl, 0.5f * (p0.x + p1.x), ly, kInk, label);
       text_centered(dl, 0.5f * (p0.x + p1.x), ly + lh, col, force);
-    } else {
-      const float lx = X + l.bodies[c.a].x1 + off + 8.0f;
-      dl->AddText({lx, p0.y - 0.5f * lh}, kInk, label.c_str());
-      dl->AddText({lx, p0.y + 0.5f * lh}, col, force.c_str());
+    } else {  // left of the pad, right-aligned (the body below reaches further right)
+      const float lx = X + l.bodies[c.a].x0 + off - 8.0f;
+      dl->AddText({lx - ImGui::CalcTextSize(label.c_str()).x, p0.y - lh}, kInk, label.c_str());
+      dl->AddText({lx - ImGui::CalcTextSize(force.c_str()).x, p0.y}, col, force.c_str());
     }
   }
   // Bodies.
@@ -788,7 +788,7 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
     const PartRef::Kind kinds[] = {PartRef::Kind::Body, PartRef::Kind::Spring, PartRef::Kind::Damper, PartRef::Kind::Contact,
                                    PartRef::Kind::Drive};
     for (auto k : kinds) {
-      if (k != PartRef::Kind::Body) ImGui::SameLine();
+      if (k != PartRef::Kind::Body && k != PartRef::Kind::Contact) ImGui::SameLine();
       const std::string label = std::string("+") + to_string(k);
       if (ImGui::SmallButton(label.c_str())) {
         AssemblyScenario ed = *st.scenario;
