@@ -766,6 +766,16 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   }
   if (st.sim) {
     ImGui::SameLine();
+    if (ImGui::Button("Save")) {
+      try {
+        save_assembly_scenario(*st.scenario, st.path);
+        st.error.clear();
+      } catch (const std::exception& e) {
+        st.error = std::string("save failed: ") + e.what();
+      }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Write the plant as edited to the path above (schema_version 2, atomic)");
+    ImGui::SameLine();
     if (ImGui::Button(st.running ? "Pause" : "Run")) st.running = !st.running;
     ImGui::SameLine();
     if (ImGui::Button("Reset")) {
