@@ -20,6 +20,7 @@
 #include "core/figures/figure_set.hpp"
 #include "core/ident/dataset.hpp"
 #include "core/io/atomic_file.hpp"
+#include "core/io/json_reader.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
@@ -202,9 +203,19 @@ int render_command(const cli::RenderOptions& o) {
   if (plant_view) {  // an assembled plant (schema 2) or a one-body preset, in the Plant panel
     ui::load_plant(s.plant, load_assembly_scenario(o.preset), o.preset);
     ui::plant_run_until(s.plant, o.time);
-    // The other tabs hold what the window opens with (the first frame draws the first tab).
+    // The other tabs need a scenario (the first frame draws the first tab): a v1 preset's own, else
+    // the window's default preset, else the GMS defaults at rest.
     const std::string dflt = ui::presets_dir() + "/fig4_stick_slip.json";
-    ui::load_scenario_into(s, load_scenario(dflt), dflt);
+    if (preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 1) {
+      ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
+    } else if (std::filesystem::exists(dflt)) {
+      ui::load_scenario_into(s, load_scenario(dflt), dflt);
+    } else {
+      Scenario rest;
+      rest.name = "at rest";
+      rest.friction = model_info("gms").defaults();
+      ui::load_scenario_into(s, rest, "");
+    }
   } else {
     ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
   }
