@@ -326,6 +326,7 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
   };
   for (std::size_t i = 0; i < a.springs.size(); ++i) {
     const auto& s = a.springs[i];
+    if (s.stiffness == 0.0) continue;  // a zero spring draws nothing (one-body presets carry one)
     std::string label = s.name + " " + num(s.stiffness, "N/m");
     if (pose.t > 0.0) label += ", " + num(pose.spring_force[i], "N");
     draw_link(l.springs[i], s.a, s.b, false, label);
@@ -841,8 +842,11 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       std::snprintf(b, sizeof b, "%s%.3g", modes.empty() ? "" : ", ", wi / (2 * M_PI));
       modes += b;
     }
-    ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
-    ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", stability_limit_dt(sc.plant), sc.run.dt);
+    if (modes.empty()) ImGui::TextWrapped("Modes: none (every body's motion is prescribed)");
+    else ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
+    const double lim = stability_limit_dt(sc.plant);
+    if (std::isfinite(lim)) ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", lim, sc.run.dt);
+    else ImGui::TextWrapped("Step limit: none (nothing free and stiff; run.dt = %.3g s)", sc.run.dt);
     ImGui::Separator();
     linear_plant_section(st);
     ImGui::Separator();
