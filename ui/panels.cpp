@@ -28,6 +28,8 @@ const std::vector<PanelEntry>& panels() {
          draw_identify_panel(s.identify, s.pending.scenario);
          s.forward_error(Panel::Identify);
        }},
+      {"Plant", "The assembled plant as a schematic (bodies, springs, dampers, contacts, drives), animated while it runs",
+       [](AppState& s) { draw_plant_panel(s.plant, s.frame_dt); }},
       // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
   };
   return list;

@@ -13,7 +13,7 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("preset", o.preset, "Scenario preset (JSON)")->required();
   sub.add_option("--out,-o", o.out, "PNG file to write")->required();
   sub.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
-  sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify")
+  sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify, plant")
       ->capture_default_str();
   sub.add_option("--time", o.time, "Simulated time to show [s] (default: the whole run)");
   sub.add_option("--data", o.data,

@@ -4,6 +4,9 @@
 
 #include "app/cli/cli.hpp"
 #include "core/error.hpp"
+#include "core/io/assembly_io.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
 #include "core/sim/simulation.hpp"
@@ -26,6 +29,17 @@ void register_simulate(CLI::App& app, Action& action) {
   sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
   sub->callback([&action, o] {
     action = [o] {
+      // An assembled plant (schema_version 2): every named output, written once the run is done.
+      if (preset_schema_version(parse_json(read_file(o->preset), o->preset)) == 2) {
+        const AssemblyScenario as = load_assembly_scenario(o->preset);
+        if (o->out == "-") {
+          write_assembly_trace_csv(simulate(as), std::cout);
+          std::cout.flush();
+        } else {
+          std::cerr << "wrote " << save_assembly_trace_csv(as, o->out) << " samples to " << o->out << '\n';
+        }
+        return 0;
+      }
       const Scenario sc = load_scenario(o->preset);
       // The trace streams to the output as it is computed (constant memory whatever the run
       // length); a file is written atomically (temporary file, renamed once the run is complete).

@@ -204,6 +204,9 @@ json to_json(const Scenario& s) {
 }
 
 Scenario scenario_from_json(const json& j, const std::string& file) {
+  if (j.is_object() && j.contains("schema_version") && j["schema_version"] == 2)
+    throw InputError(file + ": key 'schema_version': version 2 is an assembled plant (core/io/assembly_io.hpp); "
+                     "it opens in the Plant view (gmslab render FILE --view plant), not as a one-body scenario");
   JsonReader r(j, file);
   r.schema_version(kScenarioSchemaVersion);
   Scenario s;

@@ -109,6 +109,7 @@ TEST(Divergence, ShippedPresetsRunThroughWithoutAlarm) {
   for (const auto& e :
        std::filesystem::directory_iterator(std::string(GMSLAB_SOURCE_DIR) + "/presets")) {
     if (e.path().extension() != ".json") continue;
+    if (read_file(e.path().string()).find("\"schema_version\": 2") != std::string::npos) continue;  // assembly_test
     SCOPED_TRACE(e.path().string());
     Scenario s = load_scenario(e.path().string());
     s.run.duration = std::min(s.run.duration, 30.0);

@@ -1,0 +1,614 @@
+#include "core/sim/assembly.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace gmslab {
+
+const char* to_string(DrivePart::Kind k) {
+  switch (k) {
+    case DrivePart::Kind::Force: return "force";
+    case DrivePart::Kind::Displacement: return "displacement";
+    case DrivePart::Kind::Velocity: return "velocity";
+    case DrivePart::Kind::Pull: return "pull";
+  }
+  return "?";
+}
+
+namespace {
+bool prescribes(DrivePart::Kind k) { return k == DrivePart::Kind::Displacement || k == DrivePart::Kind::Velocity; }
+
+std::vector<std::uint8_t> prescribed_bodies(const Assembly& a) {
+  std::vector<std::uint8_t> p(a.bodies.size(), 0);
+  for (const auto& d : a.drives)
+    if (prescribes(d.kind) && d.body >= 0 && static_cast<std::size_t>(d.body) < p.size()) p[d.body] = 1;
+  return p;
+}
+}  // namespace
+
+std::vector<std::string> validate(const Assembly& a, const std::string& where) {
+  std::vector<std::string> bad;
+  const int nb = static_cast<int>(a.bodies.size());
+  if (a.bodies.empty() || a.bodies.size() > kMaxBodies)
+    bad.push_back(where + ".bodies: " + std::to_string(a.bodies.size()) + " bodies; a plant has 1 to " +
+                  std::to_string(kMaxBodies));
+  std::set<std::string> names;
+  auto name_ok = [&](const std::string& path, const std::string& name) {
+    if (name.empty()) bad.push_back(path + ".name: must not be empty");
+    else if (name == "ground") bad.push_back(path + ".name: 'ground' is reserved for the fixed frame");
+    else if (!names.insert(name).second) bad.push_back(path + ".name: '" + name + "' is used twice; names must be unique");
+  };
+  for (int i = 0; i < nb; ++i) {
+    const std::string p = where + ".bodies[" + std::to_string(i) + "]";
+    name_ok(p, a.bodies[i].name);
+    if (!(std::isfinite(a.bodies[i].mass) && a.bodies[i].mass > 0 && a.bodies[i].mass <= 1e9))
+      bad.push_back(p + ".mass: " + std::to_string(a.bodies[i].mass) + " kg; must be in (0, 1e9] kg");
+  }
+  auto ends = [&](const std::string& p, int ia, int ib) {
+    bool ok = true;
+    if (ia < 0 || ia >= nb) {
+      bad.push_back(p + ".a: body index " + std::to_string(ia) + " is not a body of the plant (0.." +
+                    std::to_string(nb - 1) + ")");
+      ok = false;
+    }
+    if (ib != kGround && (ib < 0 || ib >= nb)) {
+      bad.push_back(p + ".b: body index " + std::to_string(ib) + " is not a body of the plant (0.." +
+                    std::to_string(nb - 1) + " or ground)");
+      ok = false;
+    }
+    if (ok && ia == ib) bad.push_back(p + ": connects body '" + a.bodies[ia].name + "' to itself");
+  };
+  for (std::size_t i = 0; i < a.springs.size(); ++i) {
+    const std::string p = where + ".springs[" + std::to_string(i) + "]";
+    name_ok(p, a.springs[i].name);
+    ends(p, a.springs[i].a, a.springs[i].b);
+    if (!(std::isfinite(a.springs[i].stiffness) && a.springs[i].stiffness >= 0 && a.springs[i].stiffness <= 1e12))
+      bad.push_back(p + ".stiffness: must be in [0, 1e12] N/m");
+  }
+  for (std::size_t i = 0; i < a.dampers.size(); ++i) {
+    const std::string p = where + ".dampers[" + std::to_string(i) + "]";
+    name_ok(p, a.dampers[i].name);
+    ends(p, a.dampers[i].a, a.dampers[i].b);
+    if (!(std::isfinite(a.dampers[i].damping) && a.dampers[i].damping >= 0 && a.dampers[i].damping <= 1e12))
+      bad.push_back(p + ".damping: must be in [0, 1e12] N s/m");
+  }
+  for (std::size_t i = 0; i < a.contacts.size(); ++i) {
+    const std::string p = where + ".contacts[" + std::to_string(i) + "]";
+    name_ok(p, a.contacts[i].name);
+    ends(p, a.contacts[i].a, a.contacts[i].b);
+    for (auto& m : validate(a.contacts[i].friction, p + ".friction")) bad.push_back(std::move(m));
+  }
+  std::vector<int> motion(static_cast<std::size_t>(std::max(nb, 0)), -1);
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const auto& d = a.drives[i];
+    const std::string p = where + ".drives[" + std::to_string(i) + "]";
+    name_ok(p, d.name);
+    if (d.body < 0 || d.body >= nb) {
+      bad.push_back(p + ".body: body index " + std::to_string(d.body) + " is not a body of the plant");
+      continue;
+    }
+    if (prescribes(d.kind)) {
+      if (motion[d.body] >= 0)
+        bad.push_back(p + ": body '" + a.bodies[d.body].name + "' already has its motion prescribed by " +
+                      where + ".drives[" + std::to_string(motion[d.body]) + "]");
+      motion[d.body] = static_cast<int>(i);
+    }
+    if (d.kind == DrivePart::Kind::Pull) {
+      if (!(std::isfinite(d.pull_spring) && d.pull_spring > 0 && d.pull_spring <= 1e12))
+        bad.push_back(p + ".spring: must be in (0, 1e12] N/m");
+      if (!(std::isfinite(d.pull_damper) && d.pull_damper >= 0 && d.pull_damper <= 1e12))
+        bad.push_back(p + ".damper: must be in [0, 1e12] N s/m");
+    }
+  }
+  if (!bad.empty() || nb == 0) return bad;
+  // Groups of connected bodies (springs, dampers, contacts between bodies): each must reach ground
+  // (a part to ground) or carry a drive; otherwise it floats undefined.
+  std::vector<int> parent(nb);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  std::vector<std::uint8_t> anchored(nb, 0);
+  auto link = [&](int ia, int ib) {
+    if (ib == kGround) anchored[ia] = 1;
+    else parent[find(ia)] = find(ib);
+  };
+  for (const auto& s : a.springs) link(s.a, s.b);
+  for (const auto& s : a.dampers) link(s.a, s.b);
+  for (const auto& s : a.contacts) link(s.a, s.b);
+  for (const auto& d : a.drives) anchored[d.body] = 1;
+  std::vector<std::uint8_t> root_ok(nb, 0);
+  for (int i = 0; i < nb; ++i)
+    if (anchored[i]) root_ok[find(i)] = 1;
+  for (int i = 0; i < nb; ++i)
+    if (!root_ok[find(i)])
+      bad.push_back(where + ".bodies[" + std::to_string(i) + "]: body '" + a.bodies[i].name +
+                    "' is connected neither to ground nor to a drive (directly or through other bodies); "
+                    "add a spring, damper or contact to ground, or a drive");
+  return bad;
+}
+
+AssemblyScenario assembly_from_scenario(const Scenario& s) {
+  AssemblyScenario a;
+  a.name = s.name;
+  a.description = s.description;
+  a.run = s.run;
+  a.plant.bodies.push_back({"mass", s.plant.mass});
+  a.plant.springs.push_back({"spring", 0, kGround, s.plant.spring});
+  a.plant.dampers.push_back({"damper", 0, kGround, s.plant.damper});
+  a.plant.contacts.push_back({"friction", 0, kGround, s.friction});
+  DrivePart d;
+  d.name = "drive";
+  d.body = 0;
+  d.signal = s.drive.signal;
+  switch (s.drive.kind) {
+    case Drive::Kind::Displacement: d.kind = DrivePart::Kind::Displacement; break;
+    case Drive::Kind::Velocity: d.kind = DrivePart::Kind::Velocity; break;
+    case Drive::Kind::Force: d.kind = DrivePart::Kind::Force; break;
+    case Drive::Kind::Pull:
+      d.kind = DrivePart::Kind::Pull;
+      d.pull_spring = s.drive.pull_spring;
+      d.pull_damper = s.drive.pull_damper;
+      break;
+  }
+  a.plant.drives.push_back(d);
+  return a;
+}
+
+double stuck_stiffness(const ModelParams& p) {
+  double k = 0.0;
+  const auto& info = model_info(p.model);
+  if (const auto c = info.column_index("k"); c >= 0)
+    for (const auto& row : p.elements) k += row[static_cast<std::size_t>(c)];
+  if (const auto i = info.scalar_index("sigma0"); i >= 0) k += p.scalars[static_cast<std::size_t>(i)];
+  return k;
+}
+
+double contact_damping(const ModelParams& p) {
+  double c = 0.0;
+  const auto& info = model_info(p.model);
+  for (const char* key : {"sigma1", "sigma2"})
+    if (const auto i = info.scalar_index(key); i >= 0) c += p.scalars[static_cast<std::size_t>(i)];
+  if (const auto col = info.column_index("sigma"); col >= 0)
+    for (const auto& row : p.elements) c += row[static_cast<std::size_t>(col)];
+  return c;
+}
+
+std::vector<double> modal_frequencies(const Assembly& a, bool contacts_stuck) {
+  const auto pres = prescribed_bodies(a);
+  std::vector<int> dof(a.bodies.size(), -1);
+  int n = 0;
+  for (std::size_t i = 0; i < a.bodies.size(); ++i)
+    if (!pres[i]) dof[i] = n++;
+  if (n == 0) return {};
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd m(n);
+  for (std::size_t i = 0; i < a.bodies.size(); ++i)
+    if (dof[i] >= 0) m(dof[i]) = a.bodies[i].mass;
+  auto add = [&](int ia, int ib, double k) {
+    const int da = ia >= 0 ? dof[ia] : -1, db = ib >= 0 ? dof[ib] : -1;
+    if (da >= 0) K(da, da) += k;
+    if (db >= 0) K(db, db) += k;
+    if (da >= 0 && db >= 0) {
+      K(da, db) -= k;
+      K(db, da) -= k;
+    }
+  };
+  for (const auto& s : a.springs) add(s.a, s.b, s.stiffness);
+  if (contacts_stuck)
+    for (const auto& c : a.contacts) add(c.a, c.b, stuck_stiffness(c.friction));
+  for (const auto& d : a.drives)
+    if (d.kind == DrivePart::Kind::Pull) add(d.body, kGround, d.pull_spring);
+  // Symmetric form M^-1/2 K M^-1/2: same eigenvalues, self-adjoint solver.
+  const Eigen::VectorXd s = m.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd A = s.asDiagonal() * K * s.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A, Eigen::EigenvaluesOnly);
+  std::vector<double> w(n);
+  for (int i = 0; i < n; ++i) w[i] = std::sqrt(std::max(0.0, es.eigenvalues()(i)));
+  return w;
+}
+
+double stability_limit_dt(const Assembly& a) {
+  const auto w = modal_frequencies(a, true);
+  if (w.empty() || !(w.back() > 0.0)) return std::numeric_limits<double>::infinity();
+  return 2.0 / w.back();
+}
+
+std::vector<Channel> output_channels(const Assembly& a) {
+  std::vector<Channel> ch;
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {
+    ch.push_back({Channel::Kind::Position, static_cast<int>(i), "x." + a.bodies[i].name, "m"});
+    ch.push_back({Channel::Kind::Velocity, static_cast<int>(i), "v." + a.bodies[i].name, "m/s"});
+  }
+  for (std::size_t i = 0; i < a.contacts.size(); ++i)
+    ch.push_back({Channel::Kind::ContactForce, static_cast<int>(i), "F." + a.contacts[i].name, "N"});
+  for (std::size_t i = 0; i < a.springs.size(); ++i)
+    ch.push_back({Channel::Kind::SpringForce, static_cast<int>(i), "F." + a.springs[i].name, "N"});
+  for (std::size_t i = 0; i < a.dampers.size(); ++i)
+    ch.push_back({Channel::Kind::DamperForce, static_cast<int>(i), "F." + a.dampers[i].name, "N"});
+  for (std::size_t i = 0; i < a.drives.size(); ++i)
+    ch.push_back({Channel::Kind::DriveForce, static_cast<int>(i), "F." + a.drives[i].name, "N"});
+  return ch;
+}
+
+std::ptrdiff_t AssemblyTrace::channel(const std::string& name) const {
+  for (std::size_t c = 0; c < channels.size(); ++c)
+    if (channels[c].name == name) return static_cast<std::ptrdiff_t>(c);
+  return -1;
+}
+
+std::vector<double> AssemblyTrace::series(const std::string& name) const {
+  const auto c = channel(name);
+  if (c < 0) {
+    std::string known;
+    for (const auto& ch : channels) known += (known.empty() ? "" : ", ") + ch.name;
+    throw InputError("output '" + name + "': no such output (available: " + known + ")");
+  }
+  std::vector<double> y(size());
+  for (std::size_t k = 0; k < size(); ++k) y[k] = at(k, static_cast<std::size_t>(c));
+  return y;
+}
+
+namespace {
+void check(const AssemblyScenario& s) {
+  std::vector<std::string> bad = validate(s.plant, "plant");
+  const auto& r = s.run;
+  if (!(std::isfinite(r.dt) && r.dt > 0 && r.dt <= 1.0)) bad.push_back("run.dt: must be in (0, 1] s");
+  if (!(std::isfinite(r.duration) && r.duration > 0 && r.duration <= 1e6))
+    bad.push_back("run.duration: must be in (0, 1e6] s");
+  if (r.record_every < 1) bad.push_back("run.record_every: must be >= 1");
+  if (bad.empty() && r.duration / r.dt > 1e10)
+    bad.push_back("run: duration / dt exceeds 1e10 steps; raise dt or shorten the run");
+  if (bad.empty()) {
+    const double lim = stability_limit_dt(s.plant);
+    if (r.dt >= lim) {
+      std::ostringstream o;
+      o << "run.dt: " << r.dt << " s is too large for the stiffest mode of this plant (contacts stuck, "
+        << "w_max = " << 2.0 / lim << " rad/s): it must be < 2 / w_max = " << lim
+        << " s; about a tenth of that is accurate";
+      bad.push_back(o.str());
+    }
+  }
+  if (!bad.empty()) {
+    std::string msg = "invalid scenario '" + s.name + "':";
+    for (const auto& b : bad) msg += "\n  " + b;
+    throw InputError(msg);
+  }
+}
+}  // namespace
+
+AssemblySimulation::AssemblySimulation(const AssemblyScenario& s) : sc_(s) {
+  check(sc_);
+  for (const auto& c : sc_.plant.contacts) models_.push_back(build_model(c.friction));
+  channels_ = output_channels(sc_.plant);
+  reset();
+}
+
+void AssemblySimulation::reset() {
+  const std::size_t nb = sc_.plant.bodies.size();
+  // One extra slot for ground (index nb): x = v = 0, its force is discarded.
+  x_.assign(nb + 1, 0.0);
+  v_.assign(nb + 1, 0.0);
+  cv_.assign(nb + 1, 0.0);
+  f_.assign(nb + 1, 0.0);
+  h_over_m_.assign(nb + 1, 0.0);
+  prescribed_ = prescribed_bodies(sc_.plant);
+  prescribed_.push_back(1);
+  for (std::size_t i = 0; i < nb; ++i) h_over_m_[i] = sc_.run.dt / sc_.plant.bodies[i].mass;
+  xp_.assign(sc_.plant.drives.size(), 0.0);
+  const int g = static_cast<int>(nb);
+  auto slot = [g](int i) { return i < 0 ? g : i; };
+  springs_c_.clear();
+  dampers_c_.clear();
+  contacts_c_.clear();
+  for (const auto& s : sc_.plant.springs) springs_c_.push_back({s.a, slot(s.b), s.stiffness});
+  for (const auto& s : sc_.plant.dampers) dampers_c_.push_back({s.a, slot(s.b), s.damping});
+  for (const auto& c : sc_.plant.contacts) {
+    CompiledContact cc{c.a, slot(c.b), 0, 0.0, 0.0, 0.0};
+    const bool fa = !prescribed_[cc.a], fb = !prescribed_[cc.b];
+    cc.mode = (fa ? 1 : 0) | (fb ? 2 : 0);
+    if (fa) cc.ma = sc_.plant.bodies[cc.a].mass;
+    if (fb) cc.mb = sc_.plant.bodies[cc.b].mass;
+    cc.m_eff = cc.mode == 3 ? cc.ma * cc.mb / (cc.ma + cc.mb) : cc.mode == 1 ? cc.ma : cc.mode == 2 ? cc.mb : 0.0;
+    contacts_c_.push_back(cc);
+  }
+  has_prescribed_ = false;
+  for (const auto& d : sc_.plant.drives) has_prescribed_ = has_prescribed_ || prescribes(d.kind);
+  one_body_ = nb == 1 && !has_prescribed_;
+  for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
+    const auto& d = sc_.plant.drives[i];
+    if (d.kind == DrivePart::Kind::Displacement) x_[d.body] = d.signal(0.0);
+    if (d.kind == DrivePart::Kind::Velocity) v_[d.body] = d.signal(0.0);
+  }
+  state_.clear();
+  for (const auto& m : models_) {
+    state_.emplace_back(m->state_size(), 0.0);
+    m->reset(state_.back());
+  }
+  f_contact_.assign(models_.size(), 0.0);
+  v_rel_.assign(models_.size(), 0.0);
+  f_spring_.assign(sc_.plant.springs.size(), 0.0);
+  f_damper_.assign(sc_.plant.dampers.size(), 0.0);
+  f_drive_.assign(sc_.plant.drives.size(), 0.0);
+  // Spring and damper forces at the start (the contacts and drives start at rest).
+  for (std::size_t i = 0; i < sc_.plant.springs.size(); ++i) {
+    const auto& s = sc_.plant.springs[i];
+    f_spring_[i] = s.stiffness * (x_[s.a] - (s.b < 0 ? 0.0 : x_[s.b]));
+  }
+  trace_ = {};
+  trace_.channels = channels_;
+  for (const auto& m : models_) trace_.n_elements.push_back(std::min(m->element_count(), kMaxRecordedElements));
+  trace_.element_force.resize(models_.size());
+  trace_.element_slip.resize(models_.size());
+  trace_.contact_slip.resize(models_.size());
+  step_ = 0;
+  total_steps_ = static_cast<std::uint64_t>(std::llround(sc_.run.duration / sc_.run.dt));
+  until_record_ = static_cast<std::uint64_t>(sc_.run.record_every);
+  const std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  trace_.t.reserve(expected);
+  trace_.values.reserve(expected * channels_.size());
+  record();
+}
+
+void AssemblySimulation::record() {
+  trace_.t.push_back(time());
+  for (const auto& c : channels_) {
+    double y = 0.0;
+    switch (c.kind) {
+      case Channel::Kind::Position: y = x_[c.index]; break;
+      case Channel::Kind::Velocity: y = v_[c.index]; break;
+      case Channel::Kind::ContactForce: y = f_contact_[c.index]; break;
+      case Channel::Kind::SpringForce: y = f_spring_[c.index]; break;
+      case Channel::Kind::DamperForce: y = f_damper_[c.index]; break;
+      case Channel::Kind::DriveForce: y = f_drive_[c.index]; break;
+    }
+    trace_.values.push_back(y);
+  }
+  for (std::size_t j = 0; j < models_.size(); ++j) {
+    const std::size_t ne = trace_.n_elements[j];
+    bool all_slip = ne > 0;
+    for (std::size_t i = 0; i < ne; ++i) {
+      const auto e = models_[j]->element(state_[j], i);
+      trace_.element_force[j].push_back(e.force);
+      trace_.element_slip[j].push_back(e.slipping ? 1 : 0);
+      all_slip = all_slip && e.slipping;
+    }
+    trace_.contact_slip[j].push_back(std::abs(v_rel_[j]) > kSlipVelocity || all_slip ? 1 : 0);
+  }
+}
+
+std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
+  const double h = sc_.run.dt;
+  const Assembly& p = sc_.plant;
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
+  const double hm = h_over_m_[0];
+  const double m = contacts_c_.empty() ? 0.0 : contacts_c_[0].m_eff;
+  double x = x_[0], v = v_[0];
+  std::size_t done = 0;
+  for (; done < n && step_ < total_steps_; ++done) {
+    const double t = time();
+    double f = 0.0;
+    for (std::size_t i = 0; i < p.drives.size(); ++i) {
+      const auto& d = p.drives[i];
+      double fd;
+      if (d.kind == DrivePart::Kind::Force) {
+        fd = d.signal(t);
+      } else {  // pull (one free body: no prescribed motion)
+        double xp, rate;
+        if (d.point_velocity) {
+          xp = xp_[i];
+          rate = d.signal(t);
+          xp_[i] += 0.5 * h * (rate + d.signal(t + h));
+        } else {
+          xp = d.signal(t);
+          rate = d.signal.rate_at(t);
+        }
+        fd = d.pull_spring * (xp - x) + d.pull_damper * (rate - v);
+      }
+      f_drive_[i] = fd;
+      f += fd;
+    }
+    for (std::size_t i = 0; i < springs_c_.size(); ++i) {
+      const double fs = springs_c_[i].c * (x - 0.0);
+      f_spring_[i] = fs;
+      f -= fs;
+    }
+    for (std::size_t i = 0; i < dampers_c_.size(); ++i) {
+      const double fd = dampers_c_[i].c * (v - 0.0);
+      f_damper_[i] = fd;
+      f -= fd;
+    }
+    for (std::size_t j = 0; j < contacts_c_.size(); ++j) {
+      const double F = models_[j]->step(state_[j], {v, h, f, m});
+      f_contact_[j] = F;
+      v_rel_[j] = v;
+      f -= F;
+    }
+    v += f * hm;
+    x += h * v;
+    ++step_;
+    if (!std::isfinite(f + x + v)) {
+      x_[0] = x;
+      v_[0] = v;
+      diverged();
+    }
+    if (--until_record_ == 0 || step_ == total_steps_) {
+      x_[0] = x;
+      v_[0] = v;
+      record();
+      until_record_ = every;
+    }
+  }
+  x_[0] = x;
+  v_[0] = v;
+  return done;
+}
+
+double AssemblySimulation::compute_step() {
+  const double h = sc_.run.dt, t = time();
+  const Assembly& p = sc_.plant;
+  const std::size_t nb = p.bodies.size();
+  double* __restrict x = x_.data();
+  double* __restrict v = v_.data();
+  double* __restrict cv = cv_.data();
+  double* __restrict f = f_.data();
+  // 1. prescribed motion: contact velocity over the step; x and v at t + h are set in 4.
+  for (std::size_t i = 0; i <= nb; ++i) {
+    f[i] = 0.0;
+    cv[i] = v[i];
+  }
+  if (has_prescribed_)
+    for (const auto& d : p.drives) {
+      if (d.kind == DrivePart::Kind::Displacement) cv[d.body] = (d.signal(t + h) - x[d.body]) / h;
+      else if (d.kind == DrivePart::Kind::Velocity) cv[d.body] = 0.5 * (d.signal(t) + d.signal(t + h));
+    }
+  // 2. non-friction forces: drives, springs, dampers (in this order; the one-body sum of Simulation).
+  for (std::size_t i = 0; i < p.drives.size(); ++i) {
+    const auto& d = p.drives[i];
+    if (d.kind == DrivePart::Kind::Force) {
+      f_drive_[i] = d.signal(t);
+      f[d.body] += f_drive_[i];
+    } else if (d.kind == DrivePart::Kind::Pull) {
+      double xp, rate;
+      if (d.point_velocity) {
+        xp = xp_[i];
+        rate = d.signal(t);
+        xp_[i] += 0.5 * h * (rate + d.signal(t + h));
+      } else {
+        xp = d.signal(t);
+        rate = d.signal.rate_at(t);
+      }
+      f_drive_[i] = d.pull_spring * (xp - x[d.body]) + d.pull_damper * (rate - v[d.body]);
+      f[d.body] += f_drive_[i];
+    }
+  }
+  double* __restrict fs_out = f_spring_.data();
+  for (std::size_t i = 0; i < springs_c_.size(); ++i) {
+    const Link& s = springs_c_[i];
+    const double fs = s.c * (x[s.a] - x[s.b]);
+    fs_out[i] = fs;
+    f[s.a] -= fs;
+    f[s.b] += fs;
+  }
+  double* __restrict fd_out = f_damper_.data();
+  for (std::size_t i = 0; i < dampers_c_.size(); ++i) {
+    const Link& s = dampers_c_[i];
+    const double fd = s.c * (v[s.a] - v[s.b]);
+    fd_out[i] = fd;
+    f[s.a] -= fd;
+    f[s.b] += fd;
+  }
+  // 3. contacts, each with its relative velocity frozen over the step.
+  for (std::size_t j = 0; j < contacts_c_.size(); ++j) {
+    const CompiledContact& c = contacts_c_[j];
+    const double vr = cv[c.a] - cv[c.b];
+    double f_other = 0.0;
+    if (c.mode == 3) f_other = c.m_eff * (f[c.a] / c.ma - f[c.b] / c.mb);
+    else if (c.mode == 1) f_other = f[c.a];
+    else if (c.mode == 2) f_other = -f[c.b];
+    const double F = models_[j]->step(state_[j], {vr, h, f_other, c.m_eff});
+    f_contact_[j] = F;
+    v_rel_[j] = vr;
+    f[c.a] -= F;
+    f[c.b] += F;
+  }
+  // 4. bodies.
+  const double* __restrict hm = h_over_m_.data();
+  double probe = 0.0;
+  for (std::size_t i = 0; i < nb; ++i) {
+    if (!prescribed_[i]) {
+      v[i] += f[i] * hm[i];
+      x[i] += h * v[i];
+    }
+    probe += f[i];
+  }
+  if (!has_prescribed_) return probe + x[0] + v[0];
+  for (std::size_t i = 0; i < p.drives.size(); ++i) {
+    const auto& d = p.drives[i];
+    if (!prescribes(d.kind)) continue;
+    // The force the drive must supply to hold the motion against the parts (inertia left out).
+    f_drive_[i] = -f[d.body];
+    if (d.kind == DrivePart::Kind::Displacement) {
+      x[d.body] = d.signal(t + h);
+      v[d.body] = cv[d.body];
+    } else {
+      x[d.body] += cv[d.body] * h;
+      v[d.body] = d.signal(t + h);
+    }
+  }
+  for (std::size_t i = 0; i < nb; ++i) probe += x[i] + v[i];
+  return probe;
+}
+
+void AssemblySimulation::diverged() const {
+  std::ostringstream o;
+  o << "simulation diverged at t = " << time() << " s (non-finite state). The step limit of this plant "
+    << "with contacts stuck is dt < " << stability_limit_dt(sc_.plant) << " s (run.dt = " << sc_.run.dt
+    << " s); lower run.dt or soften the stiffest part, or lower the dampers (explicit damping needs "
+    << "dt < 2 m / sum c).";
+  throw SimulationError(o.str());
+}
+
+std::size_t AssemblySimulation::advance(std::size_t n) {
+  if (one_body_) return advance_one_body(n);
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
+  std::size_t done = 0;
+  for (; done < n && step_ < total_steps_; ++done) {
+    const double probe = compute_step();
+    ++step_;
+    if (!std::isfinite(probe)) diverged();
+    if (--until_record_ == 0 || step_ == total_steps_) {
+      record();
+      until_record_ = every;
+    }
+  }
+  return done;
+}
+
+void AssemblySimulation::run_to_end() {
+  while (!finished()) advance(1u << 20);
+}
+
+double AssemblySimulation::momentum() const {
+  double p = 0.0;
+  for (std::size_t i = 0; i < sc_.plant.bodies.size(); ++i)
+    if (!prescribed_[i]) p += sc_.plant.bodies[i].mass * v_[i];
+  return p;
+}
+
+double AssemblySimulation::kinetic_energy() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < sc_.plant.bodies.size(); ++i) e += 0.5 * sc_.plant.bodies[i].mass * v_[i] * v_[i];
+  return e;
+}
+
+double AssemblySimulation::spring_energy() const {
+  double e = 0.0;
+  for (const auto& s : sc_.plant.springs) {
+    const double d = x_[s.a] - (s.b < 0 ? 0.0 : x_[s.b]);
+    e += 0.5 * s.stiffness * d * d;
+  }
+  for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
+    const auto& d = sc_.plant.drives[i];
+    if (d.kind != DrivePart::Kind::Pull) continue;
+    const double xp = d.point_velocity ? xp_[i] : d.signal(time());
+    e += 0.5 * d.pull_spring * (xp - x_[d.body]) * (xp - x_[d.body]);
+  }
+  return e;
+}
+
+AssemblyTrace simulate(const AssemblyScenario& s) {
+  AssemblySimulation sim(s);
+  sim.run_to_end();
+  return sim.take_trace();
+}
+
+}  // namespace gmslab

@@ -1,0 +1,204 @@
+// gmslab core: a 1-D lumped plant assembled from parts (schema version 2 presets).
+//
+// Up to kMaxBodies bodies (mass > 0) on one axis; springs and dampers between two bodies or a body
+// and ground; friction contacts between a body and ground or two bodies, each with its own registry
+// model and parameters, acting on the relative velocity v_a - v_b (force F on a, -F on b); drives:
+//   force         F(t) on a body
+//   displacement  the body's position x(t) is prescribed
+//   velocity      the body's velocity v(t) is prescribed, x integrated
+//   pull          a drive point x_p(t) pulls the body through a spring k_p and damper c_p (seed Fig. 3);
+//                 with point_velocity the signal is the point's velocity v_p(t), x_p integrated.
+// Ground is body index kGround (-1). A v1 Scenario maps onto an Assembly (assembly_from_scenario)
+// whose simulation gives the same trace as the one-body Simulation.
+//
+// Integrator (AssemblySimulation), per step of length h, the one-body contract per contact:
+//   1. prescribed bodies: x(t + h), and the velocity over the step that their contacts see
+//   2. non-friction forces on every body (drives, springs, dampers) at (x, v)
+//   3. each contact in turn: its exact step with its relative velocity frozen -> F_j, given the
+//      effective mass m_a m_b / (m_a + m_b) of its free bodies and the non-friction relative
+//      force (stick band models); F_j on a, -F_j on b
+//   4. free bodies: v <- v + h f / m, x <- x + h v (symplectic Euler)
+// Internal forces (springs, dampers, contacts between bodies) act equal and opposite, so the total
+// momentum of the free bodies changes only by the external forces.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/friction/model.hpp"
+#include "core/sim/scenario.hpp"
+#include "core/sim/signal.hpp"
+
+namespace gmslab {
+
+inline constexpr int kGround = -1;
+inline constexpr std::size_t kMaxBodies = 8;
+
+struct Body {
+  std::string name;
+  double mass = 1.0;  // [kg], > 0
+  bool operator==(const Body&) const = default;
+};
+
+struct SpringPart {
+  std::string name;
+  int a = 0, b = kGround;  // body indices (kGround = ground)
+  double stiffness = 0.0;  // k [N/m], >= 0; force on a: -k (x_a - x_b)
+  bool operator==(const SpringPart&) const = default;
+};
+
+struct DamperPart {
+  std::string name;
+  int a = 0, b = kGround;
+  double damping = 0.0;  // c [N s/m], >= 0; force on a: -c (v_a - v_b)
+  bool operator==(const DamperPart&) const = default;
+};
+
+struct ContactPart {
+  std::string name;
+  int a = 0, b = kGround;  // friction acts on v_a - v_b
+  ModelParams friction;
+  bool operator==(const ContactPart&) const = default;
+};
+
+struct DrivePart {
+  enum class Kind { Force, Displacement, Velocity, Pull };
+  std::string name;
+  Kind kind = Kind::Force;
+  int body = 0;
+  Signal signal;               // F [N], x [m], v [m/s], or x_p [m] (v_p [m/s] with point_velocity)
+  double pull_spring = 0.0;    // k_p [N/m] (pull)
+  double pull_damper = 0.0;    // c_p [N s/m] (pull)
+  bool point_velocity = false; // pull: the signal is the drive point's velocity
+  bool operator==(const DrivePart&) const = default;
+};
+
+struct Assembly {
+  std::vector<Body> bodies;
+  std::vector<SpringPart> springs;
+  std::vector<DamperPart> dampers;
+  std::vector<ContactPart> contacts;
+  std::vector<DrivePart> drives;
+  bool operator==(const Assembly&) const = default;
+};
+
+struct AssemblyScenario {
+  std::string name;
+  std::string description;
+  Assembly plant;
+  RunSettings run;
+  bool operator==(const AssemblyScenario&) const = default;
+};
+
+const char* to_string(DrivePart::Kind k);
+
+// Every problem of the plant's structure and values, each naming its key path (e.g.
+// "plant.springs[1].b: ..."); empty when valid. Checks: 1..8 bodies, mass > 0, indices in range, no
+// part between a body and itself, at most one prescribed-motion drive per body, every group of
+// connected bodies reaches ground or a drive, unique non-empty names, valid friction parameters.
+std::vector<std::string> validate(const Assembly& a, const std::string& where = "plant");
+
+// The one-body v1 scenario as an assembly: body "mass", spring/damper "spring"/"damper" to ground,
+// contact "friction" to ground, drive "drive".
+AssemblyScenario assembly_from_scenario(const Scenario& s);
+
+// Stiffness of a contact with every element stuck: sum k_i (+ sigma0) [N/m].
+double stuck_stiffness(const ModelParams& p);
+// Viscous terms a contact applies explicitly: sigma1 + sigma2 + sum sigma_i [N s/m].
+double contact_damping(const ModelParams& p);
+
+// Angular frequencies [rad/s] of the free bodies' modes, ascending, with contacts stuck (their
+// stuck stiffness) or free, from the generalised eigenproblem K phi = w^2 M phi (Eigen).
+// Prescribed bodies and drive points are fixed (pull springs tie to them).
+std::vector<double> modal_frequencies(const Assembly& a, bool contacts_stuck = true);
+// Largest stable step: 2 / w_max with contacts stuck; +inf when nothing is free or stiff.
+double stability_limit_dt(const Assembly& a);
+
+// One output channel of the trace.
+struct Channel {
+  enum class Kind { Position, Velocity, ContactForce, SpringForce, DamperForce, DriveForce };
+  Kind kind;
+  int index;         // body / contact / spring / damper / drive index
+  std::string name;  // e.g. "x.load", "F.motor_friction"
+  std::string unit;  // "m", "m/s", "N"
+};
+std::vector<Channel> output_channels(const Assembly& a);
+
+struct AssemblyTrace {
+  std::vector<Channel> channels;
+  std::vector<double> t;       // [s]
+  std::vector<double> values;  // [sample * channels.size() + c]
+  // Per contact: recorded element count, and per sample its element forces [N] and slip flags.
+  std::vector<std::size_t> n_elements;
+  std::vector<std::vector<double>> element_force;        // [contact][sample * n + i]
+  std::vector<std::vector<std::uint8_t>> element_slip;   // same layout, 1 = slipping
+  std::vector<std::vector<std::uint8_t>> contact_slip;   // [contact][sample], 1 = gross slip
+  std::size_t size() const { return t.size(); }
+  std::ptrdiff_t channel(const std::string& name) const;  // -1 if absent
+  double at(std::size_t sample, std::size_t c) const { return values[sample * channels.size() + c]; }
+  std::vector<double> series(const std::string& name) const;  // throws InputError when absent
+};
+
+class AssemblySimulation {
+ public:
+  // A contact is in gross slip when |v_rel| exceeds this or all its elements slip [m/s] (the
+  // window's default slip velocity, ViewSettings::slip_velocity).
+  static constexpr double kSlipVelocity = 1e-4;
+  static constexpr std::size_t kMaxRecordedElements = 64;
+
+  explicit AssemblySimulation(const AssemblyScenario& s);  // validates; throws InputError
+  void reset();
+  std::size_t advance(std::size_t n);  // throws SimulationError on a non-finite state
+  void run_to_end();
+  bool finished() const { return step_ >= total_steps_; }
+  double time() const { return static_cast<double>(step_) * sc_.run.dt; }
+
+  const AssemblyScenario& scenario() const { return sc_; }
+  const AssemblyTrace& trace() const { return trace_; }
+  AssemblyTrace take_trace() { return std::move(trace_); }
+  std::span<const double> positions() const { return x_; }
+  std::span<const double> velocities() const { return v_; }
+  double momentum() const;          // sum over free bodies of m v [kg m/s]
+  double kinetic_energy() const;    // [J]
+  double spring_energy() const;     // springs + pull springs [J]
+  const FrictionModel& contact_model(std::size_t j) const { return *models_[j]; }
+  std::span<const double> contact_state(std::size_t j) const { return state_[j]; }
+
+ private:
+  void record();
+  // One step of the general plant; returns a sum of the new state and forces (non-finite when
+  // any of them is).
+  double compute_step();
+  // The case of one free body (every part then ties it to ground): compute_step's sums in the
+  // same order, with x and v kept in registers across steps - a store and reload per partial
+  // sum lengthens the chain v -> forces -> friction -> v that bounds a step's time.
+  std::size_t advance_one_body(std::size_t n);
+  [[noreturn]] void diverged() const;  // one free body, every part to ground: the same sums in registers
+
+  AssemblyScenario sc_;
+  std::vector<std::unique_ptr<FrictionModel>> models_;
+  std::vector<std::vector<double>> state_;
+  std::vector<Channel> channels_;
+  AssemblyTrace trace_;
+  std::uint64_t step_ = 0, total_steps_ = 0, until_record_ = 1;
+  // Per body: position, velocity, contact velocity over the step, force, 1/m, prescribed flag.
+  std::vector<double> x_, v_, cv_, f_, h_over_m_;
+  std::vector<std::uint8_t> prescribed_;
+  std::vector<double> xp_;  // per drive: drive point position (pull with point_velocity)
+  // The parts compiled for the step loop (ground = slot nb).
+  struct Link { int a, b; double c; };
+  struct CompiledContact { int a, b; int mode; double ma, mb, m_eff; };  // mode: 1 a free, 2 b free, 3 both
+  std::vector<Link> springs_c_, dampers_c_;
+  std::vector<CompiledContact> contacts_c_;
+  bool has_prescribed_ = false;
+  bool one_body_ = false;
+  // Last step's part forces (outputs).
+  std::vector<double> f_contact_, f_spring_, f_damper_, f_drive_, v_rel_;
+};
+
+AssemblyTrace simulate(const AssemblyScenario& s);
+
+}  // namespace gmslab
