@@ -18,6 +18,8 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/app.hpp"
+#include "ui/app_files.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/plot.hpp"
 #include "ui/style.hpp"
 
@@ -65,6 +67,7 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
   const std::string preset = ui::presets_dir() + "/fig4_stick_slip.json";
   try {
     ui::load_scenario_into(s, load_scenario(preset), preset);
+    ui::mark_clean(s);
   } catch (const std::exception& e) {
     s.report(ui::Panel::Simulation, e, "default preset not loaded");
   }
@@ -83,12 +86,17 @@ void save(const ui::AppState& s, const std::string& path) {
 void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl) {
   using clock = std::chrono::steady_clock;
   auto next = clock::now();
+  s.keys = {GLFW_KEY_S, GLFW_KEY_F5};
+  std::string title;
   while (!glfwWindowShouldClose(win) && !g_quit) {
+    if (std::string t = ui::window_title(s); t != title) glfwSetWindowTitle(win, (title = t).c_str());
     // Idle: wait for input instead of spinning; running: one frame per 1/60 s.
+    // Idle: sleep until input (a blinking text cursor or a background identification wakes it
+    // 4 times a second, nothing else does); running: one frame per 1/60 s.
     if (s.running)
       glfwPollEvents();
     else
-      glfwWaitEventsTimeout(0.25);
+      glfwWaitEventsTimeout(ImGui::GetIO().WantTextInput || ui::identify_busy(s.identify) ? 0.25 : 5.0);
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();

@@ -4,6 +4,8 @@
 // (ui/design_locus.cpp) above the linked responses (ui/design_responses.cpp).
 #include <imgui.h>
 
+#include "ui/param_editor.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,11 +25,17 @@ void tip(const char* text) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
 }
 
-bool input_double(const char* label, double* v, double lo, double hi, const char* fmt, const char* help,
+// The app's one number field (ui/param_editor.hpp: click to type, drag the handle), then the label.
+bool input_double(const char* label, double* v, double lo, double hi, const char* /*fmt*/, const char* help,
                   bool log = false) {
+  const std::string text(label);
+  const auto open = text.find('['), close = text.find(']');
+  const std::string unit = open != std::string::npos && close > open ? text.substr(open + 1, close - open - 1) : "-";
+  const ParamSpec spec{label, label, unit, help, lo, hi, false, log};
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
-  const bool ch = ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, fmt,
-                                      log ? ImGuiSliderFlags_Logarithmic : 0);
+  const bool ch = edit_param(label, spec, *v, 0.0);
+  ImGui::SameLine();
+  ImGui::TextUnformatted(text.substr(0, text.find("##")).c_str());
   tip(help);
   return ch;
 }
