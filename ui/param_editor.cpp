@@ -106,7 +106,15 @@ bool edit_param(const char* id, const ParamSpec& spec, double& value, double ref
   // Alt+drag on the field changes it continuously, like the handle.
   const bool alt_drag = ImGui::IsItemHovered() && ImGui::GetIO().KeyAlt && ImGui::IsMouseDragging(0, 0.0f);
   ImGui::SameLine(0.0f, spacing);
-  ImGui::Button("<>##handle", ImVec2(handle_w, 0.0f));
+  ImGui::Button("##handle", ImVec2(handle_w, 0.0f));
+  {  // a left-right arrow: drag me
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    const float cy = 0.5f * (a.y + b.y), h = 0.22f * (b.y - a.y), m = 0.5f * (a.x + b.x);
+    const ImU32 col = ImGui::GetColorU32(ImGuiCol_Text);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->AddTriangleFilled(ImVec2(a.x + 2.0f, cy), ImVec2(m - 1.0f, cy - h), ImVec2(m - 1.0f, cy + h), col);
+    dl->AddTriangleFilled(ImVec2(b.x - 2.0f, cy), ImVec2(m + 1.0f, cy - h), ImVec2(m + 1.0f, cy + h), col);
+  }
   if (ImGui::IsItemHovered() && !ImGui::IsItemActive())
     ImGui::SetTooltip("drag left / right to change %s%s", display_symbol(spec.symbol).c_str(),
                       spec.log_scale ? " (logarithmic)" : "");

@@ -53,6 +53,9 @@ nlohmann::json to_json(const LeadReport& r) {
   if (r.design) {
     put_design(j, *r.design);
     j["within_max_ratio"] = r.within_max_ratio;
+  } else {  // one shape: the design's keys are always there, null without a design (no --K)
+    for (const char* k : {"z", "p", "Kc", "K", "ratio", "closed_loop_poles", "dominant", "notes", "within_max_ratio"})
+      j[k] = nullptr;
   }
   if (!r.relocations.empty()) {
     nlohmann::json a = nlohmann::json::array();
