@@ -161,7 +161,6 @@ int Cli::run(int argc, char** argv) {
       if (const std::string s = suggest(word, known_words(word)); !s.empty())
         std::cerr << "gmslab: '" << word << "': did you mean '" << s << "'?\n";
     }
-    std::cerr << "Run with --help for the commands and options.\n";
     return exit_code(ErrorKind::Input);
   }
   try {

@@ -57,7 +57,7 @@ nlohmann::json to_json(const LeadReport& r) {
     for (const char* k : {"z", "p", "Kc", "K", "ratio", "closed_loop_poles", "dominant", "notes", "within_max_ratio"})
       j[k] = nullptr;
   }
-  if (!r.relocations.empty()) {
+  {  // always present (empty without relocations): one shape
     nlohmann::json a = nlohmann::json::array();
     for (const Relocation& rel : r.relocations) {
       nlohmann::json o;
