@@ -14,6 +14,12 @@
 #include <filesystem>
 #include <thread>
 
+#include <climits>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "core/ident/figure_json.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
@@ -44,6 +50,28 @@ constexpr unsigned kColorBufferBit = 0x00004000;  // GL_COLOR_BUFFER_BIT
 // SIGINT / SIGTERM close the window normally, so the session is still saved.
 volatile std::sig_atomic_t g_quit = 0;
 void on_signal(int) { g_quit = 1; }
+
+// PNG export of a plot: the figure drawn by gmslab-headless plot-figure (the same drawing as
+// `gmslab figures`), next to this executable, as a child process; the window keeps running.
+void png_via_headless(const Figure& f, const std::string& path) {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  std::string exe = "gmslab-headless";
+  if (n > 0) exe = std::filesystem::path(std::string(buf, static_cast<std::size_t>(n))).parent_path() / "gmslab-headless";
+  const std::string json = path + ".figure.json";
+  save_figure_json(f, json);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "plot-figure", json.c_str(), "--out", path.c_str(), "--size", "1600x1000",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  if (pid > 0) waitpid(pid, &status, 0);
+  std::filesystem::remove(json);
+  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw IoError("PNG not written: " + exe + " plot-figure failed (build the gmslab-headless target)");
+}
 
 void glfw_error(int code, const char* text) { std::fprintf(stderr, "gmslab: GLFW error %d: %s\n", code, text); }
 
@@ -161,6 +189,7 @@ int run_window(const std::string& session_path) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   const ui::ScopedPlotContext plots;  // the window's plot view state
+  ui::SetPlotPngWriter(png_via_headless);
   float sx = 1.0f, sy = 1.0f;
   glfwGetWindowContentScale(win, &sx, &sy);
   ui::setup_style(17.0f * std::max(1.0f, sy));

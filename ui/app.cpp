@@ -12,6 +12,7 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
 #include "ui/panels.hpp"
+#include "ui/plot.hpp"
 
 namespace gmslab::ui {
 
@@ -348,6 +349,10 @@ void draw_frame(AppState& s) {
     ImGui::EndTabBar();
   }
   ImGui::EndChild();
+  if (std::string m = TakePlotMessage(); !m.empty()) {  // an export from a plot or the Figures tab
+    if (m.rfind("export failed", 0) == 0) s.report(Panel::Simulation, ErrorKind::Io, m);
+    else s.note(m);
+  }
   if (!s.status.empty())
     ImGui::TextColored(s.status_kind ? ImVec4(0.75f, 0.10f, 0.10f, 1.0f) : ImVec4(0.35f, 0.35f, 0.38f, 1.0f), "%s",
                        s.status.c_str());

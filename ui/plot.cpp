@@ -17,6 +17,7 @@
 #include <imgui_internal.h>
 
 #include "ui/decimate.hpp"
+#include "ui/figure_export.hpp"
 #include "ui/ticks.hpp"
 
 namespace gmslab::ui {
@@ -64,6 +65,9 @@ struct Building {
 // Everything the widget keeps between calls; owned by the caller (CreatePlotContext).
 struct PlotContext {
   std::unordered_map<ImGuiID, View> views;  // per-plot view state, by ID
+  std::unordered_map<std::string, ExportFormat> export_requests;  // by plot key, done at its EndPlot
+  PngWriter png_writer;                     // the host's (may be empty: no PNG export)
+  std::string message;                      // of the last export
   Building plot;                            // the plot between BeginPlot and EndPlot
   bool open = false;
   PlotTransform last;                       // of the last EndPlot
@@ -518,6 +522,65 @@ void PlotLine(const char* label, const double* x, const double* y, std::size_t n
   g_ctx->plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
 }
 
+namespace {
+// The plot as a one-panel Figure, in the units its axes show.
+Figure plot_figure(const Building& b) {
+  Figure f;
+  const std::string title = b.opt.title ? b.opt.title : "plot";
+  f.id = title;
+  f.title = title;
+  Panel p{b.opt.letter ? b.opt.letter : "", title, b.ax.shown, b.ay.shown, {}};
+  for (const auto& s : b.series) {
+    Series out;
+    out.label = s.label;
+    out.style = s.style.line == LineStyle::Dashed ? Series::Style::Dashed
+                : s.style.line == LineStyle::Dotted ? Series::Style::Dotted : Series::Style::Solid;
+    out.color = s.style.color >= 0 ? s.style.color : s.index;
+    out.x.resize(s.n);
+    out.y.resize(s.n);
+    for (std::size_t i = 0; i < s.n; ++i) out.x[i] = s.x[i] / b.ax.scale, out.y[i] = s.y[i] / b.ay.scale;
+    p.series.push_back(std::move(out));
+  }
+  f.panels.push_back(std::move(p));
+  return f;
+}
+
+std::string plot_key(const Building& b) { return b.opt.title ? b.opt.title : std::to_string(b.id); }
+
+void export_menu(const Building& b) {
+  if (!ImGui::BeginPopupContextItem("##export")) return;
+  ImGui::TextDisabled("Export this plot to %s", export_dir().c_str());
+  if (ImGui::MenuItem("PNG image", nullptr, false, static_cast<bool>(g_ctx->png_writer))) g_ctx->export_requests[plot_key(b)] = ExportFormat::Png;
+  if (ImGui::MenuItem("SVG (vector)")) g_ctx->export_requests[plot_key(b)] = ExportFormat::Svg;
+  if (ImGui::MenuItem("CSV of its series")) g_ctx->export_requests[plot_key(b)] = ExportFormat::Csv;
+  ImGui::EndPopup();
+}
+}  // namespace
+
+void RequestPlotExport(const char* title, ExportFormat format) {
+  if (g_ctx) g_ctx->export_requests[title] = format;
+}
+
+void SetPlotPngWriter(PngWriter writer) {
+  if (g_ctx) g_ctx->png_writer = std::move(writer);
+}
+
+const PngWriter& GetPlotPngWriter() {
+  static const PngWriter none;
+  return g_ctx ? g_ctx->png_writer : none;
+}
+
+void PostPlotMessage(std::string message) {
+  if (g_ctx) g_ctx->message = std::move(message);
+}
+
+std::string TakePlotMessage() {
+  if (!g_ctx) return "";
+  std::string m = std::move(g_ctx->message);
+  g_ctx->message.clear();
+  return m;
+}
+
 void EndPlot() {
   IM_ASSERT(g_ctx && g_ctx->open);
   Building& b = g_ctx->plot;
@@ -540,6 +603,7 @@ void EndPlot() {
     ImGui::InvisibleButton("##plotarea", L.area.GetSize());
     hovered = ImGui::IsItemHovered();
     active = ImGui::IsItemActive();
+    export_menu(b);
     handle_input(v, L, t, hovered, active);
     t = {v.x0, v.x1, v.y0, v.y1, L.area.Min.x, L.area.Min.y, L.area.Max.x, L.area.Max.y};
   }
@@ -564,6 +628,10 @@ void EndPlot() {
   }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
+  if (auto it = g_ctx->export_requests.find(plot_key(b)); it != g_ctx->export_requests.end()) {
+    g_ctx->message = export_figure(plot_figure(b), it->second, g_ctx->png_writer);
+    g_ctx->export_requests.erase(it);
+  }
   g_ctx->last = t;
   g_ctx->open = false;
   ImGui::EndChild();

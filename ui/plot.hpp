@@ -17,7 +17,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
+#include "ui/figure_export.hpp"
 #include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
@@ -89,5 +91,18 @@ void EndPlot();
 
 // Transform used by the last EndPlot (for tests and overlays).
 PlotTransform LastPlotTransform();
+
+// Export (right-click on an interactive plot: PNG, SVG, CSV of its series). The plot becomes a
+// one-panel Figure in the units shown (ui/figure_export.hpp writes it into export_dir()). The
+// host provides how a Figure becomes a PNG (the window: gmslab-headless plot-figure; tests: their
+// own); without one, PNG is not offered. The message of the last export ("wrote PATH" or the
+// error) is taken once by TakePlotMessage (the app puts it on the status line).
+// Requests the export of the plot titled `title` at its next EndPlot (as the menu does; tests).
+void RequestPlotExport(const char* title, ExportFormat format);
+// The current context's PNG writer (a Figure and a path; throws on failure).
+void SetPlotPngWriter(PngWriter writer);
+const PngWriter& GetPlotPngWriter();  // empty without a context or writer
+void PostPlotMessage(std::string message);
+std::string TakePlotMessage();
 
 }  // namespace gmslab::ui
