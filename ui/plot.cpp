@@ -201,12 +201,31 @@ void dashed_polyline(ImDrawList* dl, const ImVec2* p, int n, ImU32 col, float th
   }
 }
 
+// A solid polyline, unbroken at any slope: ImGui joins consecutive segments with the average of
+// their normals, which vanishes where the path turns back (min/max decimation draws steep
+// stretches as up-down runs within a pixel column), thinning the line to nothing there. The path
+// is split at every turn sharper than 120 degrees into runs that are stroked separately and
+// overlap at the turning point.
+void solid_polyline(ImDrawList* dl, const ImVec2* p, int n, ImU32 col, float th) {
+  int start = 0;
+  for (int i = 1; i + 1 < n; ++i) {
+    const ImVec2 a(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y), b(p[i + 1].x - p[i].x, p[i + 1].y - p[i].y);
+    const float dot = a.x * b.x + a.y * b.y;
+    const float la = a.x * a.x + a.y * a.y, lb = b.x * b.x + b.y * b.y;
+    if (dot < -0.5f * std::sqrt(la * lb)) {
+      dl->AddPolyline(p + start, i - start + 1, col, 0, th);
+      start = i;
+    }
+  }
+  if (n - start >= 2) dl->AddPolyline(p + start, n - start, col, 0, th);
+}
+
 void stroke(ImDrawList* dl, const std::vector<ImVec2>& p, std::size_t from, std::size_t to,
             ImU32 col, const SeriesStyle& st, float& phase) {
   const int n = static_cast<int>(to - from);
   if (n < 2) return;
   switch (st.line) {
-    case LineStyle::Solid: dl->AddPolyline(&p[from], n, col, 0, st.thickness); break;
+    case LineStyle::Solid: solid_polyline(dl, &p[from], n, col, st.thickness); break;
     case LineStyle::Dashed: dashed_polyline(dl, &p[from], n, col, st.thickness, 9.f, 5.f, phase); break;
     case LineStyle::Dotted: dashed_polyline(dl, &p[from], n, col, st.thickness, 2.f, 3.5f, phase); break;
   }
