@@ -81,11 +81,22 @@ std::string figure_svg(const Figure& f, int width, int height) {
   for (std::size_t k = 0; k < f.panels.size(); ++k) {
     const Panel& p = f.panels[k];
     // Legend rows under the plot: as many as the labels need at this width.
-    std::size_t labelled = 0;
-    for (const auto& s : p.series) labelled += !s.label.empty();
     const double px0 = k * cell_w + 5.0 * font, px1 = (k + 1) * cell_w - 1.2 * font;
-    const int per_row = std::max(1, static_cast<int>((px1 - px0) / (11.0 * font)));
-    const int legend_rows = static_cast<int>((labelled + per_row - 1) / per_row);
+    // Legend entries flow left to right and wrap; each as wide as its label needs (text width
+    // estimated at 0.62 em per character, the sample line 1.8 em, a 1.5 em gap).
+    std::vector<std::pair<double, int>> entry_at;  // x offset and row of each labelled series
+    {
+      double x = 0;
+      int row = 0;
+      for (const auto& s : p.series) {
+        if (s.label.empty()) continue;
+        const double wd = (2.3 + 0.62 * static_cast<double>(s.label.size()) + 1.5) * font;
+        if (x > 0 && x + wd > px1 - px0) x = 0, ++row;
+        entry_at.push_back({x, row});
+        x += wd;
+      }
+    }
+    const int legend_rows = entry_at.empty() ? 0 : entry_at.back().second + 1;
     const double py0 = top + 2.2 * font, py1 = H - 3.2 * font - legend_rows * 1.4 * font;
     Range xr, yr;
     for (const auto& s : p.series)
@@ -146,8 +157,8 @@ std::string figure_svg(const Figure& f, int width, int height) {
       }
       o += "<polyline data-series=\"" + esc(s.label) + "\" stroke=\"" + col + "\"" + dash + " points=\"" + pts + "\"/>\n";
       if (s.label.empty()) continue;
-      const double lx = px0 + (legend_i % per_row) * ((px1 - px0) / per_row);
-      const double ly = py1 + 3.6 * font + (legend_i / per_row) * 1.4 * font;
+      const double lx = px0 + entry_at[legend_i].first;
+      const double ly = py1 + 3.6 * font + entry_at[legend_i].second * 1.4 * font;
       legend += "<line x1=\"" + num(lx) + "\" y1=\"" + num(ly - 0.35 * font) + "\" x2=\"" + num(lx + 1.8 * font) +
                 "\" y2=\"" + num(ly - 0.35 * font) + "\" stroke=\"" + col + "\" stroke-width=\"2\"" + dash + "/>\n";
       legend += "<text x=\"" + num(lx + 2.3 * font) + "\" y=\"" + num(ly) + "\">" + esc(s.label) + "</text>\n";
