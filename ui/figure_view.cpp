@@ -2,11 +2,20 @@
 
 #include <imgui.h>
 
+#include <string>
+
 #include <algorithm>
 
 #include "ui/plot.hpp"
 
 namespace gmslab::ui {
+
+namespace {
+std::string micro_sign(std::string s) {
+  for (std::size_t i = 0; (i = s.find("[um]", i)) != std::string::npos; i += 4) s.replace(i, 4, "[\xC2\xB5m]");
+  return s;
+}
+}  // namespace
 
 namespace {
 LineStyle line_style(Series::Style s) {
@@ -26,7 +35,9 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
   opt.interactive = interactive;
   ImGui::PushID(static_cast<int>(index));
   if (BeginPlot("##panel", size, opt)) {
-    SetupAxes(p.x_label.c_str(), p.y_label.c_str());
+    // "um" in the data's labels (ASCII, for CSV) is drawn as µm, as everywhere in the window.
+    const std::string xl = micro_sign(p.x_label), yl = micro_sign(p.y_label);
+    SetupAxes(xl.c_str(), yl.c_str());
     for (std::size_t k = 0; k < p.series.size(); ++k) {
       const Series& s = p.series[k];
       SeriesStyle st;

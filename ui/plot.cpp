@@ -29,6 +29,12 @@ struct View {
   double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
   bool auto_fit = true;     // follow the data
   bool initialized = false;
+  // A boxed legend dragged by the user: its top-left as a fraction of the plot area (kept when
+  // the plot resizes); double-click on it returns to the automatic place.
+  bool legend_placed = false, legend_drag = false;
+  float legend_fx = 0.0f, legend_fy = 0.0f;
+  ImRect legend_box;        // where the boxed legend was drawn last frame (empty: none)
+  void set_limits(double a, double b, double c, double d) { x0 = a, x1 = b, y0 = c, y1 = d, auto_fit = false, initialized = true; }
 };
 
 struct SeriesRef {
@@ -71,6 +77,7 @@ struct PlotContext {
   Building plot;                            // the plot between BeginPlot and EndPlot
   bool open = false;
   PlotTransform last;                       // of the last EndPlot
+  ImRect last_legend;                       // its boxed legend
 };
 
 namespace {
@@ -346,26 +353,30 @@ void draw_frame_border(ImDrawList* dl, const Building& b, const Layout& L) {
   dl->AddRect(L.area.Min, L.area.Max, colors(b.opt.paper).frame, 0.0f, 0, b.opt.paper ? 1.2f : 1.0f);
 }
 
-// The corner of the plot area (top-right, top-left, bottom-right, bottom-left) whose legend box
-// would hide the fewest drawn samples.
-ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
+// Where a legend box hides the fewest drawn segments, as matplotlib's loc="best": nine places
+// (corners, edge middles, centre), tried in matplotlib's order of preference (upper right, upper
+// left, lower left, lower right, right, centre left, centre right, lower centre, upper centre,
+// centre); the first with the fewest wins.
+ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
   const float m = 0.5f * ImGui::GetFontSize();
-  const ImVec2 c[4] = {ImVec2(L.area.Max.x - m - box.x, L.area.Min.y + m), ImVec2(L.area.Min.x + m, L.area.Min.y + m),
-                       ImVec2(L.area.Max.x - m - box.x, L.area.Max.y - m - box.y),
-                       ImVec2(L.area.Min.x + m, L.area.Max.y - m - box.y)};
-  std::size_t count[4] = {0, 0, 0, 0};
+  const float xl = L.area.Min.x + m, xr = L.area.Max.x - m - box.x, xc = L.area.GetCenter().x - 0.5f * box.x;
+  const float yt = L.area.Min.y + m, yb = L.area.Max.y - m - box.y, yc = L.area.GetCenter().y - 0.5f * box.y;
+  const ImVec2 c[] = {ImVec2(xr, yt), ImVec2(xl, yt), ImVec2(xl, yb), ImVec2(xr, yb), ImVec2(xr, yc),
+                      ImVec2(xl, yc), ImVec2(xc, yb), ImVec2(xc, yt), ImVec2(xc, yc)};
+  constexpr int kN = sizeof c / sizeof c[0];
+  std::size_t count[kN] = {};
   for (const auto& s : b.series)  // segments whose bounding box meets the legend box
     for (std::size_t j = 1; j < s.drawn.size(); ++j) {
       const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
       const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
       const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
-      for (int k = 0; k < 4; ++k)
+      for (int k = 0; k < kN; ++k)
         if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
             std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
           ++count[k];
     }
   int best = 0;
-  for (int k = 1; k < 4; ++k)
+  for (int k = 1; k < kN; ++k)
     if (count[k] < count[best]) best = k;
   return c[best];
 }
@@ -396,7 +407,8 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
 
 // Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
 // never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
-void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t) {
+void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t, View& v) {
+  v.legend_box = ImRect();
   if (!b.opt.legend || b.series.empty()) return;
   const float fh = ImGui::GetFontSize();
   const float gap = 1.2f * fh;
@@ -414,8 +426,12 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
   for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
   const float line_h = fh * 1.25f;
   const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
-  const ImVec2 min = legend_corner(b, L, box, t);
+  ImVec2 min = legend_best(b, L, box, t);
+  if (v.legend_placed)  // where the user put it, kept inside the plot area
+    min = ImVec2(std::clamp(L.area.Min.x + v.legend_fx * L.area.GetWidth(), L.area.Min.x, std::max(L.area.Min.x, L.area.Max.x - box.x)),
+                 std::clamp(L.area.Min.y + v.legend_fy * L.area.GetHeight(), L.area.Min.y, std::max(L.area.Min.y, L.area.Max.y - box.y)));
   const ImVec2 end(min.x + box.x, min.y + box.y);
+  v.legend_box = ImRect(min, end);
   dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
   float y = min.y + 0.25f * fh + 0.125f * fh;
@@ -432,11 +448,27 @@ void handle_input(View& v, const Layout& L, const PlotTransform& t, bool hovered
     const double f = std::pow(0.85, io.MouseWheel);
     const double fx = io.KeyCtrl ? 1.0 : f, fy = io.KeyShift ? 1.0 : f;
     const PlotTransform z = t.zoomed(io.MousePos.x, io.MousePos.y, fx, fy);
-    v = {z.x0, z.x1, z.y0, z.y1, false, true};
+    v.set_limits(z.x0, z.x1, z.y0, z.y1);
+  }
+  // A press on the boxed legend drags the legend, not the view.
+  if (active && ImGui::IsMouseClicked(ImGuiMouseButton_Left) && v.legend_box.Contains(io.MousePos)) v.legend_drag = true;
+  if (v.legend_drag) {
+    if (!io.MouseDown[ImGuiMouseButton_Left]) {
+      v.legend_drag = false;
+    } else if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f) {
+      const ImVec2 sz = L.area.GetSize();
+      const ImVec2 at = v.legend_placed ? ImVec2(L.area.Min.x + v.legend_fx * sz.x, L.area.Min.y + v.legend_fy * sz.y)
+                                        : v.legend_box.Min;
+      v.legend_fx = (at.x + io.MouseDelta.x - L.area.Min.x) / std::max(1.0f, sz.x);
+      v.legend_fy = (at.y + io.MouseDelta.y - L.area.Min.y) / std::max(1.0f, sz.y);
+      v.legend_placed = true;
+    }
+    if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) v.legend_placed = false, v.legend_drag = false;
+    return;
   }
   if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 1.0f)) {
     const PlotTransform p = t.panned(io.MouseDelta.x, io.MouseDelta.y);
-    v = {p.x0, p.x1, p.y0, p.y1, false, true};
+    v.set_limits(p.x0, p.x1, p.y0, p.y1);
   }
   if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) v.auto_fit = true;
 }
@@ -605,7 +637,7 @@ void EndPlot() {
   Building& b = g_ctx->plot;
   View& v = g_ctx->views[b.id];
   if (b.has_limits && (b.limits_always || !v.initialized))
-    v = {b.lx0, b.lx1, b.ly0, b.ly1, false, true};
+    v.set_limits(b.lx0, b.lx1, b.ly0, b.ly1);
   if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b);
   v.initialized = true;
   choose_prefix(b.ax, v.x0, v.x1);
@@ -638,12 +670,15 @@ void EndPlot() {
     draw_series(dl, s, t);
   }
   dl->PopClipRect();
-  draw_legend(dl, b, L2, t);
+  draw_legend(dl, b, L2, t, v);
   if (b.opt.interactive && !v.auto_fit) {  // tell how to get back to the whole trace
     const char* hint = "zoomed: double-click to fit";
+    // Inside the plot area's bottom-right corner, on a backing (the x-axis label stays clear).
     const ImVec2 hs = ImGui::CalcTextSize(hint);
-    dl->AddText(ImVec2(L2.area.Max.x - hs.x, L2.area.Max.y + 1.45f * ImGui::GetFontSize()),
-                IM_COL32(120, 120, 130, 255), hint);
+    const float m = 0.25f * ImGui::GetFontSize();
+    const ImVec2 at(L2.area.Max.x - hs.x - 2 * m, L2.area.Max.y - hs.y - 2 * m);
+    dl->AddRectFilled(ImVec2(at.x - m, at.y - m), ImVec2(at.x + hs.x + m, at.y + hs.y + m), IM_COL32(255, 255, 255, 220));
+    dl->AddText(at, IM_COL32(120, 120, 130, 255), hint);
   }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
@@ -652,10 +687,17 @@ void EndPlot() {
     g_ctx->export_requests.erase(it);
   }
   g_ctx->last = t;
+  g_ctx->last_legend = v.legend_box;
   g_ctx->open = false;
   ImGui::EndChild();
 }
 
 PlotTransform LastPlotTransform() { return g_ctx ? g_ctx->last : PlotTransform{}; }
+
+ImVec4 LastLegendBox() {
+  if (!g_ctx) return ImVec4(0, 0, 0, 0);
+  const ImRect& r = g_ctx->last_legend;
+  return ImVec4(r.Min.x, r.Min.y, r.Max.x, r.Max.y);
+}
 
 }  // namespace gmslab::ui

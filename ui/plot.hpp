@@ -91,6 +91,11 @@ void EndPlot();
 
 // Transform used by the last EndPlot (for tests and overlays).
 PlotTransform LastPlotTransform();
+// The boxed legend of the last EndPlot (min x, min y, max x, max y in screen pixels); zero size
+// when the legend was drawn in a row above the plot or not at all. The box goes where it hides
+// the fewest drawn segments (nine places, as matplotlib's "best"); drag it to move it (kept per
+// plot, as a fraction of the plot area), double-click it to return to the automatic place.
+ImVec4 LastLegendBox();
 
 // Export (right-click on an interactive plot: PNG, SVG, CSV of its series). The plot becomes a
 // one-panel Figure in the units shown (ui/figure_export.hpp writes it into export_dir()). The
