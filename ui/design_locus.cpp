@@ -318,7 +318,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   if (d.picked) {
     for (const cplx& p : d.picked_poles) dl->AddCircle(px(t, p), 7.0f, IM_COL32(86, 180, 233, 255), 16, 2.0f);
     char buf[64];
-    std::snprintf(buf, sizeof buf, "k = %.4g", d.picked_k);
+    std::snprintf(buf, sizeof buf, "k = %.4g N/m", d.picked_k);
     const ImVec2 q = px(t, d.picked_s);
     dl->AddText(ImVec2(q.x + 9, q.y - 18), kText, buf);
   }
