@@ -246,6 +246,11 @@ void apply_pending(AppState& s) {
       s.report(Panel::Simulation, e, "plant rejected");
     }
   }
+  if (s.overlay_follows_shared && s.compare && s.main.sim && !p.clear_compare &&
+      (p.friction || p.scenario || p.compare || !p.load_path.empty())) {
+    const ModelParams linked = with_shared_parameters(p.compare ? *p.compare : *s.compare, s.scenario.friction);
+    if (!(linked == *s.compare)) p.compare = linked, s.sim_panel.compare = linked;
+  }
   if (p.clear_compare) {
     s.compare.reset();
     s.overlay = {};
@@ -279,6 +284,21 @@ void apply_pending(AppState& s) {
   }
   if (p.pause) s.running = false;
   if (!p.save_path.empty()) apply_save(s, p.save_path, p.save_confirmed);
+}
+
+ModelParams with_shared_parameters(const ModelParams& overlay, const ModelParams& main) {
+  ModelParams out = overlay;
+  const ModelInfo& a = model_info(overlay.model);
+  const ModelInfo& b = model_info(main.model);
+  for (const char* key : {"Fs", "Fc", "Vs"}) {
+    const auto has = [&](const ModelInfo& m) {
+      for (const auto& sp : m.scalars)
+        if (sp.key == key) return true;
+      return false;
+    };
+    if (has(a) && has(b)) out.set_scalar(key, main.scalar(key));
+  }
+  return out;
 }
 
 void mark_clean(AppState& s) {

@@ -85,6 +85,9 @@ struct AppState {
   Scenario scenario;                // the scenario as edited: what "save" writes
   LiveRun main;                     // the live run of `scenario`
   std::optional<ModelParams> compare;  // overlay model driven by the same input
+  // The overlay takes the main model's shared parameters (F_s, F_c, V_s, where both models have
+  // them) whenever the main model changes, so two models compare at the same Stribeck curve.
+  bool overlay_follows_shared = false;
   LiveRun overlay;                  // its run (sim null when compare is empty)
   bool running = false;
   bool sim_limited = false;         // the step budget per frame capped the speed
@@ -139,6 +142,8 @@ struct AppState {
 std::string presets_dir();
 // Builds the state for a scenario (validated: throws InputError). path may be empty.
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path);
+// The overlay's parameters with the keys it shares with `main` among F_s, F_c, V_s copied over.
+ModelParams with_shared_parameters(const ModelParams& overlay, const ModelParams& main);
 // The scenario as it is now counts as saved (after a load or a save).
 void mark_clean(AppState& s);
 // Applies every pending request (errors go to s.status / s.error, never thrown).

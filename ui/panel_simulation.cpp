@@ -189,6 +189,10 @@ void compare_section(AppState& s, SimPanelState& p) {
   }
   tip("Simulate a second friction model on the same input and overlay it");
   if (!on) return;
+  if (ImGui::Checkbox("follow the main model's F_s, F_c, V_s", &s.overlay_follows_shared) && s.overlay_follows_shared)
+    s.pending.compare = with_shared_parameters(*s.compare, s.scenario.friction);
+  tip("On: the overlay takes F_s, F_c and V_s from the main model (where both models have them) "
+      "whenever the main model changes, so the two differ only in their dynamics");
   ImGui::SetNextItemWidth(-1);
   bool c = edit_model_choice("##cmpmodel", p.compare);
   const Simulation* sim = s.overlay.sim.get();

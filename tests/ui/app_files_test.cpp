@@ -306,3 +306,36 @@ TEST_F(Folders, PresetsMenuListsShippedAndUserPresetsWithDescriptions) {
   EXPECT_EQ(mine, 1u);
 }
 #endif
+
+#if __has_include(<imgui.h>)
+// The overlay linked to the main model's shared parameters: every main-model edit (random, fixed
+// seed) carries F_s, F_c, V_s over to the overlay (and its running simulation); unlinked, the
+// overlay keeps its own.
+TEST_F(Folders, OverlayFollowsTheMainModelsSharedParametersWhenLinked) {
+  std::mt19937 rng(1212);
+  for (const bool linked : {true, false}) {
+    ui::AppState s;
+    open(s, preset("fig4_stick_slip.json"));
+    s.pending.compare = model_info("lugre").defaults();
+    ui::apply_pending(s);
+    ASSERT_TRUE(s.overlay.sim);
+    s.overlay_follows_shared = linked;
+    const ModelParams own = *s.compare;
+    for (int i = 0; i < 8; ++i) {
+      ModelParams m = s.scenario.friction;
+      const double fs = std::uniform_real_distribution<double>(0.5, 3.0)(rng);
+      m.set_scalar("Fs", fs);
+      m.set_scalar("Fc", fs * std::uniform_real_distribution<double>(0.3, 1.0)(rng));
+      m.set_scalar("Vs", std::uniform_real_distribution<double>(1e-4, 1e-2)(rng));
+      s.pending.friction = m;
+      ui::apply_pending(s);
+      ASSERT_TRUE(s.error.empty()) << s.error;
+      for (const char* k : {"Fs", "Fc", "Vs"}) {
+        const double want = linked ? m.scalar(k) : own.scalar(k);
+        EXPECT_DOUBLE_EQ(s.compare->scalar(k), want) << k;
+        EXPECT_DOUBLE_EQ(s.overlay.sim->scenario().friction.scalar(k), want) << k;
+      }
+    }
+  }
+}
+#endif
