@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/io/atomic_file.hpp"
+#include "ui/figure_view.hpp"
 #include "ui/plot.hpp"
 #include "ui/ticks.hpp"
 
@@ -102,6 +103,7 @@ std::string figure_svg(const Figure& f, int width, int height) {
     for (const auto& s : p.series)
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
         if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xr.add(s.x[i]), yr.add(s.y[i]);
+    if (const auto shared = shared_y_range(f)) yr.add(shared->lo), yr.add(shared->hi);
     xr.pad();
     yr.pad();
     auto X = [&](double v) { return px0 + (v - xr.lo) / (xr.hi - xr.lo) * (px1 - px0); };

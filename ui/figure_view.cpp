@@ -5,6 +5,8 @@
 #include <string>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include "ui/plot.hpp"
 
@@ -27,7 +29,7 @@ LineStyle line_style(Series::Style s) {
   return LineStyle::Solid;
 }
 
-void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive) {
+void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive, std::optional<YRange> y) {
   PlotOptions opt;
   opt.title = p.title.c_str();
   opt.letter = p.letter.c_str();
@@ -38,6 +40,7 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
     // "um" in the data's labels (ASCII, for CSV) is drawn as µm, as everywhere in the window.
     const std::string xl = micro_sign(p.x_label), yl = micro_sign(p.y_label);
     SetupAxes(xl.c_str(), yl.c_str());
+    if (y) SetupFitRangeY(y->lo, y->hi);
     for (std::size_t k = 0; k < p.series.size(); ++k) {
       const Series& s = p.series[k];
       SeriesStyle st;
@@ -52,6 +55,17 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
   ImGui::PopID();
 }
 }  // namespace
+
+std::optional<YRange> shared_y_range(const Figure& f) {
+  if (!f.shared_y) return std::nullopt;
+  YRange r{INFINITY, -INFINITY};
+  for (const auto& p : f.panels)
+    for (const auto& s : p.series)
+      for (double v : s.y)
+        if (std::isfinite(v)) r.lo = std::min(r.lo, v), r.hi = std::max(r.hi, v);
+  if (!(r.hi >= r.lo)) return std::nullopt;
+  return r;
+}
 
 void draw_figure(const Figure& f, bool interactive) {
   ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(0, 0, 0, 255));
@@ -68,12 +82,13 @@ void draw_figure(const Figure& f, bool interactive) {
   ImGui::PopStyleColor();
   ImGui::Spacing();
   const std::size_t n = std::max<std::size_t>(1, f.panels.size());
+  const std::optional<YRange> shared = shared_y_range(f);
   const float gap = ImGui::GetStyle().ItemSpacing.x;
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float w = (avail.x - gap * static_cast<float>(n - 1)) / static_cast<float>(n);
   for (std::size_t i = 0; i < f.panels.size(); ++i) {
     if (i > 0) ImGui::SameLine();
-    draw_panel(f.panels[i], i, ImVec2(w, avail.y), interactive);
+    draw_panel(f.panels[i], i, ImVec2(w, avail.y), interactive, shared);
   }
 }
 

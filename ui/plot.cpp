@@ -62,6 +62,8 @@ struct Building {
   bool has_limits = false, limits_always = false;
   bool has_hint = false;
   double hx0 = 0, hx1 = 1;  // autoscale covers at least this x range
+  bool has_hint_y = false;
+  double hy0 = 0, hy1 = 1;  // ... and this y range
   double lx0 = 0, lx1 = 1, ly0 = 0, ly1 = 1;
   std::vector<SeriesRef> series;
 };
@@ -140,6 +142,10 @@ void fit(View& v, const Building& p) {
   if (p.has_hint) {
     b.x0 = std::min(b.x0, p.hx0);
     b.x1 = std::max(b.x1, p.hx1);
+  }
+  if (p.has_hint_y) {
+    b.y0 = std::min(b.y0, p.hy0);
+    b.y1 = std::max(b.y1, p.hy1);
   }
   pad(b.x0, b.x1, all_sorted || p.has_hint ? 0.0 : 0.04);
   pad(b.y0, b.y1, 0.06);
@@ -565,6 +571,12 @@ void SetupFitRangeX(double x0, double x1) {
   g_ctx->plot.has_hint = x1 > x0;
   g_ctx->plot.hx0 = x0;
   g_ctx->plot.hx1 = x1;
+}
+
+void SetupFitRangeY(double y0, double y1) {
+  g_ctx->plot.has_hint_y = y1 >= y0;
+  g_ctx->plot.hy0 = y0;
+  g_ctx->plot.hy1 = y1;
 }
 
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,

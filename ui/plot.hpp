@@ -85,6 +85,8 @@ void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, con
 void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always = false);
 // Autoscale covers at least [x0, x1] in x (e.g. [0, duration] for a trace that is still growing).
 void SetupFitRangeX(double x0, double x1);
+// Autoscale covers at least [y0, y1] in y (panels sharing one y scale).
+void SetupFitRangeY(double y0, double y1);
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style = {});
 void EndPlot();

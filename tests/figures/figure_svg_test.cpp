@@ -236,3 +236,32 @@ TEST(FigureSvg, FiguresAndRenderCommandsWriteSvgFromTheFigureData) {
   fs::remove(dir.string() + ".out");
 }
 #endif
+
+// Comparison figures share one y scale: every panel of a shared_y figure (random data, fixed seed)
+// gets the same y range, covering all panels' data; the model comparisons of the figure set are
+// such figures.
+TEST(FigureSvg, SharedYScaleGivesEveryPanelTheSameRange) {
+  std::mt19937 rng(31);
+  for (int trial = 0; trial < 10; ++trial) {
+    Figure f = random_figure(rng);
+    if (f.panels.size() < 2) f.panels.push_back(f.panels[0]), f.panels.back().series[0].y[0] *= 7.0;
+    f.shared_y = true;
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& p : f.panels)
+      for (const auto& s : p.series)
+        for (double v : s.y) lo = std::min(lo, v), hi = std::max(hi, v);
+    const Element root = Parser{ui::figure_svg(f, 1200, 700)}.document();
+    std::vector<const Element*> groups;
+    for (const Element* g : all(root, "g"))
+      if (g->attr.count("class") && g->attr.at("class") == "panel") groups.push_back(g);
+    ASSERT_EQ(groups.size(), f.panels.size());
+    for (const Element* g : groups) {
+      EXPECT_DOUBLE_EQ(attr(*g, "data-y0"), attr(*groups[0], "data-y0"));
+      EXPECT_DOUBLE_EQ(attr(*g, "data-y1"), attr(*groups[0], "data-y1"));
+      EXPECT_LE(attr(*g, "data-y0"), lo);
+      EXPECT_GE(attr(*g, "data-y1"), hi);
+    }
+  }
+  for (const char* id : {"compare_fig2a_presliding", "compare_fig2b_frictional_lag", "compare_fig2c_periodic_sliding"})
+    EXPECT_TRUE(make_figure(id, std::string(GMSLAB_SOURCE_DIR) + "/presets").shared_y) << id;
+}
