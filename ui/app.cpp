@@ -67,7 +67,9 @@ void apply_save(AppState& s, const std::string& path, bool confirmed) {
       return;
     }
     const auto parent = std::filesystem::path(path).parent_path();
-    if (!parent.empty()) std::filesystem::create_directories(parent);
+    std::error_code ec;
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    if (ec) throw IoError("cannot create the folder " + parent.string() + ": " + ec.message());
     save_scenario(s.scenario, path);
     s.scenario_path = path;
     s.last_saved_path = path;

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "ui/plot.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -76,9 +77,7 @@ void draw_figure(const Figure& f, bool interactive) {
                                       f.title.c_str());
   ImGui::PopStyleColor();
   ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(70, 70, 70, 255));
-  ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextUnformatted(f.caption.c_str());
-  ImGui::PopTextWrapPos();
+  TextWrappedAtSpaces(f.caption);
   ImGui::PopStyleColor();
   ImGui::Spacing();
   const std::size_t n = std::max<std::size_t>(1, f.panels.size());

@@ -15,6 +15,7 @@
 #include "ui/panels.hpp"
 #include "ui/param_editor.hpp"
 #include "ui/sim_plots.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -50,9 +51,7 @@ std::string check(const Scenario& sc) {
 void message(const std::string& msg) {
   if (msg.empty()) return;
   ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-  ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextUnformatted(("Not applied: " + msg).c_str());
-  ImGui::PopTextWrapPos();
+  TextWrappedAtSpaces("Not applied: " + msg);
   ImGui::PopStyleColor();
 }
 
@@ -75,12 +74,13 @@ void scenario_section(AppState& s, SimPanelState& p) {
     ImGui::SetTooltip("Save the scenario as edited to\n%s\n(shipped presets are never overwritten; an existing "
                       "file is replaced only after you confirm; File > Save as... picks another path)",
                       target.c_str());
-  ImGui::PushTextWrapPos(0.0f);
   const bool edited = has_unsaved_changes(s);
-  ImGui::Text("%s%s", s.scenario.name.c_str(), edited ? "  * unsaved changes" : "");
-  if (!s.scenario.description.empty())
-    ImGui::TextColored(kDim, "%s%s", edited ? "As loaded: " : "", s.scenario.description.c_str());
-  ImGui::PopTextWrapPos();
+  TextWrappedAtSpaces(s.scenario.name + (edited ? "  * unsaved changes" : ""));
+  if (!s.scenario.description.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kDim);
+    TextWrappedAtSpaces((edited ? "As loaded: " : "") + s.scenario.description);
+    ImGui::PopStyleColor();
+  }
 }
 
 void run_section(AppState& s) {
@@ -112,9 +112,7 @@ void run_section(AppState& s) {
   }
   if (!s.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(s.error.c_str());
-    ImGui::PopTextWrapPos();
+    TextWrappedAtSpaces(s.error);
     ImGui::PopStyleColor();
   }
 }

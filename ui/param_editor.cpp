@@ -1,5 +1,7 @@
 #include "ui/param_editor.hpp"
 
+#include "ui/text_wrap.hpp"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -145,9 +147,7 @@ bool edit_param(const char* id, const ParamSpec& spec, double& value, double ref
   if (typed && std::isfinite(v)) changed = true;
   if (marked) {
     ImGui::PushStyleColor(ImGuiCol_Text, kRejected);
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(marks->message.c_str());
-    ImGui::PopTextWrapPos();
+    TextWrappedAtSpaces(marks->message);
     ImGui::PopStyleColor();
   }
   ImGui::PopID();
