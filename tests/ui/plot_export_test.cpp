@@ -118,3 +118,60 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
   }
 }
 #endif
+
+#if __has_include(<imgui.h>)
+#include <imgui_internal.h>
+
+// The menu itself, by mouse: a right-click on a plot opens the export menu; choosing "SVG" writes
+// the plot's SVG.
+TEST(PlotExport, RightClickOpensTheExportMenuAndItsItemWrites) {
+  const fs::path dir = fs::temp_directory_path() / ("gmslab_export_menu_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  setenv("GMSLAB_EXPORT_DIR", dir.c_str(), 1);
+  uitest::make_headless_imgui(ImVec2(800, 600));
+  {
+    ui::ScopedPlotContext plots;
+    std::vector<double> x{0, 1, 2, 3}, y{1, 3, 2, 4};
+    auto frame = [&](ImVec2 mouse, bool left, bool right) {
+      ImGuiIO& io = ImGui::GetIO();
+      io.DeltaTime = 1.0f / 60.0f;
+      io.MousePos = mouse;
+      io.MouseDown[0] = left;
+      io.MouseDown[1] = right;
+      ImGui::NewFrame();
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(800, 600));
+      ImGui::Begin("w", nullptr, ImGuiWindowFlags_NoDecoration);
+      ui::PlotOptions o;
+      o.title = "menu test";
+      if (ui::BeginPlot("##p", ImVec2(-1, -1), o)) {
+        ui::SetupAxes("x [-]", "y [-]");
+        ui::PlotLine("y", x.data(), y.data(), x.size());
+        ui::EndPlot();
+      }
+      ImGui::End();
+      ImGui::Render();
+    };
+    const ImVec2 in(400, 300);
+    frame(in, false, false);
+    frame(in, false, true);
+    frame(in, false, false);
+    ImGuiContext& g = *ImGui::GetCurrentContext();
+    ASSERT_EQ(g.OpenPopupStack.Size, 1) << "right-click opens the menu";
+    ImGuiWindow* menu = g.OpenPopupStack[0].Window;
+    ASSERT_NE(menu, nullptr);
+    // Items: the folder line, PNG (disabled: no writer here), SVG, CSV.
+    const float line = ImGui::GetTextLineHeightWithSpacing();
+    const ImVec2 svg(menu->DC.CursorStartPos.x + 20, menu->DC.CursorStartPos.y + 2.5f * line);
+    frame(svg, false, false);
+    frame(svg, true, false);
+    frame(svg, false, false);
+    frame(ImVec2(-FLT_MAX, -FLT_MAX), false, false);
+    EXPECT_TRUE(fs::exists(dir / "menu_test.svg")) << ui::TakePlotMessage();
+    EXPECT_EQ(g.OpenPopupStack.Size, 0);
+  }
+  ImGui::DestroyContext();
+  unsetenv("GMSLAB_EXPORT_DIR");
+  fs::remove_all(dir);
+}
+#endif
