@@ -56,6 +56,15 @@ TEST(DesignRegimeSwitch, ThePresslidingLocusIsInViewAndTheStalePickIsGone) {
   h.frame(h.px(best_s), true);
   h.frame(h.px(best_s), false);
   ASSERT_TRUE(d.picked);
+  // Zoom in on the sliding locus (mouse wheel over the canvas): the view is now the user's.
+  {
+    const ImVec2 c = h.px(cplx(-30, 0));
+    ImGui::GetIO().MouseWheel = 2.0f;
+    h.frame(c, false);
+    ImGui::GetIO().MouseWheel = 0.0f;
+    h.frame(c, false);
+  }
+  ASSERT_TRUE(d.in.locus_view.has_value());
   // Click the "presliding" radio: the first radio button at the top of the left column. Found by
   // scanning its column (clicks elsewhere in that strip only focus fields or toggle nothing).
   bool switched = false;
