@@ -60,12 +60,12 @@ Cli::Cli(Host host)
 
   register_simulate(app_, action_);
 
-  auto* r = app_.add_subcommand("render", "Render the app's view of a scenario to PNG (headless)");
+  auto* r = app_.add_subcommand("render", "Render the app's view of a scenario to PNG, or its plots to SVG (headless)");
   add_render_options(*r, render_);
   r->preparse_callback([this](std::size_t) { render_ = RenderOptions{}; });
   r->callback([this] { action_ = [this] { return host_.render(render_); }; });
 
-  auto* f = app_.add_subcommand("figures", "Render the paper's figure set to PNG + CSV (headless)");
+  auto* f = app_.add_subcommand("figures", "Render the paper's figure set to PNG and/or SVG, with CSV series (headless)");
   add_figures_options(*f, figures_);
   f->preparse_callback([this](std::size_t) { figures_ = FiguresOptions{}; });
   f->callback([this] { action_ = [this] { return host_.figures(figures_); }; });
