@@ -1,5 +1,9 @@
 #include "app/headless.hpp"
 
+#include <optional>
+
+#include "ui/figure_svg.hpp"
+
 #include <GL/osmesa.h>
 #include <backends/imgui_impl_opengl2.h>
 #include <imgui.h>
@@ -176,6 +180,34 @@ namespace {
 // The main window of the app for a full-size frame.
 void draw_app(ui::AppState& s) { ui::draw_frame(s); }
 
+// The Simulation view's four plots as a Figure (the same trace the window draws), main model
+// solid, overlay dashed.
+Figure simulation_figure(const ui::AppState& s) {
+  Figure f;
+  f.id = "simulation";
+  f.title = s.scenario.name;
+  f.caption = s.scenario.description;
+  struct Axis { const char* title; const char* xl; const char* yl; };
+  const Axis axes[] = {{"Friction force against time", "t [s]", "F_f [N]"},
+                       {"Position against time", "t [s]", "x [m]"},
+                       {"Friction force against displacement", "x [m]", "F_f [N]"},
+                       {"Velocity against time", "t [s]", "v [mm/s]"}};
+  for (int k = 0; k < 4; ++k) f.panels.push_back({std::string(1, static_cast<char>('A' + k)), axes[k].title, axes[k].xl, axes[k].yl, {}});
+  auto add = [&](const Simulation* sim, const std::string& name, Series::Style style, int color) {
+    if (!sim) return;
+    const Trace& tr = sim->trace();
+    std::vector<double> vmm(tr.v.size());
+    for (std::size_t i = 0; i < tr.v.size(); ++i) vmm[i] = 1e3 * tr.v[i];
+    f.panels[0].series.push_back({name, tr.t, tr.friction, style, color});
+    f.panels[1].series.push_back({name, tr.t, tr.x, style, color});
+    f.panels[2].series.push_back({name, tr.x, tr.friction, style, color});
+    f.panels[3].series.push_back({name, tr.t, vmm, style, color});
+  };
+  add(s.main.sim.get(), std::string(model_info(s.scenario.friction.model).name), Series::Style::Solid, 0);
+  if (s.compare) add(s.overlay.sim.get(), std::string(model_info(s.compare->model).name), Series::Style::Dashed, 1);
+  return f;
+}
+
 std::vector<std::string> split_ids(const std::string& only) {
   std::vector<std::string> ids;
   std::stringstream in(only);
@@ -219,6 +251,7 @@ int render_command(const cli::RenderOptions& o) {
   } else {
     ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
   }
+  ui::mark_clean(s);
   s.view.tab = panel->name;
   if (!plant_view) ui::run_until(s, o.time);
   if (!o.data.empty()) {
@@ -239,10 +272,16 @@ int render_command(const cli::RenderOptions& o) {
     }
     if (!ui::identify_error(s.identify).empty()) throw InputError("identification failed: " + ui::identify_error(s.identify));
   }
+  if (o.format == "svg") {
+    ui::write_figure_svg(simulation_figure(s), w, h, o.out);
+    std::cout << "wrote " << o.out << " (" << w << "x" << h << ", SVG of the simulation's plots, t = "
+              << s.main.sim->time() << " s)\n";
+    return 0;
+  }
   Offscreen off(w, h);
   const auto& rgba = off.render([&] { draw_app(s); }, 4);
   write_png(o.out, w, h, rgba);
-  std::cerr << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "
+  std::cout << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "
             << (plant_view ? s.plant.sim->time() : s.main.sim->time()) << " s)\n";
   return 0;
 }
@@ -260,18 +299,29 @@ int figures_command(const cli::FiguresOptions& o) {
     }
   std::filesystem::create_directories(o.out);
   const std::string presets = ui::presets_dir();
-  Offscreen off(w, h);
+  const bool png = o.format != "svg", svg = o.format != "png";
+  std::optional<Offscreen> off;
+  if (png) off.emplace(w, h);
   std::size_t k = 0;
   for (const auto& id : ids) {
-    std::cerr << "[" << ++k << "/" << ids.size() << "] " << id << " ... " << std::flush;
+    // Progress on stderr (full lines), the files written on stdout.
+    std::cerr << "[" << ++k << "/" << ids.size() << "] " << id << '\n';
     const Figure f = make_figure(id, presets);
-    const auto& rgba = off.render([&] { draw_figure_window(f); }, 3);
     const std::string base = (std::filesystem::path(o.out) / id).string();
-    write_png(base + ".png", w, h, rgba);
+    std::string wrote;
+    if (png) {
+      const auto& rgba = off->render([&] { draw_figure_window(f); }, 3);
+      write_png(base + ".png", w, h, rgba);
+      wrote += base + ".png ";
+    }
+    if (svg) {
+      ui::write_figure_svg(f, w, h, base + ".svg");
+      wrote += base + ".svg ";
+    }
     std::ostringstream csv;
     write_figure_csv(f, csv);
     write_file_atomic(base + ".csv", csv.str());
-    std::cerr << base << ".png, " << base << ".csv\n";
+    std::cout << wrote << base << ".csv\n";
   }
   return 0;
 }

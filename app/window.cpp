@@ -14,10 +14,18 @@
 #include <filesystem>
 #include <thread>
 
+#include <climits>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "core/ident/figure_json.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/app.hpp"
+#include "ui/app_files.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/plot.hpp"
 #include "ui/style.hpp"
 
@@ -43,6 +51,28 @@ constexpr unsigned kColorBufferBit = 0x00004000;  // GL_COLOR_BUFFER_BIT
 volatile std::sig_atomic_t g_quit = 0;
 void on_signal(int) { g_quit = 1; }
 
+// PNG export of a plot: the figure drawn by gmslab-headless plot-figure (the same drawing as
+// `gmslab figures`), next to this executable, as a child process; the window keeps running.
+void png_via_headless(const Figure& f, const std::string& path) {
+  char buf[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  std::string exe = "gmslab-headless";
+  if (n > 0) exe = std::filesystem::path(std::string(buf, static_cast<std::size_t>(n))).parent_path() / "gmslab-headless";
+  const std::string json = path + ".figure.json";
+  save_figure_json(f, json);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl(exe.c_str(), exe.c_str(), "plot-figure", json.c_str(), "--out", path.c_str(), "--size", "1600x1000",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  if (pid > 0) waitpid(pid, &status, 0);
+  std::filesystem::remove(json);
+  if (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw IoError("PNG not written: " + exe + " plot-figure failed (build the gmslab-headless target)");
+}
+
 void glfw_error(int code, const char* text) { std::fprintf(stderr, "gmslab: GLFW error %d: %s\n", code, text); }
 
 // Restores the last session, else opens the stick-slip preset.
@@ -65,6 +95,7 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
   const std::string preset = ui::presets_dir() + "/fig4_stick_slip.json";
   try {
     ui::load_scenario_into(s, load_scenario(preset), preset);
+    ui::mark_clean(s);
   } catch (const std::exception& e) {
     s.report(ui::Panel::Simulation, e, "default preset not loaded");
   }
@@ -83,12 +114,17 @@ void save(const ui::AppState& s, const std::string& path) {
 void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl) {
   using clock = std::chrono::steady_clock;
   auto next = clock::now();
+  s.keys = {GLFW_KEY_S, GLFW_KEY_F5};
+  std::string title;
   while (!glfwWindowShouldClose(win) && !g_quit) {
+    if (std::string t = ui::window_title(s); t != title) glfwSetWindowTitle(win, (title = t).c_str());
     // Idle: wait for input instead of spinning; running: one frame per 1/60 s.
+    // Idle: sleep until input (a blinking text cursor or a background identification wakes it
+    // 4 times a second, nothing else does); running: one frame per 1/60 s.
     if (s.running)
       glfwPollEvents();
     else
-      glfwWaitEventsTimeout(0.25);
+      glfwWaitEventsTimeout(ImGui::GetIO().WantTextInput || ui::identify_busy(s.identify) ? 0.25 : 5.0);
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
@@ -153,6 +189,7 @@ int run_window(const std::string& session_path) {
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   const ui::ScopedPlotContext plots;  // the window's plot view state
+  ui::SetPlotPngWriter(png_via_headless);
   float sx = 1.0f, sy = 1.0f;
   glfwGetWindowContentScale(win, &sx, &sy);
   ui::setup_style(17.0f * std::max(1.0f, sy));

@@ -6,9 +6,13 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <filesystem>
+
 #include "core/error.hpp"
 #include "core/io/scenario_io.hpp"
+#include "ui/app_files.hpp"
 #include "ui/panels.hpp"
+#include "ui/plot.hpp"
 
 namespace gmslab::ui {
 
@@ -44,16 +48,33 @@ void stop_with(AppState& s, const std::string& who, const SimulationError& e) {
 void apply_load(AppState& s, const std::string& path) {
   try {
     load_scenario_into(s, load_scenario(path), path);
+    mark_clean(s);
     s.note("loaded " + path);
   } catch (const std::exception& e) {
     s.report(Panel::Simulation, e, "load failed");
   }
 }
 
-void apply_save(AppState& s, const std::string& path) {
+// Never writes a shipped preset; asks (s.confirm_replace) before replacing any other file than
+// the one this window saved last.
+void apply_save(AppState& s, const std::string& path, bool confirmed) {
   try {
+    if (is_shipped_preset(path))
+      throw InputError("'" + path + "' is a shipped preset and is never overwritten; Save writes to " +
+                       user_scenarios_dir() + " (or pick a path with File > Save as...)");
+    if (!confirmed && path != s.last_saved_path && std::filesystem::exists(path)) {
+      s.confirm_replace = path;
+      return;
+    }
+    const auto parent = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+    if (ec) throw IoError("cannot create the folder " + parent.string() + ": " + ec.message());
     save_scenario(s.scenario, path);
     s.scenario_path = path;
+    s.last_saved_path = path;
+    s.sim_panel.path = path;
+    mark_clean(s);
     s.note("saved " + path);
   } catch (const std::exception& e) {
     s.report(Panel::Simulation, e, "save failed");
@@ -178,17 +199,34 @@ void restore_session(AppState& s, const Session& session) {
   apply_identify_settings(s.identify, session.identify);
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
+  // Unsaved changes are judged against the file the session's scenario came from.
+  s.clean_path = s.scenario_path;
+  try {
+    s.clean_scenario = s.scenario_path.empty() ? Scenario{} : load_scenario(s.scenario_path);
+  } catch (const std::exception&) {
+    s.clean_scenario = Scenario{};
+  }
 }
 
 void apply_pending(AppState& s) {
+  // An undo / redo turns into the requests that restore the recorded state.
+  if (s.pending.undo) s.pending.undo = false, undo(s);
+  if (s.pending.redo) s.pending.redo = false, redo(s);
   PendingRequests p = std::move(s.pending);
   s.pending = {};
+  // Every edit is recorded for undo (a drag gesture once); a run that had finished reruns with it.
+  const bool edits = !p.load_path.empty() || p.scenario || p.friction || p.plant || p.compare || p.clear_compare;
+  const bool gesture = ImGui::GetCurrentContext() != nullptr && ImGui::IsAnyItemActive();
+  if (edits && s.main.sim && !p.from_history && !(s.history.gesture_open && gesture)) record_edit(s);
+  if (edits) s.history.gesture_open = gesture;
+  else if (!gesture) s.history.gesture_open = false;
+  const bool was_finished = s.main.sim && s.main.sim->finished() && !s.running;
   if (!p.load_path.empty()) apply_load(s, p.load_path);
   if (p.scenario) {
     try {
       const bool was_running = s.running;
       load_scenario_into(s, *p.scenario, s.scenario_path);
-      s.running = was_running;
+      s.running = was_running || was_finished;
     } catch (const InputError& e) {
       s.report(Panel::Simulation, e, "scenario rejected");
     }
@@ -210,6 +248,11 @@ void apply_pending(AppState& s) {
       s.report(Panel::Simulation, e, "plant rejected");
     }
   }
+  if (s.overlay_follows_shared && s.compare && s.main.sim && !p.clear_compare &&
+      (p.friction || p.scenario || p.compare || !p.load_path.empty())) {
+    const ModelParams linked = with_shared_parameters(p.compare ? *p.compare : *s.compare, s.scenario.friction);
+    if (!(linked == *s.compare)) p.compare = linked, s.sim_panel.compare = linked;
+  }
   if (p.clear_compare) {
     s.compare.reset();
     s.overlay = {};
@@ -228,8 +271,41 @@ void apply_pending(AppState& s) {
     s.clear_error(Panel::Simulation);
     s.running = true;
   }
+  if (p.rerun && s.main.sim) {
+    s.main.sim->reset();
+    if (s.overlay.sim) s.overlay.sim->reset();
+    s.clear_error(Panel::Simulation);
+    s.running = true;
+  }
+  if (was_finished && (p.friction || p.plant || p.compare) && s.main.sim && s.error.empty()) {
+    // The edit would otherwise show nothing until Rerun: run it again from t = 0.
+    s.main.sim->reset();
+    if (s.overlay.sim) s.overlay.sim->reset();
+    s.running = true;
+    s.note("the run had finished: rerunning with the edit");
+  }
   if (p.pause) s.running = false;
-  if (!p.save_path.empty()) apply_save(s, p.save_path);
+  if (!p.save_path.empty()) apply_save(s, p.save_path, p.save_confirmed);
+}
+
+ModelParams with_shared_parameters(const ModelParams& overlay, const ModelParams& main) {
+  ModelParams out = overlay;
+  const ModelInfo& a = model_info(overlay.model);
+  const ModelInfo& b = model_info(main.model);
+  for (const char* key : {"Fs", "Fc", "Vs"}) {
+    const auto has = [&](const ModelInfo& m) {
+      for (const auto& sp : m.scalars)
+        if (sp.key == key) return true;
+      return false;
+    };
+    if (has(a) && has(b)) out.set_scalar(key, main.scalar(key));
+  }
+  return out;
+}
+
+void mark_clean(AppState& s) {
+  s.clean_scenario = s.scenario;
+  s.clean_path = s.scenario_path;
 }
 
 void advance(AppState& s) {
@@ -272,8 +348,10 @@ void draw_frame(AppState& s) {
   ImGui::SetNextWindowSize(vp->Size);
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoSavedSettings |
-                                 ImGuiWindowFlags_NoBringToFrontOnFocus;
+                                 ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_MenuBar;
   ImGui::Begin("gmslab", nullptr, flags);
+  draw_menu_bar(s);
+  handle_shortcuts(s);
   // The panels above, the status line (when there is one) below.
   const float status_h = s.status.empty() ? 0.0f
                                           : ImGui::CalcTextSize(s.status.c_str()).y + ImGui::GetStyle().ItemSpacing.y;
@@ -293,9 +371,14 @@ void draw_frame(AppState& s) {
     ImGui::EndTabBar();
   }
   ImGui::EndChild();
+  if (std::string m = TakePlotMessage(); !m.empty()) {  // an export from a plot or the Figures tab
+    if (m.rfind("export failed", 0) == 0) s.report(Panel::Simulation, ErrorKind::Io, m);
+    else s.note(m);
+  }
   if (!s.status.empty())
     ImGui::TextColored(s.status_kind ? ImVec4(0.75f, 0.10f, 0.10f, 1.0f) : ImVec4(0.35f, 0.35f, 0.38f, 1.0f), "%s",
                        s.status.c_str());
+  draw_file_dialogs(s);
   ImGui::End();
   apply_pending(s);
   advance(s);

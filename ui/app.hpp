@@ -38,6 +38,38 @@ struct PendingRequests {
   bool run = false, pause = false;
   std::string load_path;                // non-empty: load this scenario file
   std::string save_path;                // non-empty: save the scenario (atomic)
+  bool save_confirmed = false;          // the user agreed to replace an existing save_path
+  bool undo = false, redo = false;      // one step back / forward in the edit history
+  bool rerun = false;                   // back to t = 0 and run (F5)
+  bool from_history = false;            // these requests are an undo / redo (not recorded again)
+};
+
+// What an edit changes, for undo / redo (ui/app_files.hpp).
+struct EditSnapshot {
+  Scenario scenario;
+  std::string scenario_path;
+  std::optional<ModelParams> compare;
+  bool operator==(const EditSnapshot&) const = default;
+};
+struct EditHistory {
+  std::vector<EditSnapshot> undo, redo;
+  bool gesture_open = false;  // an active widget's edits are already recorded as one step
+  static constexpr std::size_t kMaxSteps = 200;
+};
+
+// Native key codes the host maps for shortcuts ImGui 1.86 has no named key for (GLFW codes in
+// the window; tests pick their own). -1: not mapped.
+struct ShortcutKeys {
+  int s = -1, f5 = -1;
+};
+
+// The built-in file browser (File > Open..., Save as...).
+struct FileBrowserState {
+  bool open_request = false;  // open the popup next frame
+  bool saving = false;        // Save as (else Open)
+  std::string dir;            // folder listed
+  std::string name;           // file name typed or picked
+  std::string error;          // why the folder could not be listed
 };
 
 // A simulation plus the stick / slip phases of its trace (computed in core from the whole trace).
@@ -54,6 +86,9 @@ struct AppState {
   Scenario scenario;                // the scenario as edited: what "save" writes
   LiveRun main;                     // the live run of `scenario`
   std::optional<ModelParams> compare;  // overlay model driven by the same input
+  // The overlay takes the main model's shared parameters (F_s, F_c, V_s, where both models have
+  // them) whenever the main model changes, so two models compare at the same Stribeck curve.
+  bool overlay_follows_shared = false;
   LiveRun overlay;                  // its run (sim null when compare is empty)
   bool running = false;
   bool sim_limited = false;         // the step budget per frame capped the speed
@@ -74,6 +109,14 @@ struct AppState {
   PendingRequests pending;
   int generation = 0;               // bumped when the scenario is replaced (editors resync)
   int select_tab = 2;               // frames left to force view.tab as the selected tab
+  // The scenario as last loaded or saved, and the file written last: unsaved changes and
+  // "replace?" questions are judged against them (ui/app_files.hpp).
+  Scenario clean_scenario;
+  std::string clean_path, last_saved_path;
+  std::string confirm_replace;      // non-empty: ask whether to replace this file
+  EditHistory history;
+  ShortcutKeys keys;
+  FileBrowserState browser;
 
   // Each panel's state (ui/panel_state.hpp), typed.
   SimPanelState sim_panel;
@@ -101,6 +144,10 @@ struct AppState {
 std::string presets_dir();
 // Builds the state for a scenario (validated: throws InputError). path may be empty.
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path);
+// The overlay's parameters with the keys it shares with `main` among F_s, F_c, V_s copied over.
+ModelParams with_shared_parameters(const ModelParams& overlay, const ModelParams& main);
+// The scenario as it is now counts as saved (after a load or a save).
+void mark_clean(AppState& s);
 // Applies every pending request (errors go to s.status / s.error, never thrown).
 void apply_pending(AppState& s);
 // Advances the running simulation(s) by s.view.speed * s.frame_dt simulated seconds.

@@ -1,6 +1,8 @@
 // gmslab ui: the root-locus canvas of the design view (see ui/design_view.hpp).
 #include <imgui.h>
 
+#include <vector>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -60,12 +62,25 @@ void draw_grid(ImDrawList* dl, const PlotTransform& t) {
   const ImVec2 o = px(t, 0.0);
   const float scale = static_cast<float>((t.px1 - t.px0) / (t.x1 - t.x0));
   char buf[48];
+  // Grid labels never overprint each other or leave the canvas: a label that would overlap one
+  // already drawn (zoomed out, the zeta rays crowd near the origin) is left out.
+  struct Box { float x0, y0, x1, y1; };
+  std::vector<Box> placed;
+  auto label = [&](ImVec2 at, const char* text) {
+    const ImVec2 sz = ImGui::CalcTextSize(text);
+    const Box b{at.x - 2, at.y - 1, at.x + sz.x + 2, at.y + sz.y + 1};
+    if (b.x0 < t.px0 || b.x1 > t.px1 || b.y0 < t.py0 || b.y1 > t.py1) return;
+    for (const Box& o : placed)
+      if (b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1) return;
+    placed.push_back(b);
+    dl->AddText(at, kGridText, text);
+  };
   for (double r = step; r < R; r += step) {
     dl->PathArcTo(o, static_cast<float>(r) * scale, static_cast<float>(kPi / 2), static_cast<float>(3 * kPi / 2), 64);
     dl->PathStroke(kGrid, 0, 1.0f);
     std::snprintf(buf, sizeof buf, "%g", r);
     const ImVec2 lp = px(t, std::polar(r, 0.53 * kPi));
-    dl->AddText(ImVec2(lp.x - ImGui::CalcTextSize(buf).x - 2, lp.y), kGridText, buf);
+    label(ImVec2(lp.x - ImGui::CalcTextSize(buf).x - 2, lp.y), buf);
   }
   // zeta rays
   for (double z : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
@@ -76,7 +91,7 @@ void draw_grid(ImDrawList* dl, const PlotTransform& t) {
     }
     const cplx lab = std::polar(0.9 * std::min(t.y1, -t.x0 > 0 ? -t.x0 : t.y1), kPi - b);
     std::snprintf(buf, sizeof buf, "%.1f", z);
-    dl->AddText(px(t, lab), kGridText, buf);
+    label(px(t, lab), buf);
   }
   // axes
   dl->AddLine(ImVec2(static_cast<float>(t.px0), o.y), ImVec2(static_cast<float>(t.px1), o.y), kAxis, 1.2f);
@@ -319,7 +334,7 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   if (d.picked) {
     for (const cplx& p : d.picked_poles) dl->AddCircle(px(t, p), 7.0f, IM_COL32(86, 180, 233, 255), 16, 2.0f);
     char buf[64];
-    std::snprintf(buf, sizeof buf, "k = %.4g", d.picked_k);
+    std::snprintf(buf, sizeof buf, "k = %.4g N/m", d.picked_k);
     const ImVec2 q = px(t, d.picked_s);
     dl->AddText(ImVec2(q.x + 9, q.y - 18), kText, buf);
   }

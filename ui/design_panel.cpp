@@ -4,6 +4,8 @@
 // (ui/design_locus.cpp) above the linked responses (ui/design_responses.cpp).
 #include <imgui.h>
 
+#include "ui/param_editor.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,11 +26,17 @@ void tip(const char* text) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
 }
 
-bool input_double(const char* label, double* v, double lo, double hi, const char* fmt, const char* help,
+// The app's one number field (ui/param_editor.hpp: click to type, drag the handle), then the label.
+bool input_double(const char* label, double* v, double lo, double hi, const char* /*fmt*/, const char* help,
                   bool log = false) {
+  const std::string text(label);
+  const auto open = text.find('['), close = text.find(']');
+  const std::string unit = open != std::string::npos && close > open ? text.substr(open + 1, close - open - 1) : "-";
+  const ParamSpec spec{label, label, unit, help, lo, hi, false, log};
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
-  const bool ch = ImGui::SliderScalar(label, ImGuiDataType_Double, v, &lo, &hi, fmt,
-                                      log ? ImGuiSliderFlags_Logarithmic : 0);
+  const bool ch = edit_param(label, spec, *v, 0.0);
+  ImGui::SameLine();
+  ImGui::TextUnformatted(text.substr(0, text.find("##")).c_str());
   tip(help);
   return ch;
 }
@@ -78,7 +86,13 @@ void plant_section(DesignViewState& d) {
   ImGui::SameLine();
   ch |= ImGui::RadioButton("gross sliding", &regime, 1);
   tip("Sliding at v0: friction acts through the local Stribeck slope plus sigma2 (damping)");
-  if (ch) s.regime = regime == 0 ? "presliding" : "sliding", d.dirty = true;
+  if (ch) {
+    s.regime = regime == 0 ? "presliding" : "sliding", d.dirty = true;
+    // Another plant: its poles lie elsewhere (presliding: near +-460j for Fig. 4), so the view
+    // fits the new locus again and a gain picked on the old one is gone.
+    d.in.locus_view.reset();
+    d.picked = false;
+  }
   if (s.regime == "sliding") {
     double v0 = s.velocity > 0 ? s.velocity : d.out.plant.velocity;
     if (input_double("v0 [m/s]", &v0, 1e-5, 1.0, "%.3g", "Sliding operating velocity (default 10 Vs)", true))
@@ -122,17 +136,22 @@ void result_section(DesignViewState& d) {
   tip("A single lead places s_d iff 0 < phi < 180 deg - beta");
   if (!L.applicable) ImGui::TextWrapped("%s", L.reason.c_str());
   ImGui::Text("phi = %.2f deg (limit %.2f deg)", L.phi * 180 / std::numbers::pi, 180 - L.beta * 180 / std::numbers::pi);
-  ImGui::Text("type %d, K0 = %.4g", r.type.n, r.type.K0);
+  // Units: the plant is force -> position [m/N], the compensator [N/m]; the loop is dimensionless,
+  // so the type-n error constant is in s^-n and K0 = lim s^n G(s) in m/(N s^n).
+  const char* kunit = r.type.n == 0 ? "-" : r.type.n == 1 ? "1/s" : r.type.n == 2 ? "1/s^2" : "s^-n";
+  const char* k0unit = r.type.n == 0 ? "m/N" : r.type.n == 1 ? "m/(N s)" : r.type.n == 2 ? "m/(N s^2)" : "m/(N s^n)";
+  ImGui::Text("type %d, K0 = %.4g %s", r.type.n, r.type.K0, k0unit);
+  tip("K0 = lim s^n G(s): the plant's own gain at the type's order");
   if (L.applicable) {
-    ImGui::Text("%s_max = %.5g (PD limit)", kname.c_str(), L.K_max);
+    ImGui::Text("%s_max = %.5g %s (PD limit)", kname.c_str(), L.K_max, kunit);
     tip("Supremum of the error constant at s_d: reached only as p -> infinity");
-    ImGui::Text("usable (p/z <= %.3g) = %.5g", d.settings.max_ratio, r.K_max_usable);
+    ImGui::Text("usable %s (p/z <= %.3g) = %.5g %s", kname.c_str(), d.settings.max_ratio, r.K_max_usable, kunit);
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
-    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g)", c.Kc, c.z, c.p);
-    ImGui::TextColored(kDim, "%s, %s = %.5g, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
-                       c.Kc * c.z / c.p * r.type.K0, c.p / c.z);
+    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
+    ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
+                       c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
   }
   if (o.step.t.size() > 4) {
     // The linear step against the requirements (the zero and the extra poles move it off the
@@ -209,7 +228,7 @@ void compensator_section(DesignViewState& d) {
   }
   if (d.picked) {
     const double wn = std::abs(d.picked_s);
-    ImGui::TextColored(kDim, "picked: k = %.5g, zeta = %.3f, wn = %.4g\nall closed-loop poles:\n%s", d.picked_k,
+    ImGui::TextColored(kDim, "picked: k = %.5g N/m, zeta = %.3f, wn = %.4g rad/s\nall closed-loop poles [rad/s]:\n%s", d.picked_k,
                        wn > 0 ? -d.picked_s.real() / wn : 0.0, wn, poles_text(d.picked_poles).c_str());
     if (ImGui::SmallButton("set Kc = k")) c.Kc = d.picked_k, d.in.manual = c, d.dirty = true;
   }

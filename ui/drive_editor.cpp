@@ -10,7 +10,7 @@ namespace gmslab::ui {
 
 namespace {
 // A labelled row: "label [unit]" on the left, the field on the right.
-bool row(const char* label, const ParamSpec& spec, double& v, double ref = 0.0) {
+bool row(FieldMarks* m, const char* label, const ParamSpec& spec, double& v, double ref = 0.0) {
   ImGui::TableNextRow();
   ImGui::TableNextColumn();
   ImGui::AlignTextToFramePadding();
@@ -21,7 +21,7 @@ bool row(const char* label, const ParamSpec& spec, double& v, double ref = 0.0) 
   ImGui::TableNextColumn();
   ImGui::SetNextItemWidth(-1);
   ImGui::PushID(label);
-  const bool c = edit_param("##v", spec, v, ref);
+  const bool c = edit_param("##v", spec, v, ref, m);
   ImGui::PopID();
   return c;
 }
@@ -55,7 +55,7 @@ Signal default_signal(Signal::Kind kind, Drive::Kind d) {
   }
 }
 
-bool edit_signal_fields(Signal& s, Drive::Kind dk) {
+bool edit_signal_fields(Signal& s, Drive::Kind dk, FieldMarks* m) {
   const std::string_view u = drive_unit(dk), ru = rate_unit(dk);
   const ParamSpec val{"value", "y", u, "signal value", -1e9, 1e9};
   const ParamSpec slope{"slope", "dy/dt", ru, "rate of change", -1e9, 1e9};
@@ -64,33 +64,33 @@ bool edit_signal_fields(Signal& s, Drive::Kind dk) {
   const ParamSpec phase{"phase", "phi", "rad", "phase of the sine at t = 0", -1e3, 1e3};
   bool c = false;
   switch (s.kind) {
-    case Signal::Kind::Constant: c |= row("value", val, s.value); break;
+    case Signal::Kind::Constant: c |= row(m, "value", val, s.value); break;
     case Signal::Kind::Ramp:
-      c |= row("value at t = 0", val, s.value);
-      c |= row("slope", slope, s.slope);
+      c |= row(m, "value at t = 0", val, s.value);
+      c |= row(m, "slope", slope, s.slope);
       break;
     case Signal::Kind::Sine:
-      c |= row("offset", val, s.offset);
-      c |= row("amplitude", val, s.amplitude);
-      c |= row("frequency", freq, s.frequency);
-      c |= row("phase", phase, s.phase);
+      c |= row(m, "offset", val, s.offset);
+      c |= row(m, "amplitude", val, s.amplitude);
+      c |= row(m, "frequency", freq, s.frequency);
+      c |= row(m, "phase", phase, s.phase);
       break;
     case Signal::Kind::Triangle: {
-      c |= row("low", val, s.low);
-      c |= row("high", val, s.high);
-      c |= row("rate", rate, s.rate);
+      c |= row(m, "low", val, s.low);
+      c |= row(m, "high", val, s.high);
+      c |= row(m, "rate", rate, s.rate);
       double cyc = s.cycles;
       const ParamSpec cs{"cycles", "n", "-", "number of low-high-low cycles", 1, 1e6};
-      if (row("cycles", cs, cyc)) s.cycles = static_cast<int>(cyc), c = true;
+      if (row(m, "cycles", cs, cyc)) s.cycles = static_cast<int>(cyc), c = true;
       break;
     }
     case Signal::Kind::TurningPoints:
-      c |= row("start", val, s.start);
-      c |= row("rate", rate, s.rate);
+      c |= row(m, "start", val, s.start);
+      c |= row(m, "rate", rate, s.rate);
       for (std::size_t i = 0; i < s.points.size(); ++i) {
         ImGui::PushID(static_cast<int>(i));
         const std::string name = "point " + std::to_string(i + 1);
-        c |= row(name.c_str(), val, s.points[i]);
+        c |= row(m, name.c_str(), val, s.points[i]);
         ImGui::PopID();
       }
       break;
@@ -109,20 +109,20 @@ const char* drive_unit(Drive::Kind k) {
   }
 }
 
-bool edit_plant(Plant& p) {
+bool edit_plant(Plant& p, FieldMarks* m) {
   static const ParamSpec mass{"mass", "m", "kg", "moving mass", 0, 1e6, true, true};
   static const ParamSpec spring{"spring", "k", "N/m", "spring from the mass to ground", 0, 1e12};
   static const ParamSpec damper{"damper", "c", "N s/m", "damper from the mass to ground", 0, 1e9};
   bool c = false;
   if (!begin_rows("##plant")) return false;
-  c |= row("mass m", mass, p.mass, 1.0);
-  c |= row("spring k", spring, p.spring);
-  c |= row("damper c", damper, p.damper);
+  c |= row(m, "mass m", mass, p.mass, 1.0);
+  c |= row(m, "spring k", spring, p.spring);
+  c |= row(m, "damper c", damper, p.damper);
   ImGui::EndTable();
   return c;
 }
 
-bool edit_drive(Drive& d) {
+bool edit_drive(Drive& d, FieldMarks* m) {
   bool c = false;
   static const char* kinds[] = {"displacement x(t): friction alone (hysteresis)",
                                 "velocity v(t) prescribed", "force F(t) on the mass",
@@ -152,29 +152,29 @@ bool edit_drive(Drive& d) {
     ImGui::SetTooltip("Shape of the drive signal, in %s. Piecewise-linear and sequence signals are "
                       "edited in the scenario JSON.", drive_unit(d.kind));
   if (begin_rows("##signal")) {
-    c |= edit_signal_fields(d.signal, d.kind);
+    c |= edit_signal_fields(d.signal, d.kind, m);
     if (d.kind == Drive::Kind::Pull) {
       static const ParamSpec ks{"spring", "k_p", "N/m", "pulling spring", 0, 1e12};
       static const ParamSpec cs{"damper", "c_p", "N s/m", "pulling damper", 0, 1e9};
-      c |= row("pull spring k_p", ks, d.pull_spring);
-      c |= row("pull damper c_p", cs, d.pull_damper);
+      c |= row(m, "pull spring k_p", ks, d.pull_spring);
+      c |= row(m, "pull damper c_p", cs, d.pull_damper);
     }
     ImGui::EndTable();
   }
   return c;
 }
 
-bool edit_run(RunSettings& r) {
+bool edit_run(RunSettings& r, FieldMarks* m) {
   static const ParamSpec dt{"dt", "h", "s", "integration step; smaller resolves stiffer elements", 0, 1,
                             true, true};
   static const ParamSpec dur{"duration", "T", "s", "simulated time of the run", 0, 1e6, true, true};
   static const ParamSpec rec{"record_every", "n", "-", "keep every n-th step in the trace", 1, 1e6};
   bool c = false;
   if (!begin_rows("##run")) return false;
-  c |= row("step dt", dt, r.dt, 1e-5);
-  c |= row("duration", dur, r.duration, 10.0);
+  c |= row(m, "step dt", dt, r.dt, 1e-5);
+  c |= row(m, "duration", dur, r.duration, 10.0);
   double n = r.record_every;
-  if (row("record every", rec, n)) r.record_every = static_cast<int>(n), c = true;
+  if (row(m, "record every", rec, n)) r.record_every = static_cast<int>(n), c = true;
   ImGui::EndTable();
   return c;
 }

@@ -2,11 +2,23 @@
 
 #include <imgui.h>
 
+#include <string>
+
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include "ui/plot.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
+
+namespace {
+std::string micro_sign(std::string s) {
+  for (std::size_t i = 0; (i = s.find("[um]", i)) != std::string::npos; i += 4) s.replace(i, 4, "[\xC2\xB5m]");
+  return s;
+}
+}  // namespace
 
 namespace {
 LineStyle line_style(Series::Style s) {
@@ -18,7 +30,7 @@ LineStyle line_style(Series::Style s) {
   return LineStyle::Solid;
 }
 
-void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive) {
+void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive, std::optional<YRange> y) {
   PlotOptions opt;
   opt.title = p.title.c_str();
   opt.letter = p.letter.c_str();
@@ -26,7 +38,10 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
   opt.interactive = interactive;
   ImGui::PushID(static_cast<int>(index));
   if (BeginPlot("##panel", size, opt)) {
-    SetupAxes(p.x_label.c_str(), p.y_label.c_str());
+    // "um" in the data's labels (ASCII, for CSV) is drawn as µm, as everywhere in the window.
+    const std::string xl = micro_sign(p.x_label), yl = micro_sign(p.y_label);
+    SetupAxes(xl.c_str(), yl.c_str());
+    if (y) SetupFitRangeY(y->lo, y->hi);
     for (std::size_t k = 0; k < p.series.size(); ++k) {
       const Series& s = p.series[k];
       SeriesStyle st;
@@ -42,6 +57,17 @@ void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive
 }
 }  // namespace
 
+std::optional<YRange> shared_y_range(const Figure& f) {
+  if (!f.shared_y) return std::nullopt;
+  YRange r{INFINITY, -INFINITY};
+  for (const auto& p : f.panels)
+    for (const auto& s : p.series)
+      for (double v : s.y)
+        if (std::isfinite(v)) r.lo = std::min(r.lo, v), r.hi = std::max(r.hi, v);
+  if (!(r.hi >= r.lo)) return std::nullopt;
+  return r;
+}
+
 void draw_figure(const Figure& f, bool interactive) {
   ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(0, 0, 0, 255));
   const ImVec2 title_pos = ImGui::GetCursorScreenPos();
@@ -51,18 +77,17 @@ void draw_figure(const Figure& f, bool interactive) {
                                       f.title.c_str());
   ImGui::PopStyleColor();
   ImGui::PushStyleColor(ImGuiCol_Text, IM_COL32(70, 70, 70, 255));
-  ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextUnformatted(f.caption.c_str());
-  ImGui::PopTextWrapPos();
+  TextWrappedAtSpaces(f.caption);
   ImGui::PopStyleColor();
   ImGui::Spacing();
   const std::size_t n = std::max<std::size_t>(1, f.panels.size());
+  const std::optional<YRange> shared = shared_y_range(f);
   const float gap = ImGui::GetStyle().ItemSpacing.x;
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float w = (avail.x - gap * static_cast<float>(n - 1)) / static_cast<float>(n);
   for (std::size_t i = 0; i < f.panels.size(); ++i) {
     if (i > 0) ImGui::SameLine();
-    draw_panel(f.panels[i], i, ImVec2(w, avail.y), interactive);
+    draw_panel(f.panels[i], i, ImVec2(w, avail.y), interactive, shared);
   }
 }
 

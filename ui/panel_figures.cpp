@@ -3,7 +3,9 @@
 #include <imgui.h>
 
 #include "core/figures/figure_set.hpp"
+#include "ui/figure_export.hpp"
 #include "ui/figure_view.hpp"
+#include "ui/plot.hpp"
 #include "ui/panel_figures.hpp"
 
 namespace gmslab::ui {
@@ -37,6 +39,19 @@ void draw_figures_panel(FiguresState& f, const std::string& presets) {
   if (!f.error.empty()) {
     ImGui::TextColored(ImVec4(0.75f, 0.1f, 0.1f, 1), "%s", f.error.c_str());
     return;
+  }
+  // Export the figure shown (the same data as `gmslab figures`), into export_dir().
+  ImGui::SameLine();
+  ImGui::TextUnformatted("export:");
+  const struct { const char* label; ExportFormat format; } kinds[] = {
+      {"PNG", ExportFormat::Png}, {"SVG", ExportFormat::Svg}, {"CSV", ExportFormat::Csv}};
+  for (const auto& k : kinds) {
+    ImGui::SameLine();
+    ImGui::BeginDisabled(k.format == ExportFormat::Png && !GetPlotPngWriter());
+    if (ImGui::SmallButton(k.label)) PostPlotMessage(export_figure(f.figure, k.format, GetPlotPngWriter()));
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+      ImGui::SetTooltip("Write this figure as %s into %s (never over an existing file)", k.label, export_dir().c_str());
   }
   ImGui::BeginChild("##figure", ImVec2(0, 0), true, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   draw_figure(f.figure, true);

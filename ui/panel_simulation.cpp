@@ -10,10 +10,12 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "ui/app_files.hpp"
 #include "ui/drive_editor.hpp"
 #include "ui/panels.hpp"
 #include "ui/param_editor.hpp"
 #include "ui/sim_plots.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -33,6 +35,7 @@ void sync(AppState& s, SimPanelState& p) {
   p.run = s.scenario.run;
   p.compare = s.compare ? *s.compare : ModelParams{};
   p.friction_msg = p.plant_msg = p.drive_msg = p.compare_msg = "";
+  p.marks.clear();
 }
 
 // "" when the scenario would run, else the validation message (names key and range).
@@ -48,9 +51,7 @@ std::string check(const Scenario& sc) {
 void message(const std::string& msg) {
   if (msg.empty()) return;
   ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-  ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextUnformatted(("Not applied: " + msg).c_str());
-  ImGui::PopTextWrapPos();
+  TextWrappedAtSpaces("Not applied: " + msg);
   ImGui::PopStyleColor();
 }
 
@@ -66,12 +67,20 @@ void scenario_section(AppState& s, SimPanelState& p) {
   if (ImGui::Button("Load")) s.pending.load_path = p.path;
   tip("Load the scenario from this file (restarts the run)");
   ImGui::SameLine();
-  if (ImGui::Button("Save")) s.pending.save_path = p.path;
-  tip("Save the scenario as edited to this file (atomic: the old file stays intact on failure)");
-  ImGui::PushTextWrapPos(0.0f);
-  ImGui::TextUnformatted(s.scenario.name.c_str());
-  if (!s.scenario.description.empty()) ImGui::TextColored(kDim, "%s", s.scenario.description.c_str());
-  ImGui::PopTextWrapPos();
+  // A path typed here is the user's pick; otherwise Save goes to save_target (never a shipped preset).
+  const std::string target = !p.path.empty() && p.path != s.scenario_path ? p.path : save_target(s);
+  if (ImGui::Button("Save")) s.pending.save_path = target;
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("Save the scenario as edited to\n%s\n(shipped presets are never overwritten; an existing "
+                      "file is replaced only after you confirm; File > Save as... picks another path)",
+                      target.c_str());
+  const bool edited = has_unsaved_changes(s);
+  TextWrappedAtSpaces(s.scenario.name + (edited ? "  * unsaved changes" : ""));
+  if (!s.scenario.description.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kDim);
+    TextWrappedAtSpaces((edited ? "As loaded: " : "") + s.scenario.description);
+    ImGui::PopStyleColor();
+  }
 }
 
 void run_section(AppState& s) {
@@ -87,13 +96,12 @@ void run_section(AppState& s) {
   if (ImGui::Button("Reset", ImVec2(bw, 0))) s.pending.reset = true;
   tip("Back to t = 0 with the friction in its virgin state");
   ImGui::SameLine();
+  ImGui::TextUnformatted("speed [s/s]");
+  ImGui::SameLine();
   ImGui::SetNextItemWidth(-1);
-  double speed = s.view.speed;
-  const double lo = 1e-3, hi = 1e3;
-  if (ImGui::SliderScalar("##speed", ImGuiDataType_Double, &speed, &lo, &hi, "speed %.3g s/s",
-                          ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp))
-    s.view.speed = speed;
-  tip("Simulated seconds per wall-clock second");
+  static constexpr ParamSpec kSpeed{"speed", "speed", "s/s", "simulated seconds per wall-clock second",
+                                    1e-3, 1e3, false, true};
+  edit_param("##speed", kSpeed, s.view.speed, 1.0);
   if (sim) {
     const double dur = s.scenario.run.duration;
     char buf[96];
@@ -104,9 +112,7 @@ void run_section(AppState& s) {
   }
   if (!s.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-    ImGui::PushTextWrapPos(0.0f);
-    ImGui::TextUnformatted(s.error.c_str());
-    ImGui::PopTextWrapPos();
+    TextWrappedAtSpaces(s.error);
     ImGui::PopStyleColor();
   }
 }
@@ -115,29 +121,29 @@ void plant_section(AppState& s, SimPanelState& p) {
   if (!ImGui::CollapsingHeader("Plant", ImGuiTreeNodeFlags_DefaultOpen)) return;
   if (s.scenario.drive.kind == Drive::Kind::Displacement || s.scenario.drive.kind == Drive::Kind::Velocity)
     ImGui::TextColored(kDim, "(the motion is prescribed: the plant does not act)");
-  if (edit_plant(p.plant)) {
+  if (edit_plant(p.plant, &p.marks)) {
     Scenario sc = s.scenario;
     sc.plant = p.plant;
     p.plant_msg = check(sc);
     if (p.plant_msg.empty()) s.pending.plant = p.plant;
+    else p.marks.reject(p.plant_msg), p.plant = s.scenario.plant;  // the field shows the value in force
   }
-  message(p.plant_msg);
 }
 
 void drive_section(AppState& s, SimPanelState& p) {
   if (!ImGui::CollapsingHeader("Drive and run", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  bool c = edit_drive(p.drive);
+  bool c = edit_drive(p.drive, &p.marks);
   ImGui::Separator();
-  c |= edit_run(p.run);
+  c |= edit_run(p.run, &p.marks);
   if (c) {
     Scenario sc = s.scenario;
     sc.drive = p.drive;
     sc.run = p.run;
     p.drive_msg = check(sc);
     if (p.drive_msg.empty()) s.pending.scenario = sc;
+    else p.marks.reject(p.drive_msg), p.drive = s.scenario.drive, p.run = s.scenario.run;
   }
   ImGui::TextColored(kDim, "Changing the drive or the run settings restarts the run.");
-  message(p.drive_msg);
 }
 
 void friction_section(AppState& s, SimPanelState& p) {
@@ -147,14 +153,15 @@ void friction_section(AppState& s, SimPanelState& p) {
   const Simulation* sim = s.main.sim.get();
   const bool live = sim && sim->scenario().friction.model == p.friction.model;
   c |= edit_model_params("friction", p.friction, live ? &sim->model() : nullptr,
-                         live ? sim->friction_state() : std::span<const double>{});
+                         live ? sim->friction_state() : std::span<const double>{}, &p.marks);
   if (c) {
     Scenario sc = s.scenario;
     sc.friction = p.friction;
     p.friction_msg = check(sc);
     if (p.friction_msg.empty()) s.pending.friction = p.friction;
+    else if (p.friction.model == s.scenario.friction.model) p.marks.reject(p.friction_msg), p.friction = s.scenario.friction;
   }
-  message(p.friction_msg);
+  if (p.friction.model != s.scenario.friction.model) message(p.friction_msg);
 }
 
 void compare_section(AppState& s, SimPanelState& p) {
@@ -180,19 +187,24 @@ void compare_section(AppState& s, SimPanelState& p) {
   }
   tip("Simulate a second friction model on the same input and overlay it");
   if (!on) return;
+  if (ImGui::Checkbox("follow the main model's F_s, F_c, V_s", &s.overlay_follows_shared) && s.overlay_follows_shared)
+    s.pending.compare = with_shared_parameters(*s.compare, s.scenario.friction);
+  tip("On: the overlay takes F_s, F_c and V_s from the main model (where both models have them) "
+      "whenever the main model changes, so the two differ only in their dynamics");
   ImGui::SetNextItemWidth(-1);
   bool c = edit_model_choice("##cmpmodel", p.compare);
   const Simulation* sim = s.overlay.sim.get();
   const bool live = sim && sim->scenario().friction.model == p.compare.model;
   c |= edit_model_params("compare", p.compare, live ? &sim->model() : nullptr,
-                         live ? sim->friction_state() : std::span<const double>{});
+                         live ? sim->friction_state() : std::span<const double>{}, &p.marks);
   if (c) {
     Scenario sc = s.scenario;
     sc.friction = p.compare;
     p.compare_msg = check(sc);
     if (p.compare_msg.empty()) s.pending.compare = p.compare;
+    else if (s.compare && s.compare->model == p.compare.model) p.marks.reject(p.compare_msg), p.compare = *s.compare;
   }
-  message(p.compare_msg);
+  if (!s.compare || s.compare->model != p.compare.model) message(p.compare_msg);
 }
 
 void display_section(AppState& s) {

@@ -15,6 +15,7 @@
 
 #include "core/control/design_session.hpp"
 #include "core/error.hpp"
+#include "ui/param_editor.hpp"
 #include "core/figures/figure.hpp"
 #include "core/ident/dataset.hpp"
 #include "core/ident/loop.hpp"
@@ -53,6 +54,7 @@ struct SimPanelState {
   Drive drive;
   RunSettings run;
   std::string friction_msg, plant_msg, drive_msg, compare_msg;
+  FieldMarks marks;  // the rejected field, if any (shows the value in force and why)
 };
 
 // The Figures panel.

@@ -1,9 +1,14 @@
 #include "ui/param_editor.hpp"
 
+#include "ui/text_wrap.hpp"
+
 #include <imgui.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <string>
 
 namespace gmslab::ui {
@@ -20,7 +25,7 @@ void spec_tooltip(const ParamSpec& s) {
               static_cast<int>(s.key.size()), s.key.data());
   ImGui::TextUnformatted(s.help.data(), s.help.data() + s.help.size());
   ImGui::TextDisabled("allowed: %s%s", s.range_text().c_str(),
-                      s.log_scale ? "  (log slider; Ctrl+click to type)" : "  (drag, or double-click to type)");
+                      "  (click to type; drag the <> handle or Alt+drag to change)");
   ImGui::PopTextWrapPos();
   ImGui::EndTooltip();
 }
@@ -53,25 +58,121 @@ std::string field_label(const ParamSpec& s) {
   return display_symbol(s.symbol) + " [" + std::string(s.unit) + "]";
 }
 
-bool edit_param(const char* id, const ParamSpec& spec, double& value, double reference) {
+namespace {
+const ImVec4 kRejected(0.80f, 0.10f, 0.10f, 1.0f);
+
+// The drag step per pixel of a linear field.
+double linear_step(const ParamSpec& spec, double value, double reference) {
+  const double span = std::isfinite(spec.hi - spec.lo) ? spec.hi - spec.lo : 1.0;
+  const double scale = std::max({std::fabs(value), std::fabs(reference), 0.0});
+  return std::max(scale * 0.005, std::min(span * 1e-4, 0.01));
+}
+
+// New value after dragging dx pixels from `start`.
+double dragged(const ParamSpec& spec, double start, double dx, double reference) {
+  if (spec.log_scale && start > 0.0) return start * std::pow(10.0, dx / 200.0);
+  return start + dx * linear_step(spec, start, reference);
+}
+}  // namespace
+
+bool edit_param(const char* id, const ParamSpec& spec, double& value, double reference, FieldMarks* marks) {
+  ImGui::PushID(id);
+  const ImGuiID field = ImGui::GetID("##field");
+  const bool marked = marks && marks->rejected == field;
+  const float handle_w = ImGui::GetFrameHeight() * 0.8f;
+  const float spacing = 2.0f;
+  const float full = ImGui::CalcItemWidth();
   double v = value;
   bool changed = false;
-  if (spec.log_scale && spec.hi > 0.0) {
-    const double ref = reference > 0.0 ? reference : (value > 0.0 ? value : 1.0);
-    double lo = std::max(low_end(spec), ref * 1e-3), hi = std::min(spec.hi, ref * 1e3);
-    if (!(hi > lo)) lo = low_end(spec), hi = spec.hi;
-    changed = ImGui::SliderScalar(id, ImGuiDataType_Double, &v, &lo, &hi, "%.5g",
-                                  ImGuiSliderFlags_Logarithmic);
-  } else {
-    const double span = std::isfinite(spec.hi - spec.lo) ? spec.hi - spec.lo : 1.0;
-    const float speed = static_cast<float>(std::max(std::fabs(v) * 0.005, std::min(span * 1e-4, 0.01)));
-    double lo = low_end(spec), hi = spec.hi;
-    changed = ImGui::DragScalar(id, ImGuiDataType_Double, &v, speed, &lo, &hi, "%.5g");
+  if (marked) {
+    ImGui::PushStyleColor(ImGuiCol_Border, kRejected);
+    ImGui::PushStyleVar(ImGuiStyleVar_FrameBorderSize, 2.0f);
+  }
+  ImGui::SetNextItemWidth(std::max(full - handle_w - spacing, ImGui::GetFontSize() * 2.0f));
+  // Typed: live while typing, as any field; Enter or clicking away ends the edit.
+  const bool typed = ImGui::InputScalar("##field", ImGuiDataType_Double, &v, nullptr, nullptr, "%.6g",
+                                        ImGuiInputTextFlags_CharsScientific);
+  const bool typing_ended = ImGui::IsItemDeactivated();
+  if (marked) {
+    ImGui::PopStyleVar();
+    ImGui::PopStyleColor();
   }
   spec_tooltip(spec);
-  if (!changed || !std::isfinite(v)) return false;
-  v = std::clamp(v, low_end(spec), spec.hi);
-  if (v == value) return false;
+  if (marks && typing_ended && marks->typing == field) {
+    marks->rejected = field;
+    marks->message = marks->typing_message;
+    marks->typing = 0;
+  }
+  ImGuiStorage* st = ImGui::GetStateStorage();
+  const ImGuiID start_key = ImGui::GetID("##dragstart");
+  // Alt+drag on the field changes it continuously, like the handle.
+  const bool alt_drag = ImGui::IsItemHovered() && ImGui::GetIO().KeyAlt && ImGui::IsMouseDragging(0, 0.0f);
+  ImGui::SameLine(0.0f, spacing);
+  ImGui::Button("##handle", ImVec2(handle_w, 0.0f));
+  {  // a left-right arrow: drag me
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    const float cy = 0.5f * (a.y + b.y), h = 0.22f * (b.y - a.y), m = 0.5f * (a.x + b.x);
+    const ImU32 col = ImGui::GetColorU32(ImGuiCol_Text);
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    dl->AddTriangleFilled(ImVec2(a.x + 2.0f, cy), ImVec2(m - 1.0f, cy - h), ImVec2(m - 1.0f, cy + h), col);
+    dl->AddTriangleFilled(ImVec2(b.x - 2.0f, cy), ImVec2(m + 1.0f, cy - h), ImVec2(m + 1.0f, cy + h), col);
+  }
+  if (ImGui::IsItemHovered() && !ImGui::IsItemActive())
+    ImGui::SetTooltip("drag left / right to change %s%s", display_symbol(spec.symbol).c_str(),
+                      spec.log_scale ? " (logarithmic)" : "");
+  const bool handle_drag = ImGui::IsItemActive();
+  if (handle_drag || alt_drag) {
+    // The value when the drag began, kept in ImGui's per-window storage (as a float pair would
+    // lose digits: stored as the bit pattern split over two ints).
+    if (ImGui::IsMouseClicked(0) || (handle_drag && ImGui::IsItemActivated()) || !st->GetBool(start_key + 2)) {
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &value, sizeof bits);
+      st->SetInt(start_key, static_cast<int>(bits & 0xffffffffu));
+      st->SetInt(start_key + 1, static_cast<int>(bits >> 32));
+      st->SetBool(start_key + 2, true);
+    }
+    const std::uint64_t bits = static_cast<std::uint32_t>(st->GetInt(start_key)) |
+                               (static_cast<std::uint64_t>(static_cast<std::uint32_t>(st->GetInt(start_key + 1))) << 32);
+    double start = 0.0;
+    std::memcpy(&start, &bits, sizeof start);
+    const double dx = ImGui::GetMouseDragDelta(0, 0.0f).x;
+    if (dx != 0.0) {
+      v = dragged(spec, start, dx, reference);
+      v = std::clamp(v, low_end(spec), spec.hi);
+      changed = true;
+    }
+  } else if (st->GetBool(start_key + 2) && !ImGui::IsMouseDown(0)) {
+    st->SetBool(start_key + 2, false);
+  }
+  if (typed && std::isfinite(v)) changed = true;
+  if (marked) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kRejected);
+    TextWrappedAtSpaces(marks->message);
+    ImGui::PopStyleColor();
+  }
+  ImGui::PopID();
+  if (!changed || !std::isfinite(v) || v == value) return false;
+  if (marks) marks->last_edited = field;
+  const bool in_range = spec.allowed(v);
+  if (!in_range) {
+    if (marks) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.6g", v);
+      const std::string why = "rejected " + std::string(buf) + ": allowed " + spec.range_text();
+      if (typed) {  // still typing ("0" on the way to "0.25"): judged when the typing ends
+        marks->typing = field;
+        marks->typing_message = why;
+      } else {
+        marks->rejected = field;
+        marks->message = why;
+      }
+      return false;
+    }
+    v = std::clamp(v, low_end(spec), spec.hi);
+    if (v == value) return false;
+  }
+  if (marks && marks->rejected == field) marks->clear();
+  if (marks && marks->typing == field) marks->typing = 0;
   value = v;
   return true;
 }
@@ -108,7 +209,7 @@ bool edit_model_choice(const char* label, ModelParams& p) {
 }
 
 namespace {
-bool edit_scalars(const ModelInfo& info, const ModelParams& defaults, ModelParams& p) {
+bool edit_scalars(const ModelInfo& info, const ModelParams& defaults, ModelParams& p, FieldMarks* marks) {
   bool changed = false;
   if (!ImGui::BeginTable("##scalars", 2, ImGuiTableFlags_SizingStretchProp)) return false;
   ImGui::TableSetupColumn("name", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFontSize() * 7.5f);
@@ -124,7 +225,7 @@ bool edit_scalars(const ModelInfo& info, const ModelParams& defaults, ModelParam
     ImGui::SetNextItemWidth(-1);
     ImGui::PushID(static_cast<int>(i));
     const double ref = i < defaults.scalars.size() ? defaults.scalars[i] : 0.0;
-    changed |= edit_param("##v", s, p.scalars[i], ref);
+    changed |= edit_param("##v", s, p.scalars[i], ref, marks);
     ImGui::PopID();
   }
   ImGui::EndTable();
@@ -132,7 +233,7 @@ bool edit_scalars(const ModelInfo& info, const ModelParams& defaults, ModelParam
 }
 
 bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelParams& p,
-                   const FrictionModel* live, std::span<const double> state) {
+                   const FrictionModel* live, std::span<const double> state, FieldMarks* marks) {
   if (info.columns.empty()) return false;
   bool changed = false;
   const bool show_live = live && live->element_count() == p.elements.size();
@@ -176,7 +277,7 @@ bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelPara
         ImGui::SetNextItemWidth(-1);
         ImGui::PushID(static_cast<int>(c));
         const double ref = defaults.elements.empty() ? 0.0 : defaults.elements[0][c];
-        changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref);
+        changed |= edit_param("##v", info.columns[c], p.elements[r][c], ref, marks);
         ImGui::PopID();
       }
       if (show_live) {
@@ -217,12 +318,12 @@ bool edit_elements(const ModelInfo& info, const ModelParams& defaults, ModelPara
 }  // namespace
 
 bool edit_model_params(const char* id, ModelParams& p, const FrictionModel* live,
-                       std::span<const double> live_state) {
+                       std::span<const double> live_state, FieldMarks* marks) {
   const ModelInfo& info = model_info(p.model);
   const ModelParams defaults = info.defaults();
   ImGui::PushID(id);
-  bool changed = edit_scalars(info, defaults, p);
-  changed |= edit_elements(info, defaults, p, live, live_state);
+  bool changed = edit_scalars(info, defaults, p, marks);
+  changed |= edit_elements(info, defaults, p, live, live_state, marks);
   ImGui::PopID();
   return changed;
 }

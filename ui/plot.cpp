@@ -17,6 +17,7 @@
 #include <imgui_internal.h>
 
 #include "ui/decimate.hpp"
+#include "ui/figure_export.hpp"
 #include "ui/ticks.hpp"
 
 namespace gmslab::ui {
@@ -28,6 +29,12 @@ struct View {
   double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
   bool auto_fit = true;     // follow the data
   bool initialized = false;
+  // A boxed legend dragged by the user: its top-left as a fraction of the plot area (kept when
+  // the plot resizes); double-click on it returns to the automatic place.
+  bool legend_placed = false, legend_drag = false;
+  float legend_fx = 0.0f, legend_fy = 0.0f;
+  ImRect legend_box;        // where the boxed legend was drawn last frame (empty: none)
+  void set_limits(double a, double b, double c, double d) { x0 = a, x1 = b, y0 = c, y1 = d, auto_fit = false, initialized = true; }
 };
 
 struct SeriesRef {
@@ -55,6 +62,8 @@ struct Building {
   bool has_limits = false, limits_always = false;
   bool has_hint = false;
   double hx0 = 0, hx1 = 1;  // autoscale covers at least this x range
+  bool has_hint_y = false;
+  double hy0 = 0, hy1 = 1;  // ... and this y range
   double lx0 = 0, lx1 = 1, ly0 = 0, ly1 = 1;
   std::vector<SeriesRef> series;
 };
@@ -64,9 +73,13 @@ struct Building {
 // Everything the widget keeps between calls; owned by the caller (CreatePlotContext).
 struct PlotContext {
   std::unordered_map<ImGuiID, View> views;  // per-plot view state, by ID
+  std::unordered_map<std::string, ExportFormat> export_requests;  // by plot key, done at its EndPlot
+  PngWriter png_writer;                     // the host's (may be empty: no PNG export)
+  std::string message;                      // of the last export
   Building plot;                            // the plot between BeginPlot and EndPlot
   bool open = false;
   PlotTransform last;                       // of the last EndPlot
+  ImRect last_legend;                       // its boxed legend
 };
 
 namespace {
@@ -129,6 +142,10 @@ void fit(View& v, const Building& p) {
   if (p.has_hint) {
     b.x0 = std::min(b.x0, p.hx0);
     b.x1 = std::max(b.x1, p.hx1);
+  }
+  if (p.has_hint_y) {
+    b.y0 = std::min(b.y0, p.hy0);
+    b.y1 = std::max(b.y1, p.hy1);
   }
   pad(b.x0, b.x1, all_sorted || p.has_hint ? 0.0 : 0.04);
   pad(b.y0, b.y1, 0.06);
@@ -197,12 +214,31 @@ void dashed_polyline(ImDrawList* dl, const ImVec2* p, int n, ImU32 col, float th
   }
 }
 
+// A solid polyline, unbroken at any slope: ImGui joins consecutive segments with the average of
+// their normals, which vanishes where the path turns back (min/max decimation draws steep
+// stretches as up-down runs within a pixel column), thinning the line to nothing there. The path
+// is split at every turn sharper than 120 degrees into runs that are stroked separately and
+// overlap at the turning point.
+void solid_polyline(ImDrawList* dl, const ImVec2* p, int n, ImU32 col, float th) {
+  int start = 0;
+  for (int i = 1; i + 1 < n; ++i) {
+    const ImVec2 a(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y), b(p[i + 1].x - p[i].x, p[i + 1].y - p[i].y);
+    const float dot = a.x * b.x + a.y * b.y;
+    const float la = a.x * a.x + a.y * a.y, lb = b.x * b.x + b.y * b.y;
+    if (dot < -0.5f * std::sqrt(la * lb)) {
+      dl->AddPolyline(p + start, i - start + 1, col, 0, th);
+      start = i;
+    }
+  }
+  if (n - start >= 2) dl->AddPolyline(p + start, n - start, col, 0, th);
+}
+
 void stroke(ImDrawList* dl, const std::vector<ImVec2>& p, std::size_t from, std::size_t to,
             ImU32 col, const SeriesStyle& st, float& phase) {
   const int n = static_cast<int>(to - from);
   if (n < 2) return;
   switch (st.line) {
-    case LineStyle::Solid: dl->AddPolyline(&p[from], n, col, 0, st.thickness); break;
+    case LineStyle::Solid: solid_polyline(dl, &p[from], n, col, st.thickness); break;
     case LineStyle::Dashed: dashed_polyline(dl, &p[from], n, col, st.thickness, 9.f, 5.f, phase); break;
     case LineStyle::Dotted: dashed_polyline(dl, &p[from], n, col, st.thickness, 2.f, 3.5f, phase); break;
   }
@@ -323,26 +359,30 @@ void draw_frame_border(ImDrawList* dl, const Building& b, const Layout& L) {
   dl->AddRect(L.area.Min, L.area.Max, colors(b.opt.paper).frame, 0.0f, 0, b.opt.paper ? 1.2f : 1.0f);
 }
 
-// The corner of the plot area (top-right, top-left, bottom-right, bottom-left) whose legend box
-// would hide the fewest drawn samples.
-ImVec2 legend_corner(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
+// Where a legend box hides the fewest drawn segments, as matplotlib's loc="best": nine places
+// (corners, edge middles, centre), tried in matplotlib's order of preference (upper right, upper
+// left, lower left, lower right, right, centre left, centre right, lower centre, upper centre,
+// centre); the first with the fewest wins.
+ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
   const float m = 0.5f * ImGui::GetFontSize();
-  const ImVec2 c[4] = {ImVec2(L.area.Max.x - m - box.x, L.area.Min.y + m), ImVec2(L.area.Min.x + m, L.area.Min.y + m),
-                       ImVec2(L.area.Max.x - m - box.x, L.area.Max.y - m - box.y),
-                       ImVec2(L.area.Min.x + m, L.area.Max.y - m - box.y)};
-  std::size_t count[4] = {0, 0, 0, 0};
+  const float xl = L.area.Min.x + m, xr = L.area.Max.x - m - box.x, xc = L.area.GetCenter().x - 0.5f * box.x;
+  const float yt = L.area.Min.y + m, yb = L.area.Max.y - m - box.y, yc = L.area.GetCenter().y - 0.5f * box.y;
+  const ImVec2 c[] = {ImVec2(xr, yt), ImVec2(xl, yt), ImVec2(xl, yb), ImVec2(xr, yb), ImVec2(xr, yc),
+                      ImVec2(xl, yc), ImVec2(xc, yb), ImVec2(xc, yt), ImVec2(xc, yc)};
+  constexpr int kN = sizeof c / sizeof c[0];
+  std::size_t count[kN] = {};
   for (const auto& s : b.series)  // segments whose bounding box meets the legend box
     for (std::size_t j = 1; j < s.drawn.size(); ++j) {
       const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
       const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
       const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
-      for (int k = 0; k < 4; ++k)
+      for (int k = 0; k < kN; ++k)
         if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
             std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
           ++count[k];
     }
   int best = 0;
-  for (int k = 1; k < 4; ++k)
+  for (int k = 1; k < kN; ++k)
     if (count[k] < count[best]) best = k;
   return c[best];
 }
@@ -373,7 +413,8 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
 
 // Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
 // never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
-void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t) {
+void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t, View& v) {
+  v.legend_box = ImRect();
   if (!b.opt.legend || b.series.empty()) return;
   const float fh = ImGui::GetFontSize();
   const float gap = 1.2f * fh;
@@ -391,8 +432,12 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
   for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
   const float line_h = fh * 1.25f;
   const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
-  const ImVec2 min = legend_corner(b, L, box, t);
+  ImVec2 min = legend_best(b, L, box, t);
+  if (v.legend_placed)  // where the user put it, kept inside the plot area
+    min = ImVec2(std::clamp(L.area.Min.x + v.legend_fx * L.area.GetWidth(), L.area.Min.x, std::max(L.area.Min.x, L.area.Max.x - box.x)),
+                 std::clamp(L.area.Min.y + v.legend_fy * L.area.GetHeight(), L.area.Min.y, std::max(L.area.Min.y, L.area.Max.y - box.y)));
   const ImVec2 end(min.x + box.x, min.y + box.y);
+  v.legend_box = ImRect(min, end);
   dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
   float y = min.y + 0.25f * fh + 0.125f * fh;
@@ -409,11 +454,27 @@ void handle_input(View& v, const Layout& L, const PlotTransform& t, bool hovered
     const double f = std::pow(0.85, io.MouseWheel);
     const double fx = io.KeyCtrl ? 1.0 : f, fy = io.KeyShift ? 1.0 : f;
     const PlotTransform z = t.zoomed(io.MousePos.x, io.MousePos.y, fx, fy);
-    v = {z.x0, z.x1, z.y0, z.y1, false, true};
+    v.set_limits(z.x0, z.x1, z.y0, z.y1);
+  }
+  // A press on the boxed legend drags the legend, not the view.
+  if (active && ImGui::IsMouseClicked(ImGuiMouseButton_Left) && v.legend_box.Contains(io.MousePos)) v.legend_drag = true;
+  if (v.legend_drag) {
+    if (!io.MouseDown[ImGuiMouseButton_Left]) {
+      v.legend_drag = false;
+    } else if (io.MouseDelta.x != 0.0f || io.MouseDelta.y != 0.0f) {
+      const ImVec2 sz = L.area.GetSize();
+      const ImVec2 at = v.legend_placed ? ImVec2(L.area.Min.x + v.legend_fx * sz.x, L.area.Min.y + v.legend_fy * sz.y)
+                                        : v.legend_box.Min;
+      v.legend_fx = (at.x + io.MouseDelta.x - L.area.Min.x) / std::max(1.0f, sz.x);
+      v.legend_fy = (at.y + io.MouseDelta.y - L.area.Min.y) / std::max(1.0f, sz.y);
+      v.legend_placed = true;
+    }
+    if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) v.legend_placed = false, v.legend_drag = false;
+    return;
   }
   if (active && ImGui::IsMouseDragging(ImGuiMouseButton_Left, 1.0f)) {
     const PlotTransform p = t.panned(io.MouseDelta.x, io.MouseDelta.y);
-    v = {p.x0, p.x1, p.y0, p.y1, false, true};
+    v.set_limits(p.x0, p.x1, p.y0, p.y1);
   }
   if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) v.auto_fit = true;
 }
@@ -512,10 +573,75 @@ void SetupFitRangeX(double x0, double x1) {
   g_ctx->plot.hx1 = x1;
 }
 
+void SetupFitRangeY(double y0, double y1) {
+  g_ctx->plot.has_hint_y = y1 >= y0;
+  g_ctx->plot.hy0 = y0;
+  g_ctx->plot.hy1 = y1;
+}
+
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style) {
   const int index = static_cast<int>(g_ctx->plot.series.size());
   g_ctx->plot.series.push_back({label ? label : "", x, y, n, style, index, {}});
+}
+
+namespace {
+// The plot as a one-panel Figure, in the units its axes show.
+Figure plot_figure(const Building& b) {
+  Figure f;
+  const std::string title = b.opt.title ? b.opt.title : "plot";
+  f.id = title;
+  f.title = title;
+  Panel p{b.opt.letter ? b.opt.letter : "", title, b.ax.shown, b.ay.shown, {}};
+  for (const auto& s : b.series) {
+    Series out;
+    out.label = s.label;
+    out.style = s.style.line == LineStyle::Dashed ? Series::Style::Dashed
+                : s.style.line == LineStyle::Dotted ? Series::Style::Dotted : Series::Style::Solid;
+    out.color = s.style.color >= 0 ? s.style.color : s.index;
+    out.x.resize(s.n);
+    out.y.resize(s.n);
+    for (std::size_t i = 0; i < s.n; ++i) out.x[i] = s.x[i] / b.ax.scale, out.y[i] = s.y[i] / b.ay.scale;
+    p.series.push_back(std::move(out));
+  }
+  f.panels.push_back(std::move(p));
+  return f;
+}
+
+std::string plot_key(const Building& b) { return b.opt.title ? b.opt.title : std::to_string(b.id); }
+
+void export_menu(const Building& b) {
+  if (!ImGui::BeginPopupContextItem("##export")) return;
+  ImGui::TextDisabled("Export this plot to %s", export_dir().c_str());
+  if (ImGui::MenuItem("PNG image", nullptr, false, static_cast<bool>(g_ctx->png_writer))) g_ctx->export_requests[plot_key(b)] = ExportFormat::Png;
+  if (ImGui::MenuItem("SVG (vector)")) g_ctx->export_requests[plot_key(b)] = ExportFormat::Svg;
+  if (ImGui::MenuItem("CSV of its series")) g_ctx->export_requests[plot_key(b)] = ExportFormat::Csv;
+  ImGui::EndPopup();
+}
+}  // namespace
+
+void RequestPlotExport(const char* title, ExportFormat format) {
+  if (g_ctx) g_ctx->export_requests[title] = format;
+}
+
+void SetPlotPngWriter(PngWriter writer) {
+  if (g_ctx) g_ctx->png_writer = std::move(writer);
+}
+
+const PngWriter& GetPlotPngWriter() {
+  static const PngWriter none;
+  return g_ctx ? g_ctx->png_writer : none;
+}
+
+void PostPlotMessage(std::string message) {
+  if (g_ctx) g_ctx->message = std::move(message);
+}
+
+std::string TakePlotMessage() {
+  if (!g_ctx) return "";
+  std::string m = std::move(g_ctx->message);
+  g_ctx->message.clear();
+  return m;
 }
 
 void EndPlot() {
@@ -523,7 +649,7 @@ void EndPlot() {
   Building& b = g_ctx->plot;
   View& v = g_ctx->views[b.id];
   if (b.has_limits && (b.limits_always || !v.initialized))
-    v = {b.lx0, b.lx1, b.ly0, b.ly1, false, true};
+    v.set_limits(b.lx0, b.lx1, b.ly0, b.ly1);
   if (v.auto_fit && !(b.has_limits && b.limits_always)) fit(v, b);
   v.initialized = true;
   choose_prefix(b.ax, v.x0, v.x1);
@@ -540,6 +666,7 @@ void EndPlot() {
     ImGui::InvisibleButton("##plotarea", L.area.GetSize());
     hovered = ImGui::IsItemHovered();
     active = ImGui::IsItemActive();
+    export_menu(b);
     handle_input(v, L, t, hovered, active);
     t = {v.x0, v.x1, v.y0, v.y1, L.area.Min.x, L.area.Min.y, L.area.Max.x, L.area.Max.y};
   }
@@ -555,20 +682,34 @@ void EndPlot() {
     draw_series(dl, s, t);
   }
   dl->PopClipRect();
-  draw_legend(dl, b, L2, t);
+  draw_legend(dl, b, L2, t, v);
   if (b.opt.interactive && !v.auto_fit) {  // tell how to get back to the whole trace
     const char* hint = "zoomed: double-click to fit";
+    // Inside the plot area's bottom-right corner, on a backing (the x-axis label stays clear).
     const ImVec2 hs = ImGui::CalcTextSize(hint);
-    dl->AddText(ImVec2(L2.area.Max.x - hs.x, L2.area.Max.y + 1.45f * ImGui::GetFontSize()),
-                IM_COL32(120, 120, 130, 255), hint);
+    const float m = 0.25f * ImGui::GetFontSize();
+    const ImVec2 at(L2.area.Max.x - hs.x - 2 * m, L2.area.Max.y - hs.y - 2 * m);
+    dl->AddRectFilled(ImVec2(at.x - m, at.y - m), ImVec2(at.x + hs.x + m, at.y + hs.y + m), IM_COL32(255, 255, 255, 220));
+    dl->AddText(at, IM_COL32(120, 120, 130, 255), hint);
   }
   if (hovered) hover_readout(dl, b, t);
   draw_frame_border(dl, b, L2);
+  if (auto it = g_ctx->export_requests.find(plot_key(b)); it != g_ctx->export_requests.end()) {
+    g_ctx->message = export_figure(plot_figure(b), it->second, g_ctx->png_writer);
+    g_ctx->export_requests.erase(it);
+  }
   g_ctx->last = t;
+  g_ctx->last_legend = v.legend_box;
   g_ctx->open = false;
   ImGui::EndChild();
 }
 
 PlotTransform LastPlotTransform() { return g_ctx ? g_ctx->last : PlotTransform{}; }
+
+ImVec4 LastLegendBox() {
+  if (!g_ctx) return ImVec4(0, 0, 0, 0);
+  const ImRect& r = g_ctx->last_legend;
+  return ImVec4(r.Min.x, r.Min.y, r.Max.x, r.Max.y);
+}
 
 }  // namespace gmslab::ui

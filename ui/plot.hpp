@@ -17,7 +17,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
+#include "ui/figure_export.hpp"
 #include "ui/plot_transform.hpp"
 
 namespace gmslab::ui {
@@ -83,11 +85,31 @@ void SetupAxesSI(const char* x_name, const char* x_unit, const char* y_name, con
 void SetupAxisLimits(double x0, double x1, double y0, double y1, bool always = false);
 // Autoscale covers at least [x0, x1] in x (e.g. [0, duration] for a trace that is still growing).
 void SetupFitRangeX(double x0, double x1);
+// Autoscale covers at least [y0, y1] in y (panels sharing one y scale).
+void SetupFitRangeY(double y0, double y1);
 void PlotLine(const char* label, const double* x, const double* y, std::size_t n,
               const SeriesStyle& style = {});
 void EndPlot();
 
 // Transform used by the last EndPlot (for tests and overlays).
 PlotTransform LastPlotTransform();
+// The boxed legend of the last EndPlot (min x, min y, max x, max y in screen pixels); zero size
+// when the legend was drawn in a row above the plot or not at all. The box goes where it hides
+// the fewest drawn segments (nine places, as matplotlib's "best"); drag it to move it (kept per
+// plot, as a fraction of the plot area), double-click it to return to the automatic place.
+ImVec4 LastLegendBox();
+
+// Export (right-click on an interactive plot: PNG, SVG, CSV of its series). The plot becomes a
+// one-panel Figure in the units shown (ui/figure_export.hpp writes it into export_dir()). The
+// host provides how a Figure becomes a PNG (the window: gmslab-headless plot-figure; tests: their
+// own); without one, PNG is not offered. The message of the last export ("wrote PATH" or the
+// error) is taken once by TakePlotMessage (the app puts it on the status line).
+// Requests the export of the plot titled `title` at its next EndPlot (as the menu does; tests).
+void RequestPlotExport(const char* title, ExportFormat format);
+// The current context's PNG writer (a Figure and a path; throws on failure).
+void SetPlotPngWriter(PngWriter writer);
+const PngWriter& GetPlotPngWriter();  // empty without a context or writer
+void PostPlotMessage(std::string message);
+std::string TakePlotMessage();
 
 }  // namespace gmslab::ui

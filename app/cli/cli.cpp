@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <iostream>
 #include <utility>
+#include <vector>
+#include <algorithm>
 
 #include "core/error.hpp"
 
@@ -11,7 +13,7 @@ namespace gmslab::cli {
 
 void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("preset", o.preset, "Scenario preset (JSON)")->required();
-  sub.add_option("--out,-o", o.out, "PNG file to write")->required();
+  sub.add_option("--out,-o", o.out, "File to write (PNG, or SVG with --format svg)")->required();
   sub.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify, plant")
       ->capture_default_str();
@@ -23,13 +25,20 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
       ->capture_default_str();
   sub.add_flag("--compare", o.compare, "Identify view: also fit and compare every model (slower)");
   sub.add_flag("--no-run", o.no_run, "Identify view: load and show the records of --data without identifying");
+  sub.add_option("--format", o.format,
+                 "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
+      ->check(CLI::IsMember({"png", "svg"}))
+      ->capture_default_str();
 }
 
 void add_figures_options(CLI::App& sub, FiguresOptions& o) {
-  sub.add_option("--out,-o", o.out, "Folder for the PNG figures and their CSV series")
+  sub.add_option("--out,-o", o.out, "Folder for the figures (PNG and/or SVG) and their CSV series")
       ->capture_default_str();
   sub.add_option("--only", o.only, "Comma-separated figure ids (default: all)");
   sub.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+  sub.add_option("--format", o.format, "png, svg (vector, text as text) or both; the CSV series are always written")
+      ->check(CLI::IsMember({"png", "svg", "both"}))
+      ->capture_default_str();
 }
 
 void parse_size(const std::string& text, int& w, int& h) {
@@ -45,23 +54,73 @@ Cli::Cli(Host host)
     : host_(std::move(host)),
       app_("gmslab: friction simulation and compensation around the Generalized Maxwell-Slip model.\n"
            "With no command, opens the window (or, with no display, renders the figure set).") {
+  app_.name("gmslab");  // help and errors say "gmslab", also when run as gmslab-headless
   app_.set_version_flag("--version", "gmslab 0.1.0");
   app_.require_subcommand(0, 1);
 
   register_simulate(app_, action_);
 
-  auto* r = app_.add_subcommand("render", "Render the app's view of a scenario to PNG (headless)");
+  auto* r = app_.add_subcommand("render", "Render the app's view of a scenario to PNG, or its plots to SVG (headless)");
   add_render_options(*r, render_);
   r->preparse_callback([this](std::size_t) { render_ = RenderOptions{}; });
   r->callback([this] { action_ = [this] { return host_.render(render_); }; });
 
-  auto* f = app_.add_subcommand("figures", "Render the paper's figure set to PNG + CSV (headless)");
+  auto* f = app_.add_subcommand("figures", "Render the paper's figure set to PNG and/or SVG, with CSV series (headless)");
   add_figures_options(*f, figures_);
   f->preparse_callback([this](std::size_t) { figures_ = FiguresOptions{}; });
   f->callback([this] { action_ = [this] { return host_.figures(figures_); }; });
 
   register_design(app_, action_);
   register_identify(app_, action_);
+}
+
+namespace {
+// Edit distance (insert, delete, substitute: 1 each).
+std::size_t distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+}  // namespace
+
+std::string suggest(const std::string& word, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const auto& k : known) {
+    const std::size_t d = distance(word, k);
+    if (d < best_d || (d == best_d && !best.empty() && k < best)) best_d = d, best = k;
+  }
+  return best;
+}
+
+std::vector<std::string> Cli::known_words(const std::string& word) const {
+  // The deepest command given: its options (and, at the top, the commands).
+  const CLI::App* at = &app_;
+  for (bool deeper = true; deeper;) {
+    deeper = false;
+    for (const CLI::App* sub : at->get_subcommands())
+      if (sub->parsed()) at = sub, deeper = true;
+  }
+  std::vector<std::string> out;
+  const bool is_option = !word.empty() && word[0] == '-';
+  if (is_option) {
+    for (const CLI::Option* o : at->get_options()) {
+      for (const auto& l : o->get_lnames()) out.push_back("--" + l);
+      for (const auto& sn : o->get_snames()) out.push_back("-" + sn);
+    }
+  } else {
+    for (const CLI::App* sub : at->get_subcommands([](const CLI::App*) { return true; })) out.push_back(sub->get_name());
+  }
+  return out;
 }
 
 namespace {
@@ -86,7 +145,23 @@ int Cli::run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help / version, exit 0); any other parse failure is bad
     // input: exit 2, as the README says (CLI11's own codes, e.g. 109 for an unknown option, are not).
-    return app_.exit(e) == 0 ? 0 : exit_code(ErrorKind::Input);
+    const int rc = app_.exit(e);
+    if (rc == 0) return 0;
+    // A near miss gets a suggestion: "--outt" -> "--out", "rendr" -> "render".
+    std::vector<std::string> extras;
+    for (const CLI::App* a = &app_; a;) {
+      for (const auto& r : a->remaining()) extras.push_back(r);
+      const CLI::App* next = nullptr;
+      for (const CLI::App* sub : a->get_subcommands())
+        if (sub->parsed()) next = sub;
+      a = next;
+    }
+    for (const auto& x : extras) {
+      const std::string word = x.substr(0, x.find('='));
+      if (const std::string s = suggest(word, known_words(word)); !s.empty())
+        std::cerr << "gmslab: '" << word << "': did you mean '" << s << "'?\n";
+    }
+    return exit_code(ErrorKind::Input);
   }
   try {
     if (!action_) {

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace gmslab::cli {
 
@@ -20,12 +21,14 @@ struct RenderOptions {
   std::string data, validate, mask_edges = "pulse_code:0.005:0.060";
   bool no_run = false;   // only load and show the records
   bool compare = false;  // also compare every model
+  std::string format = "png";  // png, or svg: the Simulation view's plots as a vector figure
 };
 
 struct FiguresOptions {
   std::string out = "figures";  // folder for PNG + CSV
   std::string only;             // comma-separated figure ids; empty = all
   std::string size = "1400x900";
+  std::string format = "png";  // png, svg or both (same figure data; CSV always)
 };
 
 void add_render_options(CLI::App& sub, RenderOptions& o);
@@ -65,6 +68,10 @@ class Cli {
 
   const CLI::App& app() const { return app_; }  // for tests
 
+  // The words a mistyped `word` may have meant: the options of the command being parsed when
+  // it starts with '-', else the command names.
+  std::vector<std::string> known_words(const std::string& word) const;
+
  private:
   Host host_;
   CLI::App app_;
@@ -72,6 +79,9 @@ class Cli {
   RenderOptions render_;
   FiguresOptions figures_;
 };
+
+// The closest of `known` to `word` (edit distance at most max(2, |word| / 3)), or "".
+std::string suggest(const std::string& word, const std::vector<std::string>& known);
 
 // One-shot form of Cli::run (what the executables call).
 int run(int argc, char** argv, const Host& host);

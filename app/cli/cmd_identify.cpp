@@ -86,25 +86,36 @@ int run_identify(const IdentifyOptions& o) {
     if (b > a) job.candidates.push_back(ident::effect_from_name(o.effects.substr(a, b - a)));
     a = b + 1;
   }
-  std::string last_stage;
+  // Progress on stderr: rewritten in place (carriage returns) on a terminal; in a file or pipe,
+  // one full line per stage, with the stage's last count and RMS.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  std::string last_stage, last_line;
   auto progress = [&](const ident::FitProgress& p) {
-    if (p.stage != last_stage) std::cerr << '\n';
+    char line[256];
+    std::snprintf(line, sizeof line, "  %s: %zu evaluations, RMS %.6g N", p.stage.c_str(),
+                  static_cast<std::size_t>(p.evaluations), p.best_rms);
+    if (tty) {
+      if (p.stage != last_stage) std::cerr << '\n';
+      std::cerr << '\r' << line << "   " << std::flush;
+    } else if (p.stage != last_stage && !last_line.empty()) {
+      std::cerr << last_line << '\n';
+    }
     last_stage = p.stage;
-    std::cerr << "\r  " << p.stage << ": " << p.evaluations << " evaluations, RMS " << p.best_rms
-              << " N   " << std::flush;
+    last_line = line;
   };
   auto out = ident::run_identification(job, progress);
+  if (!tty && !last_line.empty()) std::cerr << last_line << '\n';
   for (const auto& n : out.notes) std::cerr << "identify: " << n << '\n';
   const ident::Dataset& train = out.train;
   const ident::Dataset& val = out.validation;
   auto& rep = out.report;
-  std::cerr << '\n';
+  if (tty) std::cerr << '\n';  // ends the rewritten progress line
   if (!rep.comparison.empty()) {
-    std::cerr << "\nmodel comparison (each with the effects added: " << rep.effects_added.size() << ")\n";
-    std::fprintf(stderr, "  %-14s %8s %8s %14s %19s %9s\n", "model", "elements", "shape", "RMS train [N]",
+    std::cout << "\nmodel comparison (each with the effects added: " << rep.effects_added.size() << ")\n";
+    std::fprintf(stdout, "  %-14s %8s %8s %14s %19s %9s\n", "model", "elements", "shape", "RMS train [N]",
                  "RMS validation [N]", "time [s]");
     for (const auto& c : rep.comparison)
-      std::fprintf(stderr, "  %-14s %8zu %8zu %14.4g %19.4g %9.1f%s\n", c.model.c_str(), c.elements,
+      std::fprintf(stdout, "  %-14s %8zu %8zu %14.4g %19.4g %9.1f%s\n", c.model.c_str(), c.elements,
                    c.shape_parameters, c.rms_train, c.rms_validation, c.seconds,
                    c.time_limited ? "  (time limit: not converged)" : "");
   }
@@ -113,24 +124,24 @@ int run_identify(const IdentifyOptions& o) {
   j["scenario_file"] = scenario;
   save_scenario(ident::identified_scenario(rep, train), scenario);
   write_file_atomic(o.report, j.dump(2) + "\n");
-  std::cerr << "identify: " << train.source << " (" << train.used() << " samples used), validation "
+  std::cout << "identify: " << train.source << " (" << train.used() << " samples used), validation "
             << val.source << " (" << val.used() << ")\n";
-  std::cerr << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
+  std::cout << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
             << " elements; validation RMS " << rep.rms_before_validation << " -> "
             << rep.rms_after_validation << " N; effects added:";
-  for (auto e : rep.effects_added) std::cerr << ' ' << ident::effect_name(e);
-  if (rep.effects_added.empty()) std::cerr << " none";
-  std::cerr << '\n';
+  for (auto e : rep.effects_added) std::cout << ' ' << ident::effect_name(e);
+  if (rep.effects_added.empty()) std::cout << " none";
+  std::cout << '\n';
   for (const auto& p : rep.parameters)
     if (p.effect != "base")
-      std::fprintf(stderr, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
                    p.std_error, p.unit.c_str());
   for (const auto& p : rep.ripples.peaks)
-    std::fprintf(stderr, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
+    std::fprintf(stdout, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
                  p.wavelength * 1e3, p.amplitude, p.false_alarm);
   for (const auto& n : rep.notes) std::cerr << "  note: " << n << '\n';
-  std::cerr << "  validation " << rep.remaining.summary << '\n';
-  std::cerr << "wrote " << o.report << " and " << scenario << '\n';
+  std::cout << "  validation " << rep.remaining.summary << '\n';
+  std::cout << "wrote " << o.report << " and " << scenario << '\n';
   if (!o.plot.empty()) {
     int w = 0, h = 0;
     parse_size(o.size, w, h);
@@ -143,7 +154,7 @@ int run_identify(const IdentifyOptions& o) {
                 << rc << "); its data is in " << fig << '\n';
       return 1;
     }
-    std::cerr << "wrote " << o.plot << '\n';
+    std::cout << "wrote " << o.plot << '\n';
   }
   return 0;
 }

@@ -56,8 +56,11 @@ nlohmann::json to_json(const LeadReport& r) {
   if (r.design) {
     put_design(j, *r.design);
     j["within_max_ratio"] = r.within_max_ratio;
+  } else {  // one shape: the design's keys are always there, null without a design (no --K)
+    for (const char* k : {"z", "p", "Kc", "K", "ratio", "closed_loop_poles", "dominant", "notes", "within_max_ratio"})
+      j[k] = nullptr;
   }
-  if (!r.relocations.empty()) {
+  {  // always present (empty without relocations): one shape
     nlohmann::json a = nlohmann::json::array();
     for (const Relocation& rel : r.relocations) {
       nlohmann::json o;

@@ -29,6 +29,7 @@ struct Figure {
   std::string title;    // e.g. "Seed Fig. 2A - GMS presliding hysteresis"
   std::string caption;  // what it shows and what to look for
   std::vector<Panel> panels;  // laid out left to right
+  bool shared_y = false;      // every panel on one y scale (comparisons where magnitudes matter)
 };
 
 }  // namespace gmslab

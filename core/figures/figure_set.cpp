@@ -361,7 +361,13 @@ std::vector<std::string> figure_ids() {
 
 Figure make_figure(const std::string& id, const std::string& preset_dir) {
   for (const auto& [fid, build] : builders())
-    if (fid == id) return build(preset_dir);
+    if (fid == id) {
+      Figure f = build(preset_dir);
+      // The model comparisons of one protocol (one panel per model, the same quantity in every
+      // panel) share the y scale, so the models' magnitudes compare at a glance.
+      if (fid.rfind("compare_fig2", 0) == 0 && fid != "compare_fig2d_drift") f.shared_y = true;
+      return f;
+    }
   std::string known;
   for (const auto& i : figure_ids()) known += (known.empty() ? "" : ", ") + i;
   throw InputError("unknown figure '" + id + "' (known: " + known + ")");

@@ -1,0 +1,119 @@
+// Boxed legends go where they hide the fewest drawn segments and can be moved: data filling random
+// regions of the plot (fixed seed) never lies under the legend when an empty place exists; a drag
+// on the legend moves it by the mouse distance, not the view; a double-click puts it back.
+#if __has_include(<imgui.h>)
+#include <gtest/gtest.h>
+#include <imgui.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "tests/ui/imgui_test_context.hpp"
+#include "ui/plot.hpp"
+
+using namespace gmslab;
+
+namespace {
+struct Harness {
+  ui::ScopedPlotContext plots;
+  std::vector<std::vector<double>> xs, ys;  // one series each
+  ImVec4 box;
+  ui::PlotTransform t;
+  Harness() {
+    uitest::make_headless_imgui(ImVec2(900, 800));
+  }
+  ~Harness() { ImGui::DestroyContext(); }
+  void frame(ImVec2 mouse = ImVec2(-FLT_MAX, -FLT_MAX), bool down = false) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.DeltaTime = 1.0f / 60.0f;
+    io.MousePos = mouse;
+    io.MouseDown[0] = down;
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(900, 800));
+    ImGui::Begin("w", nullptr, ImGuiWindowFlags_NoDecoration);
+    ui::PlotOptions o;
+    o.paper = true;  // boxed legend
+    if (ui::BeginPlot("##p", ImVec2(-1, -1), o)) {
+      ui::SetupAxes("x [-]", "y [-]");
+      ui::SetupAxisLimits(0, 1, 0, 1, true);
+      for (std::size_t k = 0; k < xs.size(); ++k)
+        if (!xs[k].empty()) ui::PlotLine(k == 0 ? "a long series label" : "s", xs[k].data(), ys[k].data(), xs[k].size());
+      ui::EndPlot();
+      box = ui::LastLegendBox();
+      t = ui::LastPlotTransform();
+    }
+    ImGui::End();
+    ImGui::Render();
+  }
+  // Samples (in pixels) inside the legend box.
+  int covered() const {
+    int n = 0;
+    for (std::size_t k = 0; k < xs.size(); ++k)
+      for (std::size_t i = 0; i < xs[k].size(); ++i) {
+        const double px = t.to_px_x(xs[k][i]), py = t.to_px_y(ys[k][i]);
+        n += px >= box.x && px <= box.z && py >= box.y && py <= box.w;
+      }
+    return n;
+  }
+};
+}  // namespace
+
+TEST(PlotLegend, GoesWhereItHidesNoDataWhenSuchAPlaceExists) {
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    Harness h;
+    // Dense zigzags (one series each, sample spacing far below the legend size) filling every
+    // cell of a 3x3 grid but one random free cell.
+    const int free_i = static_cast<int>(rng() % 3), free_j = static_cast<int>(rng() % 3);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        if (i == free_i && j == free_j) continue;
+        auto& sx = h.xs.empty() || !h.xs.back().empty() ? h.xs.emplace_back() : h.xs.back();
+        auto& sy = h.ys.size() < h.xs.size() ? h.ys.emplace_back() : h.ys.back();
+        for (int k = 0; k < 400; ++k) {
+          sx.push_back((i + 0.02 + 0.96 * u(rng)) / 3.0);
+          sy.push_back((j + 0.02 + 0.96 * (k % 2 ? u(rng) * 0.5 + 0.5 : u(rng) * 0.5)) / 3.0);
+        }
+      }
+    h.frame();
+    h.frame();
+    ASSERT_GT(h.box.z - h.box.x, 10.0f);
+    EXPECT_EQ(h.covered(), 0) << "free cell " << free_i << "," << free_j;
+  }
+}
+
+TEST(PlotLegend, DraggingMovesTheLegendNotTheViewAndDoubleClickPutsItBack) {
+  Harness h;
+  h.xs.emplace_back();
+  h.ys.emplace_back();
+  for (int k = 0; k <= 100; ++k) h.xs[0].push_back(k / 100.0), h.ys[0].push_back(0.5);
+  h.frame();
+  h.frame();
+  const ImVec4 b0 = h.box;
+  const ui::PlotTransform t0 = h.t;
+  const ImVec2 grab(std::floor(0.5f * (b0.x + b0.z)), std::floor(0.5f * (b0.y + b0.w)));
+  const ImVec2 d(-120, 150);
+  h.frame(grab, false);
+  h.frame(grab, true);
+  h.frame(ImVec2(grab.x + 0.5f * d.x, grab.y + 0.5f * d.y), true);
+  h.frame(ImVec2(grab.x + d.x, grab.y + d.y), true);
+  h.frame(ImVec2(grab.x + d.x, grab.y + d.y), false);
+  h.frame();
+  EXPECT_NEAR(h.box.x - b0.x, d.x, 1.0);
+  EXPECT_NEAR(h.box.y - b0.y, d.y, 1.0);
+  EXPECT_DOUBLE_EQ(h.t.x0, t0.x0);  // the view did not pan
+  EXPECT_DOUBLE_EQ(h.t.y0, t0.y0);
+  // Double-click on it: back to the automatic place.
+  const ImVec2 at(std::floor(0.5f * (h.box.x + h.box.z)), std::floor(0.5f * (h.box.y + h.box.w)));
+  for (int k = 0; k < 2; ++k) {
+    h.frame(at, true);
+    h.frame(at, false);
+  }
+  h.frame();
+  EXPECT_NEAR(h.box.x, b0.x, 1.0);
+  EXPECT_NEAR(h.box.y, b0.y, 1.0);
+}
+#endif
