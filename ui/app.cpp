@@ -9,9 +9,13 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "core/io/assembly_io.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
 #include "ui/panels.hpp"
+#include "ui/plant_view.hpp"
 #include "ui/plot.hpp"
 
 namespace gmslab::ui {
@@ -47,6 +51,14 @@ void stop_with(AppState& s, const std::string& who, const SimulationError& e) {
 // Each request in its own function; errors become messages, never exceptions.
 void apply_load(AppState& s, const std::string& path) {
   try {
+    if (preset_schema_version(parse_json(read_file(path), path)) == 2) {
+      // An assembled plant (schema 2): it opens in the Plant tab; the scenario stays as it is.
+      load_plant(s.plant, load_assembly_scenario(path), path);
+      s.view.tab = "Plant";
+      s.select_tab = 2;
+      s.note("loaded " + path + " into the Plant tab");
+      return;
+    }
     load_scenario_into(s, load_scenario(path), path);
     mark_clean(s);
     s.note("loaded " + path);

@@ -176,6 +176,7 @@ std::vector<PresetEntry> list_presets() {
         if (j.contains("name") && j["name"].is_string()) e.name = j["name"].get<std::string>();
         if (j.contains("description") && j["description"].is_string())
           e.description = j["description"].get<std::string>();
+        e.plant = j.contains("schema_version") && j["schema_version"] == 2;
       } catch (const std::exception& x) {
         e.description = std::string("not readable: ") + x.what();
       }
@@ -193,7 +194,8 @@ void preset_items(AppState& s, bool shipped) {
   for (const PresetEntry& e : list_presets()) {
     if (e.shipped != shipped) continue;
     any = true;
-    if (ImGui::MenuItem(e.name.c_str(), nullptr, e.path == s.scenario_path)) s.pending.load_path = e.path;
+    const std::string label = e.plant ? e.name + "  (plant)" : e.name;
+    if (ImGui::MenuItem(label.c_str(), nullptr, e.path == s.scenario_path)) s.pending.load_path = e.path;
     if (ImGui::IsItemHovered()) {
       ImGui::BeginTooltip();
       ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);

@@ -46,6 +46,7 @@ void draw_file_dialogs(AppState& s);
 struct PresetEntry {
   std::string path, name, description;
   bool shipped = false;
+  bool plant = false;  // schema 2: an assembled plant, opened in the Plant tab
 };
 // Shipped presets then the user's saved scenarios, each sorted by file name. Unreadable files
 // are listed with the reason as their description.

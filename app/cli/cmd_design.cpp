@@ -91,11 +91,12 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
   if (j.contains("reason")) os << " (" << j["reason"].get<std::string>() << ")";
   os << "\nphi = " << f(j["phi_deg"]) << " deg, K0 = " << f(j["K0"]) << ", " << k << "_max = "
      << f(j["K_max"]) << ", usable (p/z <= " << f(j["max_ratio"]) << ") = " << f(j["K_max_usable"]) << '\n';
-  if (j.contains("z"))
-    os << "design (" << j["design_kind"].get<std::string>() << "): Gc = " << f(j["Kc"]) << " (s + "
+  if (j.contains("z") && !j["z"].is_null())
+    os << "design (" << (j.contains("design_kind") ? j["design_kind"].get<std::string>() : std::string("requested"))
+       << "): Gc = " << f(j["Kc"]) << " (s + "
        << f(j["z"]) << ") / (s + " << f(j["p"]) << "), " << k << " = " << f(j["K"])
        << "\nclosed-loop poles: " << poles_text(j["closed_loop_poles"]) << '\n';
-  if (j.contains("notes"))
+  if (j.contains("notes") && j["notes"].is_array())
     for (const auto& n : j["notes"]) os << "note: " << n.get<std::string>() << '\n';
   if (j.contains("relocations"))
     for (const auto& r : j["relocations"]) {

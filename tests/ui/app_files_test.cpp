@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 #include "ui/app.hpp"
@@ -293,7 +294,14 @@ TEST_F(Folders, PresetsMenuListsShippedAndUserPresetsWithDescriptions) {
   const auto list = ui::list_presets();
   std::size_t shipped = 0, mine = 0;
   for (const auto& e : list) {
-    if (e.shipped) {
+    if (e.shipped && e.plant) {  // schema 2: an assembled plant, opened in the Plant tab
+      ++shipped;
+      EXPECT_EQ(load_assembly_scenario(e.path).description, e.description) << e.path;
+      ui::AppState t;
+      t.pending.load_path = e.path;
+      ui::apply_pending(t);
+      EXPECT_EQ(t.view.tab, "Plant") << e.path;
+    } else if (e.shipped) {
       ++shipped;
       EXPECT_EQ(load_scenario(e.path).description, e.description) << e.path;
       EXPECT_EQ(load_scenario(e.path).name, e.name);
