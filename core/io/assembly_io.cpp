@@ -138,14 +138,7 @@ AssemblyScenario read_v2(JsonReader& r, const std::string& file) {
   }
   {
     auto run = r.object("run");
-    s.run.dt = run.number("dt", 0, 1, "s", true);
-    s.run.duration = run.number("duration", 0, 1e6, "s", true);
-    s.run.record_every =
-        run.has("record_every") ? static_cast<int>(run.integer("record_every", 1, 1000000)) : 1;
-    if (s.run.duration / s.run.dt > 1e10)
-      run.fail("dt", "duration / dt = " + std::to_string(s.run.duration / s.run.dt) +
-                         " steps exceeds 1e10; raise dt or shorten the run");
-    run.finish();
+    s.run = run_settings_from_json(run);
   }
   r.finish();
   // Structure (names, connectivity, prescribed motion twice): every problem, with its key path.

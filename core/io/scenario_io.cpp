@@ -116,6 +116,18 @@ constexpr int kMaxSignalNesting = 8;  // sequences inside sequences (bounds the 
 Signal signal_from_json_at(JsonReader& r, int depth);
 }  // namespace
 
+RunSettings run_settings_from_json(JsonReader& run) {
+  RunSettings rs;
+  rs.dt = run.number("dt", 0, 1, "s", true);
+  rs.duration = run.number("duration", 0, 1e6, "s", true);
+  rs.record_every = run.has("record_every") ? static_cast<int>(run.integer("record_every", 1, 1000000)) : 1;
+  if (rs.duration / rs.dt > 1e10)
+    run.fail("dt", "duration / dt = " + std::to_string(rs.duration / rs.dt) +
+                       " steps exceeds 1e10; raise dt or shorten the run");
+  run.finish();
+  return rs;
+}
+
 Signal signal_from_json(JsonReader& r) { return signal_from_json_at(r, 0); }
 
 namespace {
@@ -240,14 +252,7 @@ Scenario scenario_from_json(const json& j, const std::string& file) {
   }
   {
     auto run = r.object("run");
-    s.run.dt = run.number("dt", 0, 1, "s", true);
-    s.run.duration = run.number("duration", 0, 1e6, "s", true);
-    s.run.record_every =
-        run.has("record_every") ? static_cast<int>(run.integer("record_every", 1, 1000000)) : 1;
-    if (s.run.duration / s.run.dt > 1e10)
-      run.fail("dt", "duration / dt = " + std::to_string(s.run.duration / s.run.dt) +
-                         " steps exceeds 1e10; raise dt or shorten the run");
-    run.finish();
+    s.run = run_settings_from_json(run);
   }
   r.finish();
   return s;

@@ -30,6 +30,8 @@ nlohmann::json to_json(const Scenario& s);
 
 ModelParams model_params_from_json(JsonReader& r);  // reads "model" and the model's keys
 Signal signal_from_json(JsonReader& r);
+// The "run" object (dt, duration, record_every; at most 1e10 steps), finished.
+RunSettings run_settings_from_json(JsonReader& run);
 Scenario scenario_from_json(const nlohmann::json& j, const std::string& file);
 
 Scenario load_scenario(const std::string& path);

@@ -11,38 +11,12 @@
 #include "ui/app.hpp"
 #include "ui/design_view.hpp"
 #include "ui/plot.hpp"
-#include "tests/ui/imgui_test_context.hpp"
+#include "tests/ui/app_frame.hpp"
 
 using namespace gmslab;
 using gmslab::control::cplx;
 
-namespace {
-struct Harness {
-  ui::AppState s;
-  ui::ScopedPlotContext plots;
-  Harness() {
-    uitest::make_headless_imgui(ImVec2(1600, 1000));
-    ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
-    s.view.tab = "Design";
-    for (int i = 0; i < 3; ++i) frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
-  }
-  ~Harness() { ImGui::DestroyContext(); }
-  void frame(ImVec2 mouse, bool down) {
-    ImGuiIO& io = ImGui::GetIO();
-    io.DeltaTime = 1.0f / 60.0f;
-    io.MousePos = mouse;
-    io.MouseDown[0] = down;
-    ImGui::NewFrame();
-    ui::draw_frame(s);
-    ImGui::Render();
-  }
-  ui::DesignViewState& d() { return s.design; }
-  ImVec2 px(cplx z) {
-    const auto& t = d().canvas;
-    return ImVec2(static_cast<float>(t.to_px_x(z.real())), static_cast<float>(t.to_px_y(z.imag())));
-  }
-};
-}  // namespace
+using Harness = uitest::DesignHarness;
 
 TEST(DesignViewInput, DraggingTheDesiredRootMovesSdAndTheDesignFollows) {
   Harness h;

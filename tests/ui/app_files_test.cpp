@@ -16,6 +16,7 @@
 
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
+#include "tests/ui/app_frame.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
@@ -120,15 +121,7 @@ TEST_F(Folders, ReplacingAFileAsksFirstAndTheAnswerDecides) {
   uitest::make_headless_imgui(ImVec2(1280, 720));
   {
     ui::ScopedPlotContext plots;
-    auto frame = [&](ImVec2 mouse, bool down) {
-      ImGuiIO& io = ImGui::GetIO();
-      io.DeltaTime = 1.0f / 60.0f;
-      io.MousePos = mouse;
-      io.MouseDown[0] = down;
-      ImGui::NewFrame();
-      ui::draw_frame(s);
-      ImGui::Render();
-    };
+    auto frame = [&](ImVec2 mouse, bool down) { uitest::draw_app_frame(s, mouse, down); };
     frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
     frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
     ImGuiWindow* modal = ImGui::FindWindowByName("Replace file?");
