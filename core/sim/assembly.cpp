@@ -65,20 +65,19 @@ std::vector<std::string> validate(const Assembly& a, const std::string& where) {
     }
     if (ok && ia == ib) bad.push_back(p + ": connects body '" + a.bodies[ia].name + "' to itself");
   };
-  for (std::size_t i = 0; i < a.springs.size(); ++i) {
-    const std::string p = where + ".springs[" + std::to_string(i) + "]";
-    name_ok(p, a.springs[i].name);
-    ends(p, a.springs[i].a, a.springs[i].b);
-    if (!(std::isfinite(a.springs[i].stiffness) && a.springs[i].stiffness >= 0 && a.springs[i].stiffness <= 1e12))
-      bad.push_back(p + ".stiffness: must be in [0, 1e12] N/m");
-  }
-  for (std::size_t i = 0; i < a.dampers.size(); ++i) {
-    const std::string p = where + ".dampers[" + std::to_string(i) + "]";
-    name_ok(p, a.dampers[i].name);
-    ends(p, a.dampers[i].a, a.dampers[i].b);
-    if (!(std::isfinite(a.dampers[i].damping) && a.dampers[i].damping >= 0 && a.dampers[i].damping <= 1e12))
-      bad.push_back(p + ".damping: must be in [0, 1e12] N s/m");
-  }
+  // Springs and dampers: a name, two ends and one coefficient in [0, 1e12].
+  auto links = [&](const auto& parts, const char* key, auto coefficient, const char* field, const char* unit) {
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      const std::string p = where + "." + key + "[" + std::to_string(i) + "]";
+      name_ok(p, parts[i].name);
+      ends(p, parts[i].a, parts[i].b);
+      const double c = coefficient(parts[i]);
+      if (!(std::isfinite(c) && c >= 0 && c <= 1e12))
+        bad.push_back(p + "." + field + ": must be in [0, 1e12] " + unit);
+    }
+  };
+  links(a.springs, "springs", [](const auto& x) { return x.stiffness; }, "stiffness", "N/m");
+  links(a.dampers, "dampers", [](const auto& x) { return x.damping; }, "damping", "N s/m");
   for (std::size_t i = 0; i < a.contacts.size(); ++i) {
     const std::string p = where + ".contacts[" + std::to_string(i) + "]";
     name_ok(p, a.contacts[i].name);
