@@ -172,7 +172,11 @@ void AppState::forward_error(Panel p) {
 
 std::string presets_dir() {
   const char* env = std::getenv("GMSLAB_PRESETS");
-  return env && *env ? env : GMSLAB_SOURCE_DIR "/presets";
+  if (env && *env) return env;
+  std::error_code ec;
+  // An installed gmslab (the source tree gone or elsewhere) uses the presets installed with it.
+  if (!std::filesystem::is_directory(GMSLAB_SOURCE_DIR "/presets", ec)) return GMSLAB_INSTALLED_PRESETS;
+  return GMSLAB_SOURCE_DIR "/presets";
 }
 
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path) {

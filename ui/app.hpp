@@ -140,7 +140,8 @@ struct AppState {
   std::array<std::string, kPanelCount> on_status_{};  // per panel, the error last put on the line
 };
 
-// Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets".
+// Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets" when it
+// exists, else the installed PREFIX/share/gmslab/presets.
 std::string presets_dir();
 // Builds the state for a scenario (validated: throws InputError). path may be empty.
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path);
