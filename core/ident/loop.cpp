@@ -77,6 +77,7 @@ Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dat
                  const EffectContext& c, const std::vector<double>* shape = nullptr) {
   Candidate k;
   k.effect = e;
+  if (shape && shape->size() != cur.u.size()) shape = nullptr;  // not a shape of cur's parameterization
   const auto lin = refit_linear(with(cur.spec, e), train, c, shape ? *shape : cur.u);
   k.screen_rms_train = lin.rms_train;
   k.explained = cur.rms_train > 0 ? 1.0 - std::pow(lin.rms_train / cur.rms_train, 2) : 0.0;
@@ -175,7 +176,9 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
     std::vector<double> grid;  // fine grid within the neighbours of the best coarse value
     for (double m : {0.4, 0.55, 0.75, 0.9, 1.0, 1.12, 1.3, 1.6, 2.0}) grid.push_back(bv * m);
     tune_scalar(*bf, train, c, e, field, grid);
-    shapes[e] = bf->u;
+    // A refit that kept fewer elements (light ones dropped) has a shape of another size: the
+    // candidate is then screened at the current shape.
+    if (bf->spec.elements == cur.spec.elements && bf->u.size() == cur.u.size()) shapes[e] = bf->u;
   };
   // Positive shifts only (the force channel lags): a leading force would be read from the
   // viscous share of the shift (about -sigma2 tau a) as a stand-in for inertia.
