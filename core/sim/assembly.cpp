@@ -384,6 +384,21 @@ void AssemblySimulation::record() {
   }
 }
 
+double AssemblySimulation::drive_force(std::size_t i, double t, double h, double x, double v) {
+  const auto& d = sc_.plant.drives[i];
+  if (d.kind == DrivePart::Kind::Force) return d.signal(t);
+  double xp, rate;  // pull: the drive point's position and rate
+  if (d.point_velocity) {
+    xp = xp_[i];
+    rate = d.signal(t);
+    xp_[i] += 0.5 * h * (rate + d.signal(t + h));
+  } else {
+    xp = d.signal(t);
+    rate = d.signal.rate_at(t);
+  }
+  return d.pull_spring * (xp - x) + d.pull_damper * (rate - v);
+}
+
 std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
   const double h = sc_.run.dt;
   const Assembly& p = sc_.plant;
@@ -396,22 +411,7 @@ std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
     const double t = time();
     double f = 0.0;
     for (std::size_t i = 0; i < p.drives.size(); ++i) {
-      const auto& d = p.drives[i];
-      double fd;
-      if (d.kind == DrivePart::Kind::Force) {
-        fd = d.signal(t);
-      } else {  // pull (one free body: no prescribed motion)
-        double xp, rate;
-        if (d.point_velocity) {
-          xp = xp_[i];
-          rate = d.signal(t);
-          xp_[i] += 0.5 * h * (rate + d.signal(t + h));
-        } else {
-          xp = d.signal(t);
-          rate = d.signal.rate_at(t);
-        }
-        fd = d.pull_spring * (xp - x) + d.pull_damper * (rate - v);
-      }
+      const double fd = drive_force(i, t, h, x, v);  // force or pull (one free body: nothing prescribed)
       f_drive_[i] = fd;
       f += fd;
     }
@@ -472,20 +472,8 @@ double AssemblySimulation::compute_step() {
   // 2. non-friction forces: drives, springs, dampers (in this order; the one-body sum of Simulation).
   for (std::size_t i = 0; i < p.drives.size(); ++i) {
     const auto& d = p.drives[i];
-    if (d.kind == DrivePart::Kind::Force) {
-      f_drive_[i] = d.signal(t);
-      f[d.body] += f_drive_[i];
-    } else if (d.kind == DrivePart::Kind::Pull) {
-      double xp, rate;
-      if (d.point_velocity) {
-        xp = xp_[i];
-        rate = d.signal(t);
-        xp_[i] += 0.5 * h * (rate + d.signal(t + h));
-      } else {
-        xp = d.signal(t);
-        rate = d.signal.rate_at(t);
-      }
-      f_drive_[i] = d.pull_spring * (xp - x[d.body]) + d.pull_damper * (rate - v[d.body]);
+    if (d.kind == DrivePart::Kind::Force || d.kind == DrivePart::Kind::Pull) {
+      f_drive_[i] = drive_force(i, t, h, x[d.body], v[d.body]);
       f[d.body] += f_drive_[i];
     }
   }

@@ -188,6 +188,8 @@ class AssemblySimulation {
   std::vector<double> x_, v_, cv_, f_, h_over_m_;
   std::vector<std::uint8_t> prescribed_;
   std::vector<double> xp_;  // per drive: drive point position (pull with point_velocity)
+  // Force of force / pull drive i on its body (at x, v) over the step t -> t + h; advances xp_[i].
+  double drive_force(std::size_t i, double t, double h, double x, double v);
   // The parts compiled for the step loop (ground = slot nb).
   struct Link { int a, b; double c; };
   struct CompiledContact { int a, b; int mode; double ma, mb, m_eff; };  // mode: 1 a free, 2 b free, 3 both
