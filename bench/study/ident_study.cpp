@@ -38,7 +38,7 @@ std::string truth_line(const Truth& t) {
 int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool detail) {
   int pass = 0;
   double worst = 0, total_s = 0;
-  std::printf("%-4s %-68s %10s %10s %6s %5s %6s\n", "rec", "truth", "floor", "val RMS", "ratio", "N fit", "s");
+  std::printf("%-4s %-68s %10s %10s %6s %5s %6s %s\n", "rec", "truth", "floor", "val RMS", "ratio", "N fit", "s", "path");
   for (int i = 0; i < records; ++i) {
     const unsigned seed = seed0 + static_cast<unsigned>(i);
     Truth tr = draw_truth(seed);
@@ -56,8 +56,8 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
     const double ratio = rep.rms_after_validation / floor;
     worst = std::max(worst, ratio);
     pass += ratio <= 1.2;
-    std::printf("%-4u %-68s %10.4g %10.4g %6.3f %5zu %6.2f\n", seed, truth_line(tr).c_str(), floor,
-                rep.rms_after_validation, ratio, rep.final_fit().spec.elements, s);
+    std::printf("%-4u %-68s %10.4g %10.4g %6.3f %5zu %6.2f %s\n", seed, truth_line(tr).c_str(), floor,
+                rep.rms_after_validation, ratio, rep.final_fit().spec.elements, s, (std::string(rep.fine_path ? "fine " : "") + (rep.range_widened ? "wide " : "") + (rep.base_retried ? "retry" : "")).c_str());
     if (detail) {
       std::printf("  truth: Fs %.4g Fc %.4g Vs %.3g delta %.3g C %.4g sigma2 %.4g | elements (alpha, x_ba um):",
                   tr.Fs, tr.Fc, tr.Vs, tr.delta, tr.C, tr.sigma2);
@@ -81,6 +81,7 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
         if (val.use[k]) {
           s2 += std::pow(val.F[k] - g[k] - tr.sigma2 * val.v[k], 2), n2 += 1;
         }
+      std::printf("\n  estimated floor %.4g (sigma %.4g), retried %d", rep.noise.floor(), rep.noise.sigma, int(rep.base_retried));
       std::printf("\n  train rms %.4g, noise sd %.4g; the truth through gmslab's GMS on validation: RMS %.4g\n",
                   rep.rms_after_train, tr.noise, std::sqrt(s2 / n2));
     }

@@ -141,6 +141,49 @@ std::vector<double> local_slope(const std::vector<double>& t, const std::vector<
   return s;
 }
 
+void set_path(Dataset& d, const PathRule& rule) {
+  const std::size_t n = d.size();
+  d.sub.clear(), d.sv.clear(), d.sh.clear();
+  double q = 0;  // the encoder step (smallest non-zero position step)
+  for (std::size_t k = 1; k < n; ++k) {
+    const double dx = std::abs(d.x[k] - d.x[k - 1]);
+    if (dx > 0 && (q == 0 || dx < q)) q = dx;
+  }
+  std::vector<std::uint32_t> sub(n + 1, 0);
+  std::vector<double> sv, sh;
+  for (std::size_t k = 0; k < n; ++k) {
+    sub[k] = static_cast<std::uint32_t>(sv.size());
+    if (k == 0 || !(d.h[k] > 0)) continue;
+    const double h = d.h[k], x0 = d.x[k - 1], x1 = d.x[k], m0 = d.v[k - 1] * h, m1 = d.v[k] * h;
+    auto cubic = [&](double s) {
+      const double s2 = s * s, s3 = s2 * s;
+      return (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * m1;
+    };
+    double dev = 0;
+    for (double s : {0.25, 0.5, 0.75}) dev = std::max(dev, std::abs(cubic(s) - (x0 + s * (x1 - x0))));
+    const bool reversal = d.v[k - 1] * d.v[k] < 0 && std::abs(m0) + std::abs(m1) > 0.25 * q;
+    // The speed changing within the step (starts, stops, the Stribeck range): the
+    // frozen-velocity step would put the whole change at one end.
+    const bool speed_change =
+        std::abs(d.v[k] - d.v[k - 1]) > rule.speed_change * std::max(std::abs(d.v[k]), std::abs(d.v[k - 1])) &&
+        std::abs(x1 - x0) > q;
+    const bool curved = dev > 0.05 * std::abs(x1 - x0) && dev > 0.25 * q;
+    int parts = rule.other_parts;
+    if (reversal) parts = rule.reversal_parts;
+    else if (speed_change || curved) parts = std::max(parts, rule.curved_parts);
+    if (parts <= 1) continue;
+    double prev = x0;
+    for (int j = 1; j <= parts; ++j) {
+      const double p = j == parts ? x1 : cubic(static_cast<double>(j) / parts);
+      sv.push_back((p - prev) / (h / parts));
+      sh.push_back(h / parts);
+      prev = p;
+    }
+  }
+  sub[n] = static_cast<std::uint32_t>(sv.size());
+  if (!sv.empty()) d.sub = std::move(sub), d.sv = std::move(sv), d.sh = std::move(sh);
+}
+
 Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks,
                         std::size_t edge) {
   Dataset d;
@@ -160,42 +203,7 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
     d.h[k] = d.t[k] - d.t[k - 1];
     d.vstep[k] = d.has_v ? 0.5 * (d.v[k - 1] + d.v[k]) : (d.x[k] - d.x[k - 1]) / d.h[k];
   }
-  // Curved intervals: along the cubic through the samples, in kSubsteps parts.
-  {
-    double q = 0;  // the encoder step (smallest non-zero position step)
-    for (std::size_t k = 1; k < n; ++k) {
-      const double dx = std::abs(d.x[k] - d.x[k - 1]);
-      if (dx > 0 && (q == 0 || dx < q)) q = dx;
-    }
-    std::vector<std::uint32_t> sub(n + 1, 0);
-    std::vector<double> sv, sh;
-    for (std::size_t k = 0; k < n; ++k) {
-      sub[k] = static_cast<std::uint32_t>(sv.size());
-      if (k == 0 || !(d.h[k] > 0)) continue;
-      const double h = d.h[k], x0 = d.x[k - 1], x1 = d.x[k], m0 = d.v[k - 1] * h, m1 = d.v[k] * h;
-      auto cubic = [&](double s) {
-        const double s2 = s * s, s3 = s2 * s;
-        return (2 * s3 - 3 * s2 + 1) * x0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * x1 + (s3 - s2) * m1;
-      };
-      double dev = 0;
-      for (double s : {0.25, 0.5, 0.75}) dev = std::max(dev, std::abs(cubic(s) - (x0 + s * (x1 - x0))));
-      const bool reversal = d.v[k - 1] * d.v[k] < 0 && std::abs(m0) + std::abs(m1) > 0.25 * q;
-      // The speed changing by more than 10 % within the step (starts, stops, the Stribeck range):
-      // the frozen-velocity step would put the whole change at one end.
-      const bool speed_change = std::abs(d.v[k] - d.v[k - 1]) > 0.1 * std::max(std::abs(d.v[k]), std::abs(d.v[k - 1])) &&
-                                std::abs(x1 - x0) > q;
-      if (!reversal && !speed_change && !(dev > 0.05 * std::abs(x1 - x0) && dev > 0.25 * q)) continue;
-      double prev = x0;
-      for (int j = 1; j <= kSubsteps; ++j) {
-        const double p = j == kSubsteps ? x1 : cubic(static_cast<double>(j) / kSubsteps);
-        sv.push_back((p - prev) / (h / kSubsteps));
-        sh.push_back(h / kSubsteps);
-        prev = p;
-      }
-    }
-    sub[n] = static_cast<std::uint32_t>(sv.size());
-    if (!sv.empty()) d.sub = std::move(sub), d.sv = std::move(sv), d.sh = std::move(sh);
-  }
+  set_path(d, PathRule{});
   d.use.assign(n, 1);
   const std::size_t e = std::min(edge, n / 10);
   for (std::size_t k = 0; k < e; ++k) d.use[k] = d.use[n - 1 - k] = 0;

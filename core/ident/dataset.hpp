@@ -8,11 +8,11 @@
 //   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
 //   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: mean of v[k-1], v[k] when the file has
 //             v, else (x[k] - x[k-1]) / h[k] (the prescribed motion of FrictionModel::step)
-//   sub, sv, sh  where the path between two samples is curved (a reversal between them, the
-//             speed changing by more than 10 % over more than an encoder step, or the cubic
+//   sub, sv, sh  where the path between two samples is curved (a reversal between them: 16 parts;
+//             the speed changing by more than 3 % over more than an encoder step, or the cubic
 //             through the samples (Hermite: x and v at both ends) leaving the straight line by
-//             more than 5 % of the step and a quarter of the encoder step), the step k-1 -> k
-//             is made along that cubic in kSubsteps parts: velocities sv[j], durations sh[j] for
+//             more than 5 % of the step and a quarter of the encoder step: 8 parts; PathRule),
+//             the step k-1 -> k is made along that cubic: velocities sv[j], durations sh[j] for
 //             j in [sub[k], sub[k+1]); elsewhere the one step (vstep[k], h[k]). Models are stepped
 //             through it with for_each_step.
 //   use[k]    1 = the sample counts in cost and RMS; 0 = masked (time windows, the first and last
@@ -47,7 +47,22 @@ struct Dataset {
   std::size_t used() const;
 };
 
-inline constexpr int kSubsteps = 8;
+// How the path between two samples is stepped: in `reversal_parts` along the cubic where the
+// direction reverses between them (the elements stick and re-load there; at fast attraction the
+// force follows the speed through zero within a fraction of the step), in `curved_parts` where the
+// speed changes by more than `speed_change` (relative) over more than an encoder step or the cubic
+// leaves the straight line, else in `other_parts` (1: one straight step with the secant speed).
+struct PathRule {
+  int reversal_parts = 16;
+  int curved_parts = 8;
+  double speed_change = 0.03;
+  int other_parts = 1;
+};
+// The fine path: every interval along the cubic (what a fast attraction, C h >> 1, needs: the force
+// at a sample follows the speed at that sample, not the step's mean speed).
+inline constexpr PathRule kFinePath{16, 8, 0.03, 4};
+// Sets d's sub, sv, sh by the rule (from d.x, d.v, d.h).
+void set_path(Dataset& d, const PathRule& rule);
 
 // A copy of d stepped along straight lines between all samples (no substeps): what the path
 // between samples can change is the difference (NoiseEstimate::sampling).

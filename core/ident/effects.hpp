@@ -75,6 +75,8 @@ struct EffectContext {
   double t_mid = 0.0, t_half = 1.0;  // time normalisation [s]
   double v_ref = 1.0;                // 95th percentile of |v| on used samples [m/s]
   double x_ba = 1e-5;                // break-away displacement estimated after reversals [m]
+  double x_hi_factor = 20.0;         // the softest element the fits allow: x_hi_factor x x_ba
+                                     // (widened by identify when the data asks for softer ones)
   double f_level = 1.0;              // Coulomb level estimated from sliding [N]
   std::vector<double> wavelengths;   // position_periodic wavelengths L_i [m] (empty: none found)
   double time_shift = 0.0;           // time_shift tau [s] (0: not searched yet)

@@ -1,5 +1,6 @@
 #include "core/ident/element_fit.hpp"
 
+#include <limits>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -313,16 +314,25 @@ struct Search {
   }
 };
 
-std::vector<double> log_grid(double lo, double hi, std::size_t n) {
-  std::vector<double> g(n);
-  for (std::size_t i = 0; i < n; ++i)
-    g[i] = lo * std::pow(hi / lo, n > 1 ? static_cast<double>(i) / static_cast<double>(n - 1) : 0.5);
-  return g;
-}
-
-constexpr double kGridPointsPerDecade = 6.4;  // 30 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
+constexpr double kGridPointsPerDecade = 6.4;  // 31 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
 constexpr std::size_t kGridRows = 4000;  // samples in the grid stage's cost (a regular subset)
 constexpr std::size_t kPolishRows = 8000;  // in the free-knot polish (the final linear solve: all)
+
+// The grid of normalised stiffnesses kappa = 1 / x (ascending): log-spaced from the stiff end
+// (4e-4 x_ba) with the spacing of the standard range (31 points up to 20 x_ba), continued to the
+// context's softest element. A wider range only adds points: its grid holds the standard one.
+std::vector<double> element_grid(const EffectContext& c) {
+  const auto [x_lo, x_hi] = element_x_range(c);
+  EffectContext standard = c;
+  standard.x_hi_factor = 20.0;
+  const auto [s_lo, s_hi] = element_x_range(standard);
+  const auto n0 = static_cast<std::size_t>(std::ceil(kGridPointsPerDecade * std::log10(s_hi / s_lo)));
+  const double step = std::log(s_hi / s_lo) / static_cast<double>(std::max<std::size_t>(n0, 2) - 1);
+  const auto m = static_cast<std::size_t>(std::max(0.0, std::ceil(std::log(x_hi / x_lo) / step - 1e-9)));
+  std::vector<double> g(m + 1);
+  for (std::size_t j = 0; j <= m; ++j) g[m - j] = 1.0 / (x_lo * std::exp(step * static_cast<double>(j)));
+  return g;
+}
 
 }  // namespace
 
@@ -348,11 +358,9 @@ void finish_grid(ElementEvaluator& ev, const std::vector<double>& best_u, GridSo
 GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                       const FitOptions& o, const std::vector<double>* shape_hint) {
   ElementEvaluator ev(spec, train, c, kGridRows);
-  const auto [x_lo, x_hi] = element_x_range(c);
   GridSolution g;
   g.model = spec.model;
-  g.kappa = log_grid(1.0 / x_hi, 1.0 / x_lo,
-                     static_cast<std::size_t>(std::ceil(kGridPointsPerDecade * std::log10(x_hi / x_lo))));
+  g.kappa = element_grid(c);
   g.started = std::chrono::steady_clock::now();
   g.budget = element_fit_budget(spec, c, o);
   Search search{o, g.started};
@@ -395,9 +403,27 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   std::sort(scored.begin(), scored.end());
   double best = scored.front().first;
   std::vector<double> best_u = cands[scored.front().second];
-  const int starts = ns == 0 ? 0 : std::min<int>(std::clamp(o.starts, 1, 3), static_cast<int>(scored.size()));
+  // The starts: the best ranked design points; a retry (first_start > 0) skips the first ones and
+  // takes the next that differ from every skipped one by 0.3 of the box in some shape parameter
+  // (another basin, not the neighbour of one already searched).
+  std::vector<std::size_t> chosen;
+  const std::size_t first = static_cast<std::size_t>(std::max(0, o.first_start));
+  const std::size_t want = ns == 0 ? 0 : static_cast<std::size_t>(std::clamp(o.starts, 1, 8));
+  for (std::size_t r = first; r < scored.size() && chosen.size() < want; ++r) {
+    const auto& u = cands[scored[r].second];
+    bool apart = true;
+    for (std::size_t q = 0; q < std::min(first, scored.size()) && apart; ++q) {
+      const auto& w = cands[scored[q].second];
+      double d = 0;
+      for (std::size_t i = 0; i < u.size(); ++i) d = std::max(d, std::abs(u[i] - w[i]));
+      apart = d > 0.3;
+    }
+    if (apart) chosen.push_back(scored[r].second);
+  }
+  if (first > 0 && !chosen.empty()) best = std::numeric_limits<double>::infinity(), best_u = cands[chosen.front()];
+  const int starts = static_cast<int>(chosen.size());
   for (int s = 0; s < starts; ++s) {
-    std::vector<double> x = cands[scored[static_cast<std::size_t>(s)].second];
+    std::vector<double> x = cands[chosen[static_cast<std::size_t>(s)]];
     auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
     if (search.time_limited) break;
     const double v = search.run(f, x, o.max_evaluations / 2, 0.1,
@@ -485,6 +511,41 @@ FitResult polish(const FitSpec& spec, const Dataset& train, const EffectContext&
     if (!(v < prev * (1 - 1e-4))) break;
     prev = v;
   }
+  // An element the polish left almost empty (under 2 % of the weight) is a place wasted: the free
+  // knots cannot move it across the others. It is re-seeded by splitting another element in two
+  // (1.25x or 1.6x either side in stiffness; the split that costs least), and the polish runs
+  // again; kept when the cost drops.
+  for (int reseed = 0; reseed < 2 && n >= 2 && !search.time_limited; ++reseed) {
+    split(x, shape, kappa);
+    Eigen::VectorXd w;
+    ev.cost(shape, kappa, &w);
+    if (static_cast<std::size_t>(w.size()) < n) break;
+    double total = 0;
+    std::size_t light = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double wi = w(static_cast<Eigen::Index>(i));
+      total += std::max(0.0, wi);
+      if (wi < w(static_cast<Eigen::Index>(light))) light = i;
+    }
+    if (!(w(static_cast<Eigen::Index>(light)) < 0.02 * total)) break;
+    // Which element to split: the one whose split (two ways apart) costs least at once.
+    std::vector<double> y = x;
+    double y_cost = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j == light) continue;
+      for (double fac : {1.25, 1.6}) {
+        std::vector<double> z = x;
+        z[ns + j] = to_u(kappa[j] / fac);
+        z[ns + light] = to_u(kappa[j] * fac);
+        const double cz = f(z);
+        ++search.evals;
+        if (cz < y_cost) y_cost = cz, y = z;
+      }
+    }
+    const double v = search.run(f, y, o.max_evaluations, 0.03, stage + ", re-seeded element");
+    if (!(v < prev)) break;
+    prev = v, x = y;
+  }
   split(x, shape, kappa);
   Eigen::VectorXd th;
   ev.cost(shape, kappa, &th);
@@ -525,10 +586,10 @@ int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOpt
   const Parameterization par(model_info(spec.model), 1, c);
   std::size_t ns = 0;
   for (const auto& p : par.params()) ns += p.scalar >= 0;
-  // Design points + up to 3 grid starts + the polish and its two restarts.
+  // Design points + up to 3 grid starts + the polish, its two restarts and up to two re-seeds.
   const int design = ns == 0 ? 1 : 2 + 3 * 4 * 3 * 2;  // + a shape hint
   const int grid = ns == 0 ? 0 : std::clamp(o.starts, 1, 3) * (o.max_evaluations / 2 + 1);
-  return design + grid + 2 * (o.max_evaluations + 1) + 1;
+  return design + grid + 4 * (o.max_evaluations + 1) + 1;
 }
 
 FitResult reduce_and_polish(const GridSolution& g, const FitSpec& spec, const Dataset& train,
@@ -562,8 +623,19 @@ FitResult polish_elements(const FitSpec& spec, const Dataset& train, const Effec
     if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
   for (const auto& row : m.elements)
     els.push_back({row[static_cast<std::size_t>(kc)] / row[lev], row[lev]});
-  const int budget = 2 * (o.max_evaluations + 1) + 1;
+  const int budget = 4 * (o.max_evaluations + 1) + 1;
   return polish(spec, train, c, o, shape, els, 0, std::chrono::steady_clock::now(), budget);
+}
+
+double grid_cost_at(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                    const std::vector<double>& warm) {
+  const Parameterization par(model_info(spec.model), spec.elements, c);
+  if (warm.size() != par.size()) throw InputError("internal: warm start of the wrong size");
+  std::vector<double> shape;
+  for (std::size_t i = 0; i < par.size(); ++i)
+    if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
+  ElementEvaluator ev(spec, train, c, kGridRows);
+  return ev.cost(shape, element_grid(c));
 }
 
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,

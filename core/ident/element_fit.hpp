@@ -76,6 +76,12 @@ FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const Effec
 // The evaluation budget of fit_elements (what FitProgress::budget reports).
 int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOptions& o);
 // fit_grid + reduce_and_polish.
+// The grid stage's cost [N RMS] at the shape of `warm` (a FitResult::u of spec's
+// parameterization): the unit elements of c's whole grid, weights by NNLS. Comparing it under two
+// contexts tells whether a wider element range would explain more.
+double grid_cost_at(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                    const std::vector<double>& warm);
+
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const FitOptions& o);
 

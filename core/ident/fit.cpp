@@ -140,8 +140,8 @@ Parameterization::Parameterization(const ModelInfo& info, std::size_t elements,
 }
 
 std::pair<double, double> element_x_range(const EffectContext& c) {
-  const double hi = std::max(20.0 * c.x_ba, 1e-9);
-  return {std::max(hi * 2e-5, 1e-10), hi};
+  const double hi = std::max(c.x_hi_factor * c.x_ba, 1e-9);
+  return {std::max(4e-4 * c.x_ba, 1e-10), hi};
 }
 
 double Parameterization::box(std::size_t i, double value) const {

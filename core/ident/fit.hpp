@@ -56,6 +56,8 @@ struct FitProgress {
 struct FitOptions {
   std::string method = "bobyqa";  // bobyqa | sbplx | neldermead
   int starts = 3;                 // multi-start count (>= 1)
+  int first_start = 0;            // element grid: start from the design points ranked
+                                  // [first_start, first_start + starts) (a retry takes the next ones)
   int max_evaluations = 600;      // per start
   double rel_tol = 1e-7;          // relative cost tolerance
   bool data_start = true;         // also start from the data-based guess when warm-started
@@ -102,7 +104,8 @@ class Parameterization {
 };
 
 // Break-away displacements [m] the element stiffnesses may span on this record: from
-// 20 x_ba (beyond any swing the record shows) down 5 decades (below any encoder step).
+// x_hi_factor x x_ba (20: beyond the swing the record shows after most reversals; wider when
+// identify finds softer elements in the data) down to 4e-4 x_ba (below any encoder step).
 std::pair<double, double> element_x_range(const EffectContext& c);
 
 struct LinearTerm {

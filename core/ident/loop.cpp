@@ -286,6 +286,18 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
   return n > 0 ? std::sqrt(s / n) : 0.0;
 }
 
+// spec with the additive effects a shape or a soft element could stand in for (offset, inertia,
+// time drift, a force along the stroke; those whose columns do not depend on the friction) added
+// as linear columns: probes for comparing shapes and element ranges fairly.
+FitSpec with_additive_probes(FitSpec spec) {
+  for (Effect e : {Effect::Offset, Effect::Inertia, Effect::TimeDrift, Effect::PositionDependent}) {
+    bool uses_g = false;
+    for (const auto& col : effect_columns(e)) uses_g = uses_g || col.uses_g;
+    if (!uses_g && !contains(spec.effects, e)) spec.effects.push_back(e);
+  }
+  return spec;
+}
+
 }  // namespace
 
 FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val,
@@ -300,20 +312,45 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
   return fit_model(base, train, c, o);
 }
 
-IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& base,
+IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSpec& base,
                      const LoopOptions& o) {
-  check_identifiable(train, "training", true);
-  check_identifiable(val, "validation", false);
+  check_identifiable(train_in, "training", true);
+  check_identifiable(val_in, "validation", false);
+  EffectContext c = make_context(train_in);
   IdentReport rep;
+  rep.noise = noise_level(train_in, c);
+  FitResult cur = fit_base(base, train_in, val_in, c, o.base);
+  // The path between samples. The adaptive path steps straight where the speed hardly changes;
+  // with a fast attraction (C h >> 1) the force at a sample follows the speed at that sample, and
+  // the straight step's mean speed is half a step late. When the base fit's friction along the
+  // fine path differs from it by more than a quarter of the noise, everything runs on the fine
+  // path (the base fit too: the element table found on the adaptive path bends to its error).
+  Dataset train_fine, val_fine;
+  {
+    train_fine = train_in;
+    set_path(train_fine, kFinePath);
+    const auto g0 = unit_friction(cur, train_in, c), g1 = unit_friction(cur, train_fine, c);
+    const double fc = cur.theta.empty() ? 1.0 : cur.theta[0];
+    double s = 0, n = 0;
+    for (std::size_t k = 0; k < train_in.size(); ++k)
+      if (train_in.use[k]) s += std::pow(fc * (g1[k] - g0[k]), 2), n += 1;
+    rep.path_difference = n > 0 ? std::sqrt(s / n) : 0.0;
+    rep.fine_path = rep.path_difference > 0.25 * rep.noise.sigma;
+    if (rep.fine_path) {
+      val_fine = val_in;
+      set_path(val_fine, kFinePath);
+      cur = fit_base(base, train_fine, val_fine, c, o.base);
+    } else {
+      train_fine = Dataset{};
+    }
+  }
+  const Dataset& train = rep.fine_path ? train_fine : train_in;
+  const Dataset& val = rep.fine_path ? val_fine : val_in;
   rep.model = base.model;
-  rep.elements = model_info(base.model).columns.empty() ? 0 : base.elements;
   rep.train_source = train.source;
   rep.validation_source = val.source;
   rep.train_samples = train.used();
   rep.validation_samples = val.used();
-  EffectContext c = make_context(train);
-  rep.noise = noise_level(train, c);
-  FitResult cur = fit_base(base, train, val, c, o.base);
   rep.elements = cur.spec.elements;
   // The quantisation and sampling shares of the floor, through the base fit (updated at the end).
   auto friction_force = [&](const FitResult& f, const Dataset& d, bool straight = false) {
@@ -322,10 +359,34 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
     for (auto& x : g) x *= fc;
     return g;
   };
-  {
+  const NoiseEstimate noise_data = rep.noise;
+  auto add_shares = [&] {
+    rep.noise = noise_data;
     const auto f = friction_force(cur, train);
     add_quantisation(rep.noise, train, c, f);
     add_sampling(rep.noise, train, f, friction_force(cur, train, true));
+  };
+  add_shares();
+  // A GMS / Maxwell-slip base fit whose error stays 30 % above the floor the data allow sits in a
+  // local minimum of the shape search (or the element table bent to one): it is fitted again from
+  // the next design points of other basins, and kept when its shape explains more.
+  // Both fits are judged by the grid cost at their shape with the additive effects (offset, drift,
+  // a force along the stroke, inertia) solved alongside: an effect the data holds makes any base
+  // fit miss the floor, and a shape that only mimics it is no better.
+  if (has_linear_elements(base.model) && !cur.u.empty()) {
+    const double p0 = grid_cost_at(with_additive_probes(cur.spec), train, c, cur.u);
+    if (p0 > 1.3 * rep.noise.floor()) {
+      FitOptions ro = o.base;
+      ro.first_start = std::clamp(ro.starts, 1, 3);
+      ro.stage = "base fit, retry from other starts";
+      FitResult again = fit_base(base, train, val, c, ro);
+      rep.base_retried = true;
+      if (!again.u.empty() && grid_cost_at(with_additive_probes(again.spec), train, c, again.u) < 0.98 * p0) {
+        cur = std::move(again);
+        rep.elements = cur.spec.elements;
+        add_shares();
+      }
+    }
   }
   const double floor = rep.noise.floor();
   double cur_val = rms_on(cur, val, c);
@@ -491,6 +552,39 @@ IdentReport identify(const Dataset& train, const Dataset& val, const FitSpec& ba
       cur_val = rms_on(cur, val, c);
       rep.stages.back() = cur;
       if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = cur_val;
+    }
+  }
+  // Softer elements than the swing estimate allows. The swing after a reversal is estimated by its
+  // median travel; a soft element the motion rarely breaks loose (a slow attraction, a long
+  // presliding) lies beyond the grid. Tested last, with the effects found in the model: when the
+  // grid's cost at the final shape drops by 2 % with the range 1.5 decades wider (at most half
+  // the stroke), also with the additive effects a soft element could stand in for (offset, drift,
+  // a force along the stroke, inertia) solved alongside, the element table is chosen again on the
+  // wider grid; kept when it lowers both the training and the validation RMS.
+  if (has_linear_elements(base.model) && !cur.u.empty()) {
+    bool g_columns = false;
+    for (Effect e : cur.spec.effects)
+      for (const auto& col : effect_columns(e)) g_columns = g_columns || col.uses_g;
+    EffectContext wide = c;
+    wide.x_hi_factor = std::min(c.x_hi_factor * std::pow(10.0, 1.5), c.x_half / std::max(c.x_ba, 1e-12));
+    if (!g_columns && wide.x_hi_factor > 1.5 * c.x_hi_factor) {
+      const FitSpec probe = with_additive_probes(cur.spec);
+      const double c0 = grid_cost_at(probe, train, c, cur.u), c1 = grid_cost_at(probe, train, wide, cur.u);
+      if (c1 < 0.98 * c0) {
+        FitOptions wo = o.base;
+        wo.stage = "element table on a wider range";
+        FitResult again = regrid_elements(cur.spec, train, wide, wo, cur.u);
+        const double again_val = rms_on(again, val, wide);
+        if (again.rms_train < cur.rms_train && again_val < cur_val) {
+          rep.notes.push_back("the element range was widened to " + std::to_string(1e6 * wide.x_hi_factor * wide.x_ba) +
+                              " um (softer elements than the swing after most reversals shows): validation RMS " +
+                              std::to_string(cur_val) + " -> " + std::to_string(again_val) + " N");
+          cur = std::move(again), cur_val = again_val, c = wide, rep.range_widened = true;
+          rep.elements = cur.spec.elements;
+          rep.stages.back() = cur;
+          if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = cur_val;
+        }
+      }
     }
   }
   rep.context = c;
@@ -674,6 +768,9 @@ nlohmann::json to_json(const IdentReport& r) {
                 {"samples", r.noise.samples},         {"encoder_step_m", r.noise.quantum},
                 {"quantisation_N", r.noise.quantisation}, {"sampling_N", r.noise.sampling},
                 {"floor_N", r.noise.floor()}};
+  j["path"] = {{"fine", r.fine_path}, {"difference_N", r.path_difference}};
+  j["base_retried"] = r.base_retried;
+  j["element_range_widened"] = r.range_widened;
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)
