@@ -204,6 +204,8 @@ Session make_session(const AppState& s) {
   Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
   out.design = design_settings(s.design);
   out.identify = identify_settings(s.identify);
+  if (s.plant.scenario)
+    out.plant = PlantTabSettings{s.plant.path, *s.plant.scenario, s.plant.speed, static_cast<double>(s.plant.magnification)};
   return out;
 }
 
@@ -213,6 +215,13 @@ void restore_session(AppState& s, const Session& session) {
   s.view = session.view;
   apply_design_settings(s.design, session.design);
   apply_identify_settings(s.identify, session.identify);
+  if (session.plant) {
+    load_plant(s.plant, session.plant->scenario, session.plant->path);
+    s.plant.speed = session.plant->speed;
+    s.plant.magnification = static_cast<float>(session.plant->magnification);
+  } else {
+    s.plant = PlantPanelState{};
+  }
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
   // Unsaved changes are judged against the file the session's scenario came from.

@@ -523,38 +523,75 @@ Assembly remove_part(const Assembly& a, PartRef p) {
   return out;
 }
 
+namespace {
+bool name_used(const Assembly& a, const std::string& n) {
+  for (const auto& x : a.bodies) if (x.name == n) return true;
+  for (const auto& x : a.springs) if (x.name == n) return true;
+  for (const auto& x : a.dampers) if (x.name == n) return true;
+  for (const auto& x : a.contacts) if (x.name == n) return true;
+  for (const auto& x : a.drives) if (x.name == n) return true;
+  return false;
+}
+std::string fresh_name(const Assembly& a, const std::string& base) {
+  for (int n = 1;; ++n)
+    if (!name_used(a, base + std::to_string(n))) return base + std::to_string(n);
+}
+// A spring, damper or contact from a to b with the palette's default values; its ref.
+PartRef add_link(Assembly& a, PartRef::Kind kind, int ia, int ib) {
+  switch (kind) {
+    case PartRef::Kind::Spring:
+      a.springs.push_back({fresh_name(a, "spring"), ia, ib, 1000.0});  // [N/m]
+      return {kind, static_cast<int>(a.springs.size()) - 1};
+    case PartRef::Kind::Damper:
+      a.dampers.push_back({fresh_name(a, "damper"), ia, ib, 1.0});  // [N s/m]
+      return {kind, static_cast<int>(a.dampers.size()) - 1};
+    case PartRef::Kind::Contact:
+      a.contacts.push_back({fresh_name(a, "contact"), ia, ib, model_info("gms").defaults()});
+      return {kind, static_cast<int>(a.contacts.size()) - 1};
+    default: return {};
+  }
+}
+}  // namespace
+
 PartRef add_part(Assembly& a, PartRef::Kind kind, int at) {
-  auto used = [&](const std::string& n) {
-    for (const auto& x : a.bodies) if (x.name == n) return true;
-    for (const auto& x : a.springs) if (x.name == n) return true;
-    for (const auto& x : a.dampers) if (x.name == n) return true;
-    for (const auto& x : a.contacts) if (x.name == n) return true;
-    for (const auto& x : a.drives) if (x.name == n) return true;
-    return false;
-  };
-  auto fresh = [&](const std::string& base) {
-    for (int n = 1;; ++n)
-      if (!used(base + std::to_string(n))) return base + std::to_string(n);
-  };
   if (at < 0 || at >= static_cast<int>(a.bodies.size())) at = a.bodies.empty() ? kGround : 0;
   switch (kind) {
     case PartRef::Kind::None: return {};
     case PartRef::Kind::Body: {
-      a.bodies.push_back({fresh("body"), 1.0});
+      a.bodies.push_back({fresh_name(a, "body"), 1.0});
       const int i = static_cast<int>(a.bodies.size()) - 1;
-      a.springs.push_back({fresh("spring"), i, at, 1000.0});
+      a.springs.push_back({fresh_name(a, "spring"), i, at, 1000.0});
       return {kind, i};
     }
-    case PartRef::Kind::Spring: a.springs.push_back({fresh("spring"), at, kGround, 1000.0}); return {kind, static_cast<int>(a.springs.size()) - 1};
-    case PartRef::Kind::Damper: a.dampers.push_back({fresh("damper"), at, kGround, 1.0}); return {kind, static_cast<int>(a.dampers.size()) - 1};
-    case PartRef::Kind::Contact:
-      a.contacts.push_back({fresh("contact"), at, kGround, model_info("gms").defaults()});
-      return {kind, static_cast<int>(a.contacts.size()) - 1};
+    case PartRef::Kind::Spring:
+    case PartRef::Kind::Damper:
+    case PartRef::Kind::Contact: return add_link(a, kind, at, kGround);
     case PartRef::Kind::Drive:
-      a.drives.push_back({fresh("drive"), DrivePart::Kind::Force, at, Signal::constant(1.0)});
+      a.drives.push_back({fresh_name(a, "drive"), DrivePart::Kind::Force, at, Signal::constant(1.0)});
       return {kind, static_cast<int>(a.drives.size()) - 1};
   }
   return {};
+}
+
+int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double mag, float mx, float my) {
+  const float reach = 8.0f;
+  for (std::size_t i = 0; i < a.bodies.size() && i < l.bodies.size(); ++i) {
+    const Box& b = l.bodies[i];
+    const float o = body_dx(l, pose, mag, static_cast<int>(i));
+    if (mx >= b.x0 + o - reach && mx <= b.x1 + o + reach && my >= b.y0 - reach && my <= b.y1 + reach) return static_cast<int>(i);
+  }
+  if (my >= l.floor_y - 2.0f) return kGround;
+  if (l.wall && mx <= l.wall_x + 2.0f && my >= 0.22f * l.height) return kGround;
+  return kNoEnd;
+}
+
+PartRef connect_parts(Assembly& a, PartRef::Kind kind, int from, int to) {
+  const int nb = static_cast<int>(a.bodies.size());
+  auto ok = [&](int e) { return e == kGround || (e >= 0 && e < nb); };
+  if (!ok(from) || !ok(to) || from == to) return {};
+  if (kind != PartRef::Kind::Spring && kind != PartRef::Kind::Damper && kind != PartRef::Kind::Contact) return {};
+  if (from == kGround) std::swap(from, to);
+  return add_link(a, kind, from, to);
 }
 
 bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited) {
@@ -808,6 +845,20 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       }
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("Add a %s at the selected body (to ground); then edit it below", to_string(k));
     }
+    ImGui::TextUnformatted("Drag connects with a");
+    for (auto k : {PartRef::Kind::Spring, PartRef::Kind::Damper, PartRef::Kind::Contact}) {
+      ImGui::SameLine();
+      if (ImGui::RadioButton(to_string(k), st.connect_kind == k)) st.connect_kind = k;
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Dragging from a body (or the ground) to another body in the schematic adds a %s between them (%s)",
+                          to_string(k),
+                          k == PartRef::Kind::Spring ? "1000 N/m" : k == PartRef::Kind::Damper ? "1 N s/m" : "GMS, default parameters");
+    }
+    if (!st.hint.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.55f, 0.35f, 0.0f, 1.0f));
+      ImGui::TextWrapped("%s", st.hint.c_str());
+      ImGui::PopStyleColor();
+    }
     ImGui::BeginDisabled(st.selected.kind == PartRef::Kind::None);
     if (ImGui::SmallButton("delete")) {
       AssemblyScenario ed = *st.scenario;
@@ -881,12 +932,56 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   const double mag = st.magnification > 0.0f ? st.magnification * 1e3 : auto_magnification(l, st.sim->trace());
   const PlantPose pose = pose_of(*st.sim);
   draw_plant(dl, origin.x, origin.y, l, a, pose, mag);
+  st.canvas_x = origin.x, st.canvas_y = origin.y, st.canvas_layout = l, st.canvas_pose = pose, st.canvas_mag = mag;
   ImGui::InvisibleButton("##plant_canvas", ImVec2(avail.x, canvas_h));
-  if (ImGui::IsItemClicked()) {
+  {  // click: select a part; drag from a body (or ground) to another: connect them
     const ImVec2 m = ImGui::GetMousePos();
-    st.selected = hit_test(l, a, pose, mag, m.x - origin.x, m.y - origin.y);
+    const float mx = m.x - origin.x, my = m.y - origin.y;
+    const char* kind = to_string(st.connect_kind);
+    if (ImGui::IsItemActivated()) {
+      st.selected = hit_test(l, a, pose, mag, mx, my);
+      st.drag_from = attachment_at(l, a, pose, mag, mx, my);
+      st.drag_x = mx, st.drag_y = my;
+      st.hint.clear();
+    }
+    const bool moved = std::hypot(mx - st.drag_x, my - st.drag_y) >= 5.0f;
+    if (ImGui::IsItemActive() && st.drag_from != kNoEnd && moved) {
+      const int to = attachment_at(l, a, pose, mag, mx, my);
+      const bool can = to != kNoEnd && to != st.drag_from && !(to == kGround && st.drag_from == kGround);
+      dl->AddLine({origin.x + st.drag_x, origin.y + st.drag_y}, m, can ? kDrive : kDimInk, 2.5f);
+      dl->AddCircleFilled({origin.x + st.drag_x, origin.y + st.drag_y}, 4.5f, kDrive);
+      const std::string from = st.drag_from == kGround ? "ground" : a.bodies[static_cast<std::size_t>(st.drag_from)].name;
+      if (can) {
+        const std::string target = to == kGround ? "ground" : a.bodies[static_cast<std::size_t>(to)].name;
+        ImGui::SetTooltip("Release to connect %s and %s with a %s", from.c_str(), target.c_str(), kind);
+      } else {
+        ImGui::SetTooltip("Drag to another body or the ground to connect %s with a %s", from.c_str(), kind);
+      }
+    }
+    if (ImGui::IsItemDeactivated() && st.drag_from != kNoEnd && moved) {
+      const int from = st.drag_from, to = attachment_at(l, a, pose, mag, mx, my);
+      st.drag_from = kNoEnd;
+      AssemblyScenario ed = *st.scenario;
+      const PartRef added = connect_parts(ed.plant, st.connect_kind, from, to);
+      if (added.kind == PartRef::Kind::None) {
+        st.hint = to == kNoEnd ? std::string("Nothing connected: release the drag on another body or on the ground")
+                               : std::string("Nothing connected: a ") + kind + " needs two different ends (a body and another body or the ground)";
+      } else if (apply_plant_edit(st, ed)) {
+        st.selected = added;
+      }
+    }
+    if (ImGui::IsItemDeactivated()) st.drag_from = kNoEnd;
+    if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) {
+      for (std::size_t i = 0; i < l.bodies.size(); ++i) {  // the attachment points
+        const Box& b = l.bodies[i];
+        const float o = body_dx(l, pose, mag, static_cast<int>(i));
+        dl->AddCircle({origin.x + b.x0 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
+        dl->AddCircle({origin.x + b.x1 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
+      }
+      ImGui::SetTooltip("Click a part to edit it (left column); drag from a body or the ground to another body to connect them with a %s",
+                        kind);
+    }
   }
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Click a part to edit it (left column)");
   {  // the selected block or pad, outlined
     const auto& sel = st.selected;
     const Box* b = nullptr;

@@ -92,6 +92,16 @@ Assembly remove_part(const Assembly& a, PartRef p);
 // tied to `at` - or ground when the plant is empty - by a 1000 N/m spring). Returns its ref.
 PartRef add_part(Assembly& a, PartRef::Kind kind, int at);
 
+// Connecting by dragging: the end under canvas point (mx, my) - a body (its block, as drawn with
+// `pose`, or within 8 px of its faces), ground (the floor hatch and below, or the wall when one is
+// drawn) or kNoEnd.
+inline constexpr int kNoEnd = -2;
+int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double px_per_m, float mx, float my);
+// Adds a `kind` (spring 1000 N/m, damper 1 N s/m or contact with GMS defaults; unique name) from
+// `from` to `to` (body indices or kGround; ground becomes end b). Returns None and leaves `a` as it
+// was when the ends are the same, both ground, either is kNoEnd, or `kind` is not one of the three.
+PartRef connect_parts(Assembly& a, PartRef::Kind kind, int from, int to);
+
 // The Plant panel's state: its own assembled scenario and run (v1 presets load as one body).
 struct PlantPanelState {
   std::string path;
@@ -106,6 +116,18 @@ struct PlantPanelState {
   PartRef selected;                    // the part being edited
   std::vector<AssemblyScenario> undo, redo;
   std::string edit_msg;                // why the last edit was not applied
+  // Drag-to-connect: the part kind a drag creates, the end the drag started on (kNoEnd: none),
+  // where it started (canvas px), and the hint after a drag that connected nothing.
+  PartRef::Kind connect_kind = PartRef::Kind::Spring;
+  int drag_from = kNoEnd;
+  float drag_x = 0.0f, drag_y = 0.0f;
+  std::string hint;
+  // The schematic as last drawn (screen position of its top left, layout, pose, px per m), for
+  // input and tests.
+  float canvas_x = 0.0f, canvas_y = 0.0f;
+  PlantLayout canvas_layout;
+  PlantPose canvas_pose;
+  double canvas_mag = 1.0;
   std::string error;
 };
 

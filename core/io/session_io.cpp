@@ -1,5 +1,6 @@
 #include "core/io/session_io.hpp"
 
+#include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
@@ -49,6 +50,11 @@ json to_json(const Session& s) {
                    {"model", i.model},
                    {"elements", i.elements},
                    {"compare", i.compare}};
+  j["plant"] = s.plant ? json{{"path", s.plant->path},
+                              {"speed", s.plant->speed},
+                              {"magnification", s.plant->magnification},
+                              {"scenario", to_json(s.plant->scenario)}}
+                       : json(nullptr);
   return j;
 }
 
@@ -110,6 +116,19 @@ IdentifySettings identify_from_json(JsonReader& r) {
   r.finish();
   return i;
 }
+PlantTabSettings plant_tab_from_json(JsonReader& r, const std::string& file) {
+  PlantTabSettings p;
+  p.path = r.string("path");
+  if (p.path.size() > 4096) r.fail("path", "at most 4096 characters");
+  p.speed = r.number("speed", 1e-3, 1e3, "s/s");
+  p.magnification = r.number("magnification", 0, 1e6, "px/mm");
+  const json& sc = r.raw("scenario");
+  if (preset_schema_version(sc) != kAssemblySchemaVersion)
+    r.fail("scenario", "an assembled plant with schema_version " + std::to_string(kAssemblySchemaVersion) + " expected");
+  p.scenario = assembly_scenario_from_json(sc, file + " (in 'plant.scenario')");
+  r.finish();
+  return p;
+}
 }  // namespace
 
 Session session_from_json(const json& j, const std::string& file) {
@@ -132,6 +151,14 @@ Session session_from_json(const json& j, const std::string& file) {
   if (version >= 3) {
     auto identify = r.object("identify");
     s.identify = identify_from_json(identify);
+  }
+  if (version >= 4) {
+    const json& plant = r.raw("plant");
+    if (!plant.is_null()) {
+      if (!plant.is_object()) r.fail("plant", "an object or null expected");
+      JsonReader p(plant, file, "plant");
+      s.plant = plant_tab_from_json(p, file);
+    }
   }
   r.finish();
   return s;
