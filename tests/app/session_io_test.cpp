@@ -83,8 +83,8 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["view"].erase("tab");
   EXPECT_NE(expect_rejected(j).find("view.tab"), std::string::npos);
   j = good;
-  j["schema_version"] = 4;
-  EXPECT_NE(expect_rejected(j).find("version 4 is not supported; this gmslab reads version 1 to 3"),
+  j["schema_version"] = 5;
+  EXPECT_NE(expect_rejected(j).find("version 5 is not supported; this gmslab reads version 1 to 4"),
             std::string::npos);
   j = good;
   j["identify"]["model"] = "no_such_model";

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/io/assembly_io.hpp"
+#include "core/io/scenario_io.hpp"
 #include "core/io/session_io.hpp"
 #include "tests/ui/app_frame.hpp"
 #include "ui/app.hpp"
@@ -28,6 +29,7 @@ struct PlantHarness {
   ui::ScopedPlotContext plots;
   explicit PlantHarness(const std::string& preset) {
     uitest::make_headless_imgui(ImVec2(1600, 1000));
+    ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
     const std::string path = std::string(GMSLAB_SOURCE_DIR) + "/presets/" + preset;
     ui::load_plant(s.plant, load_assembly_scenario(path), path);
     s.view.tab = "Plant";
