@@ -845,9 +845,9 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       }
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("Add a %s at the selected body (to ground); then edit it below", to_string(k));
     }
-    ImGui::TextUnformatted("Drag connects with a");
+    ImGui::TextUnformatted("Drag from a body to another adds a");
     for (auto k : {PartRef::Kind::Spring, PartRef::Kind::Damper, PartRef::Kind::Contact}) {
-      ImGui::SameLine();
+      if (k != PartRef::Kind::Spring) ImGui::SameLine();
       if (ImGui::RadioButton(to_string(k), st.connect_kind == k)) st.connect_kind = k;
       if (ImGui::IsItemHovered())
         ImGui::SetTooltip("Dragging from a body (or the ground) to another body in the schematic adds a %s between them (%s)",
