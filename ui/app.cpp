@@ -201,7 +201,7 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 }
 
 Session make_session(const AppState& s) {
-  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
+  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}, {}};
   out.design = design_settings(s.design);
   out.identify = identify_settings(s.identify);
   if (s.plant.scenario)

@@ -596,7 +596,7 @@ PartRef connect_parts(Assembly& a, PartRef::Kind kind, int from, int to) {
 
 bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited) {
   try {
-    auto sim = std::make_unique<AssemblySimulation>(edited);
+    auto sim = std::make_unique<AssemblySimulation>(edited, TraceOptions{.max_bytes = st.history_bytes});
     if (st.scenario) st.undo.push_back(*st.scenario);
     st.redo.clear();
     st.scenario = std::make_unique<AssemblyScenario>(edited);
@@ -618,7 +618,7 @@ void swap_to(PlantPanelState& st, std::vector<AssemblyScenario>& from, std::vect
   from.pop_back();
   to.push_back(*st.scenario);
   st.scenario = std::make_unique<AssemblyScenario>(s);
-  st.sim = std::make_unique<AssemblySimulation>(s);  // was valid when it was pushed
+  st.sim = std::make_unique<AssemblySimulation>(s, TraceOptions{.max_bytes = st.history_bytes});  // was valid when pushed
   st.running = false;
   st.plotted.assign(st.sim->trace().channels.size(), 1);
   st.selected = {};
@@ -712,7 +712,7 @@ void plant_undo(PlantPanelState& st) { swap_to(st, st.undo, st.redo); }
 void plant_redo(PlantPanelState& st) { swap_to(st, st.redo, st.undo); }
 
 void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::string& path) {
-  auto sim = std::make_unique<AssemblySimulation>(s);  // validates first
+  auto sim = std::make_unique<AssemblySimulation>(s, TraceOptions{.max_bytes = st.history_bytes});  // validates first
   st.scenario = std::make_unique<AssemblyScenario>(s);
   st.sim = std::move(sim);
   st.path = path;

@@ -108,6 +108,9 @@ struct PlantPanelState {
   std::unique_ptr<AssemblyScenario> scenario;
   std::unique_ptr<AssemblySimulation> sim;
   bool running = false;
+  // Largest memory of the run's trace [bytes]: a longer run is compacted keeping every output's
+  // extremes (AssemblySimulation, TraceOptions::max_bytes), as the Simulation tab's.
+  std::size_t history_bytes = std::size_t{64} << 20;
   double speed = 1.0;                  // simulated s per wall-clock s
   float magnification = 0.0f;          // px per mm; 0 = auto
   std::vector<std::uint8_t> plotted;   // per output channel

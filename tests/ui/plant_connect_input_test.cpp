@@ -104,9 +104,13 @@ TEST(PlantConnectInput, DraggingFromABodyToAnotherConnectsThemWithTheChosenKind)
       EXPECT_EQ(a.bodies, before.plant.bodies);
       EXPECT_EQ(a.drives, before.plant.drives);
       EXPECT_EQ(last_ends(a, kind), std::make_pair(from, to));
-      if (kind == PartRef::Kind::Spring) EXPECT_EQ(a.springs.back().stiffness, 1000.0);
-      if (kind == PartRef::Kind::Damper) EXPECT_EQ(a.dampers.back().damping, 1.0);
-      if (kind == PartRef::Kind::Contact) EXPECT_EQ(a.contacts.back().friction, model_info("gms").defaults());
+      if (kind == PartRef::Kind::Spring) {
+        EXPECT_EQ(a.springs.back().stiffness, 1000.0);
+      } else if (kind == PartRef::Kind::Damper) {
+        EXPECT_EQ(a.dampers.back().damping, 1.0);
+      } else {
+        EXPECT_EQ(a.contacts.back().friction, model_info("gms").defaults());
+      }
       EXPECT_EQ(h.p().selected.kind, kind) << "the new part is selected for editing";
       EXPECT_EQ(h.p().undo.size(), undo_depth + 1);
       const AssemblyScenario after = *h.p().scenario;
