@@ -368,23 +368,34 @@ void AssemblySimulation::reset() {
   expected = std::min<std::size_t>(expected, std::size_t{1} << 22);  // more grows as it comes
   trace_.t.reserve(expected);
   trace_.values.reserve(expected * channels_.size());
+  for (std::size_t j = 0; j < models_.size(); ++j) {
+    trace_.element_force[j].reserve(expected * trace_.n_elements[j]);
+    trace_.element_slip[j].reserve(expected * trace_.n_elements[j]);
+    trace_.contact_slip[j].reserve(expected);
+  }
+  // Where each channel's value lives (the output arrays keep their storage until the next reset).
+  channel_src_.clear();
+  for (const auto& c : channels_) {
+    const double* src = nullptr;
+    switch (c.kind) {
+      case Channel::Kind::Position: src = &x_[c.index]; break;
+      case Channel::Kind::Velocity: src = &v_[c.index]; break;
+      case Channel::Kind::ContactForce: src = &f_contact_[c.index]; break;
+      case Channel::Kind::SpringForce: src = &f_spring_[c.index]; break;
+      case Channel::Kind::DamperForce: src = &f_damper_[c.index]; break;
+      case Channel::Kind::DriveForce: src = &f_drive_[c.index]; break;
+    }
+    channel_src_.push_back(src);
+  }
   record();
 }
 
 void AssemblySimulation::record() {
   trace_.t.push_back(time());
-  for (const auto& c : channels_) {
-    double y = 0.0;
-    switch (c.kind) {
-      case Channel::Kind::Position: y = x_[c.index]; break;
-      case Channel::Kind::Velocity: y = v_[c.index]; break;
-      case Channel::Kind::ContactForce: y = f_contact_[c.index]; break;
-      case Channel::Kind::SpringForce: y = f_spring_[c.index]; break;
-      case Channel::Kind::DamperForce: y = f_damper_[c.index]; break;
-      case Channel::Kind::DriveForce: y = f_drive_[c.index]; break;
-    }
-    trace_.values.push_back(y);
-  }
+  const std::size_t nc = channel_src_.size(), at = trace_.values.size();
+  trace_.values.resize(at + nc);
+  double* out = trace_.values.data() + at;
+  for (std::size_t c = 0; c < nc; ++c) out[c] = *channel_src_[c];
   for (std::size_t j = 0; j < models_.size(); ++j) {
     const std::size_t ne = trace_.n_elements[j];
     bool all_slip = ne > 0;

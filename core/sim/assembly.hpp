@@ -166,6 +166,11 @@ class AssemblySimulation {
   // fills, so a run of any length keeps every extreme of every output within that memory;
   // max_bytes = 0 keeps every recorded sample (a consumer can take them in chunks: clear_trace()).
   explicit AssemblySimulation(const AssemblyScenario& s, TraceOptions trace = {});
+  // Not copyable (the trace's channel table points into this object's arrays); movable.
+  AssemblySimulation(const AssemblySimulation&) = delete;
+  AssemblySimulation& operator=(const AssemblySimulation&) = delete;
+  AssemblySimulation(AssemblySimulation&&) = default;
+  AssemblySimulation& operator=(AssemblySimulation&&) = default;
   void reset();
   std::size_t advance(std::size_t n);  // throws SimulationError on a non-finite state
   void run_to_end();
@@ -210,6 +215,7 @@ class AssemblySimulation {
   std::vector<std::unique_ptr<FrictionModel>> models_;
   std::vector<std::vector<double>> state_;
   std::vector<Channel> channels_;
+  std::vector<const double*> channel_src_;  // per channel: its value in x_, v_ or a force array
   AssemblyTrace trace_;
   TraceOptions trace_opts_;
   std::size_t max_samples_ = 0;     // 0: unbounded
