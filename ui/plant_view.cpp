@@ -951,6 +951,11 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       dl->AddLine({origin.x + st.drag_x, origin.y + st.drag_y}, m, can ? kDrive : kDimInk, 2.5f);
       dl->AddCircleFilled({origin.x + st.drag_x, origin.y + st.drag_y}, 4.5f, kDrive);
       const std::string from = st.drag_from == kGround ? "ground" : a.bodies[static_cast<std::size_t>(st.drag_from)].name;
+      if (can && to >= 0) {  // the body it would connect to, outlined
+        const Box& b = l.bodies[static_cast<std::size_t>(to)];
+        const float o = body_dx(l, pose, mag, to);
+        dl->AddRect({origin.x + b.x0 + o - 4, origin.y + b.y0 - 4}, {origin.x + b.x1 + o + 4, origin.y + b.y1 + 4}, kDrive, 3.0f, 0, 2.5f);
+      }
       if (can) {
         const std::string target = to == kGround ? "ground" : a.bodies[static_cast<std::size_t>(to)].name;
         ImGui::SetTooltip("Release to connect %s and %s with a %s", from.c_str(), target.c_str(), kind);
