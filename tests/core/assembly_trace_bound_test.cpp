@@ -13,6 +13,7 @@
 
 #include "core/io/assembly_io.hpp"
 #include "core/sim/assembly.hpp"
+#include "core/sim/simulation.hpp"
 
 namespace gmslab {
 namespace {
@@ -91,5 +92,56 @@ TEST(AssemblyTraceBound, StreamedCsvIsTheWholeRunsCsv) {
   }
 }
 
+}  // namespace
+}  // namespace gmslab
+
+namespace gmslab {
+namespace {
+// One body with its spring, damper and drive force each split in two parts to ground (the one-body
+// loop for several parts, advance_one_body, which no v1 preset takes) follows the one-body
+// Simulation of the merged plant to rounding, for random parameters.
+TEST(AssemblyTraceBound, OneBodyWithSplitPartsFollowsTheMergedOneBodyPlant) {
+  std::mt19937 rng(1106);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 8; ++trial) {
+    Scenario s;
+    s.name = "split " + std::to_string(trial);
+    s.friction = model_info("gms").defaults();
+    s.plant.mass = 0.2 + 3.0 * u(rng);
+    const double k1 = 40.0 * u(rng), k2 = 40.0 * u(rng), c1 = u(rng), c2 = u(rng);
+    const double a1 = 1.0 + 2.0 * u(rng), f = 0.5 + u(rng);
+    s.plant.spring = k1 + k2;
+    s.plant.damper = c1 + c2;
+    s.drive.kind = Drive::Kind::Force;
+    s.drive.signal = Signal::sine(0.0, 2.0 * a1, f);
+    s.run = {1e-5, 1.5, 1 + trial % 3};
+    AssemblyScenario as = assembly_from_scenario(s);
+    Assembly& a = as.plant;
+    ASSERT_EQ(a.springs.size(), 1u);
+    a.springs[0].stiffness = k1;
+    a.springs.push_back({"spring_b", 0, kGround, k2});
+    a.dampers[0].damping = c1;
+    a.dampers.push_back({"damper_b", 0, kGround, c2});
+    a.drives[0].signal = Signal::sine(0.0, a1, f);
+    a.drives.push_back({"drive_b", DrivePart::Kind::Force, 0, Signal::sine(0.0, a1, f)});
+    SCOPED_TRACE(s.name);
+    Simulation one(s);
+    one.run_to_end();
+    const AssemblyTrace tr = simulate(as);
+    const Trace& ref = one.trace();
+    ASSERT_EQ(tr.size(), ref.size());
+    const auto x = tr.series("x.mass"), ff = tr.series("F.friction");
+    double xmax = 0.0, fmax = 0.0, dx = 0.0, df = 0.0;
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+      xmax = std::max(xmax, std::abs(ref.x[k]));
+      fmax = std::max(fmax, std::abs(ref.friction[k]));
+      dx = std::max(dx, std::abs(x[k] - ref.x[k]));
+      df = std::max(df, std::abs(ff[k] - ref.friction[k]));
+    }
+    ASSERT_GT(xmax, 0.0);
+    EXPECT_LE(dx, 1e-8 * xmax);
+    EXPECT_LE(df, 1e-6 * fmax);
+  }
+}
 }  // namespace
 }  // namespace gmslab
