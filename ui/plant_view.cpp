@@ -12,10 +12,16 @@
 #include "core/io/assembly_io.hpp"
 #include "ui/param_editor.hpp"
 #include "ui/plot.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
 namespace {
+std::string printf_string(const char* fmt, double a, double b = 0.0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
 bool prescribed_kind(DrivePart::Kind k) { return k == DrivePart::Kind::Displacement || k == DrivePart::Kind::Velocity; }
 }  // namespace
 
@@ -779,10 +785,10 @@ void linear_plant_section(PlantPanelState& st) {
       }
       return s.empty() ? std::string("none") : s;
     };
-    ImGui::TextWrapped("poles: %s", list(g.poles()).c_str());
-    ImGui::TextWrapped("zeros: %s", list(g.zeros()).c_str());
+    TextWrappedAtSpaces("poles: " + list(g.poles()));
+    TextWrappedAtSpaces("zeros: " + list(g.zeros()));
   } catch (const std::exception& e) {
-    ImGui::TextWrapped("%s", e.what());
+    TextWrappedAtSpaces(e.what());
   }
 }
 }  // namespace
@@ -856,7 +862,7 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
     }
     if (!st.hint.empty()) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.55f, 0.35f, 0.0f, 1.0f));
-      ImGui::TextWrapped("%s", st.hint.c_str());
+      TextWrappedAtSpaces(st.hint);
       ImGui::PopStyleColor();
     }
     ImGui::BeginDisabled(st.selected.kind == PartRef::Kind::None);
@@ -877,14 +883,14 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
     part_editor(st);
     if (!st.edit_msg.empty()) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
-      ImGui::TextWrapped("Not applied: %s", st.edit_msg.c_str());
+      TextWrappedAtSpaces("Not applied: " + st.edit_msg);
       ImGui::PopStyleColor();
     }
     ImGui::Separator();
     const auto& sc = *st.scenario;
-    ImGui::TextWrapped("%s", sc.name.c_str());
+    TextWrappedAtSpaces(sc.name);
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.35f, 0.35f, 0.38f, 1.0f));
-    ImGui::TextWrapped("%s", sc.description.c_str());
+    TextWrappedAtSpaces(sc.description);
     ImGui::PopStyleColor();
     const auto w = modal_frequencies(sc.plant, true);
     std::string modes;
@@ -893,11 +899,11 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       std::snprintf(b, sizeof b, "%s%.3g", modes.empty() ? "" : ", ", wi / (2 * M_PI));
       modes += b;
     }
-    if (modes.empty()) ImGui::TextWrapped("Modes: none (every body's motion is prescribed)");
-    else ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
+    if (modes.empty()) TextWrappedAtSpaces("Modes: none (every body's motion is prescribed)");
+    else TextWrappedAtSpaces("Modes, contacts stuck: " + modes + " Hz");
     const double lim = stability_limit_dt(sc.plant);
-    if (std::isfinite(lim)) ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", lim, sc.run.dt);
-    else ImGui::TextWrapped("Step limit: none (nothing free and stiff; run.dt = %.3g s)", sc.run.dt);
+    if (std::isfinite(lim)) TextWrappedAtSpaces(printf_string("Step limit: dt < %.3g s (run.dt = %.3g s)", lim, sc.run.dt));
+    else TextWrappedAtSpaces(printf_string("Step limit: none (nothing free and stiff; run.dt = %.3g s)", sc.run.dt));
     ImGui::Separator();
     linear_plant_section(st);
     ImGui::Separator();
@@ -911,7 +917,7 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   }
   if (!st.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
-    ImGui::TextWrapped("%s", st.error.c_str());
+    TextWrappedAtSpaces(st.error);
     ImGui::PopStyleColor();
   }
   ImGui::EndChild();
