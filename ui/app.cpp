@@ -204,8 +204,7 @@ Session make_session(const AppState& s) {
   Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}, {}};
   out.design = design_settings(s.design);
   out.identify = identify_settings(s.identify);
-  if (s.plant.scenario)
-    out.plant = PlantTabSettings{s.plant.path, *s.plant.scenario, s.plant.speed, static_cast<double>(s.plant.magnification)};
+  if (s.plant.scenario) out.plant = plant_tab_settings(s.plant);
   return out;
 }
 
@@ -216,9 +215,7 @@ void restore_session(AppState& s, const Session& session) {
   apply_design_settings(s.design, session.design);
   apply_identify_settings(s.identify, session.identify);
   if (session.plant) {
-    load_plant(s.plant, session.plant->scenario, session.plant->path);
-    s.plant.speed = session.plant->speed;
-    s.plant.magnification = static_cast<float>(session.plant->magnification);
+    apply_plant_tab_settings(s.plant, *session.plant);
   } else {
     s.plant = PlantPanelState{};
   }

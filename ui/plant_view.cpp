@@ -735,6 +735,34 @@ void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::strin
                     st.sim->trace().channels[c].kind == Channel::Kind::ContactForce;
 }
 
+PlantTabSettings plant_tab_settings(const PlantPanelState& st) {
+  PlantTabSettings t{st.path, *st.scenario, st.speed, static_cast<double>(st.magnification), {}, "", "", st.tf_sliding};
+  const Assembly& a = st.scenario->plant;
+  if (st.sim) {
+    const auto& ch = st.sim->trace().channels;
+    for (std::size_t c = 0; c < ch.size() && c < st.plotted.size(); ++c)
+      if (st.plotted[c]) t.plotted.push_back(ch[c].name);
+  }
+  if (!a.drives.empty()) t.tf_drive = a.drives[static_cast<std::size_t>(std::clamp(st.tf_drive, 0, static_cast<int>(a.drives.size()) - 1))].name;
+  t.tf_output = a.bodies[static_cast<std::size_t>(std::clamp(st.tf_output, 0, static_cast<int>(a.bodies.size()) - 1))].name;
+  return t;
+}
+
+void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t) {
+  load_plant(st, t.scenario, t.path);
+  st.speed = t.speed;
+  st.magnification = static_cast<float>(t.magnification);
+  const auto& ch = st.sim->trace().channels;
+  for (std::size_t c = 0; c < ch.size() && c < st.plotted.size(); ++c)
+    st.plotted[c] = std::find(t.plotted.begin(), t.plotted.end(), ch[c].name) != t.plotted.end();
+  const Assembly& a = st.scenario->plant;
+  for (std::size_t i = 0; i < a.drives.size(); ++i)
+    if (a.drives[i].name == t.tf_drive) st.tf_drive = static_cast<int>(i);
+  for (std::size_t i = 0; i < a.bodies.size(); ++i)
+    if (a.bodies[i].name == t.tf_output) st.tf_output = static_cast<int>(i);
+  st.tf_sliding = t.tf_sliding;
+}
+
 void plant_run_until(PlantPanelState& st, double t) {
   if (!st.sim) return;
   const double dt = st.scenario->run.dt;

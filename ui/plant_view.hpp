@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/session_io.hpp"
 #include "core/sim/assembly.hpp"
 
 struct ImDrawList;
@@ -141,6 +142,11 @@ void plant_run_until(PlantPanelState& st, double t);
 // Applies an edited scenario when it validates (the run restarts; the old one goes on the undo
 // stack); else keeps the plant and sets edit_msg. Returns whether it was applied.
 bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited);
+// The panel as the session saves it (PlantTabSettings, core/io/session_io.hpp): plant, path,
+// speed, magnification, plotted outputs, linear-plant choice; and back (loads the plant: the run
+// restarts, the undo history is empty).
+PlantTabSettings plant_tab_settings(const PlantPanelState& st);  // st.scenario must be set
+void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t);
 void plant_undo(PlantPanelState& st);
 void plant_redo(PlantPanelState& st);
 void draw_plant_panel(PlantPanelState& st, double frame_dt);

@@ -17,6 +17,8 @@
 //                "mask_edges": "", "model": "gms", "elements": 4,
 //                "compare": false},
 //   "plant": {"path": "presets/two_mass_drive.json", "speed": 1.0, "magnification": 0,
+//             "plotted": ["x.motor", "F.motor_friction"],    outputs shown in the plots
+//             "linear_plant": {"drive": "motor_force", "output": "motor", "sliding": true},
 //             "scenario": { ...the Plant tab's assembled plant as edited, schema_version 2
 //                           (core/io/assembly_io.hpp)... }} | null      Plant tab empty
 // }
@@ -31,6 +33,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/control/design_settings.hpp"
 #include "core/sim/assembly.hpp"
@@ -75,6 +78,11 @@ struct PlantTabSettings {
   AssemblyScenario scenario;     // validated as a schema-2 preset
   double speed = 1.0;            // simulated s per wall-clock s, [1e-3, 1e3]
   double magnification = 0.0;    // schematic [px per mm], [0, 1e6]; 0 = auto
+  std::vector<std::string> plotted;  // output names (output_channels) shown in the plots, no repeats
+  // The linear plant's input drive (a drive's name, "" when the plant has none), output body's
+  // name, and whether the contacts are sliding (else stuck).
+  std::string tf_drive, tf_output;
+  bool tf_sliding = true;
   bool operator==(const PlantTabSettings&) const = default;
 };
 

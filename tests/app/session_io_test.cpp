@@ -236,6 +236,12 @@ TEST(SessionIo, ThePlantTabsAssemblyRoundTripsForRandomAssemblies) {
     s.plant->path = "presets/plant " + std::to_string(trial) + ".json";
     s.plant->speed = std::exp(std::uniform_real_distribution<double>(std::log(1e-3), std::log(1e3))(rng));
     s.plant->magnification = trial % 3 == 0 ? 0.0 : std::uniform_real_distribution<double>(0.1, 1000)(rng);
+    const Assembly& a = s.plant->scenario.plant;
+    for (const auto& c : output_channels(a))
+      if (rng() % 2) s.plant->plotted.push_back(c.name);
+    s.plant->tf_drive = a.drives[rng() % a.drives.size()].name;
+    s.plant->tf_output = a.bodies[rng() % a.bodies.size()].name;
+    s.plant->tf_sliding = rng() % 2;
     save_session(s, path);
     const Session back = load_session(path);
     ASSERT_TRUE(back.plant.has_value());
@@ -254,7 +260,8 @@ TEST(SessionIo, ThePlantTabsAssemblyRoundTripsForRandomAssemblies) {
 TEST(SessionIo, PlantKeyIsVersionedAndStrict) {
   Session s = sample();
   s.plant = PlantTabSettings{"presets/two_mass_drive.json",
-                             load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/two_mass_drive.json"), 2.0, 0.0};
+                             load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/two_mass_drive.json"), 2.0, 0.0,
+                             {"x.motor", "F.shaft"}, "motor_force", "load", false};
   nlohmann::json j = to_json(s);
   ASSERT_EQ(j["schema_version"], 4);
   {
@@ -280,6 +287,16 @@ TEST(SessionIo, PlantKeyIsVersionedAndStrict) {
   reject_with([](nlohmann::json& b) { b["plant"]["speed"] = 0.0; }, "plant.speed");
   reject_with([](nlohmann::json& b) { b["plant"]["magnification"] = -1.0; }, "plant.magnification");
   reject_with([](nlohmann::json& b) { b["plant"]["colour"] = "red"; }, "colour");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"][1] = "x.lod"; }, "plant.plotted[1]");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"][1] = "x.motor"; }, "listed twice");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"] = "x.motor"; }, "plant.plotted");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"]["drive"] = "pull"; }, "plant.linear_plant.drive");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"]["output"] = "ground"; }, "plant.linear_plant.output");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"].erase("sliding"); }, "plant.linear_plant.sliding");
+  {
+    const Session back = session_from_json(j, "s.json");
+    EXPECT_EQ(back, s);
+  }
   reject_with([](nlohmann::json& b) { b["plant"] = 3; }, "plant");
   reject_with([](nlohmann::json& b) { b["plant"]["scenario"]["plant"]["springs"][0]["b"] = "lod"; }, "in 'plant.scenario'");
   reject_with([](nlohmann::json& b) { b["plant"]["scenario"]["plant"]["springs"][0]["b"] = "lod"; }, "plant.springs[0].b");

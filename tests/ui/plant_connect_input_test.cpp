@@ -188,6 +188,9 @@ TEST(PlantConnectInput, AnEditedPlantSurvivesTheSession) {
   ASSERT_EQ(h.p().scenario->plant.contacts.size(), 3u) << h.p().hint << h.p().edit_msg;
   h.p().speed = 0.25;
   h.p().magnification = 12.5f;
+  for (std::size_t c = 0; c < h.p().plotted.size(); ++c) h.p().plotted[c] = c % 3 == 1;  // a choice unlike the default
+  h.p().tf_output = 1;
+  h.p().tf_sliding = false;
   const std::string path = testing::TempDir() + "plant_session.json";
   save_session(ui::make_session(h.s), path);
   ui::AppState fresh;
@@ -197,6 +200,9 @@ TEST(PlantConnectInput, AnEditedPlantSurvivesTheSession) {
   EXPECT_EQ(fresh.plant.path, h.p().path);
   EXPECT_EQ(fresh.plant.speed, 0.25);
   EXPECT_EQ(fresh.plant.magnification, 12.5f);
+  EXPECT_EQ(fresh.plant.plotted, h.p().plotted);
+  EXPECT_EQ(fresh.plant.tf_output, 1);
+  EXPECT_FALSE(fresh.plant.tf_sliding);
   EXPECT_EQ(fresh.view.tab, "Plant");
   EXPECT_EQ(ui::make_session(fresh), ui::make_session(h.s));
   std::remove(path.c_str());
