@@ -580,6 +580,7 @@ PartRef add_part(Assembly& a, PartRef::Kind kind, int at) {
 }
 
 int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double mag, float mx, float my) {
+  if (!(mx >= 0.0f && my >= 0.0f && mx <= l.width && my <= l.height)) return kNoEnd;  // off the schematic
   const float reach = 8.0f;
   for (std::size_t i = 0; i < a.bodies.size() && i < l.bodies.size(); ++i) {
     const Box& b = l.bodies[i];

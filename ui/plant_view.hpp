@@ -95,7 +95,7 @@ PartRef add_part(Assembly& a, PartRef::Kind kind, int at);
 
 // Connecting by dragging: the end under canvas point (mx, my) - a body (its block, as drawn with
 // `pose`, or within 8 px of its faces), ground (the floor hatch and below, or the wall when one is
-// drawn) or kNoEnd.
+// drawn) or kNoEnd (also anywhere outside the schematic's width x height).
 inline constexpr int kNoEnd = -2;
 int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double px_per_m, float mx, float my);
 // Adds a `kind` (spring 1000 N/m, damper 1 N s/m or contact with GMS defaults; unique name) from

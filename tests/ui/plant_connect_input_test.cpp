@@ -159,6 +159,9 @@ TEST(PlantConnectInput, ADragReleasedOnNothingOrOnTheSameBodyConnectsNothingWith
     EXPECT_NE(h.p().hint.find("two different ends"), std::string::npos) << h.p().hint;
     h.drag(empty, h.body(2));  // started on nothing: no connection
     EXPECT_EQ(*h.p().scenario, before);
+    h.drag(h.body(2), h.at(0.5f * l.width, l.height + 40.0f));  // released below the schematic (on the plots)
+    EXPECT_EQ(*h.p().scenario, before);
+    EXPECT_NE(h.p().hint.find("Nothing connected"), std::string::npos) << h.p().hint;
   }
   EXPECT_TRUE(h.p().undo.empty());
 }
