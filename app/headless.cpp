@@ -237,7 +237,10 @@ int render_command(const cli::RenderOptions& o) {
     ui::plant_run_until(s.plant, o.time);
     // The other tabs need a scenario (the first frame draws the first tab): a v1 preset's own, else
     // the window's default preset, else the GMS defaults at rest.
-    const std::string dflt = ui::presets_dir() + "/fig4_stick_slip.json";
+    // (relative to the working directory when it lies below it, as a path the user typed would be)
+    std::error_code ec;
+    std::string dflt = ui::presets_dir() + "/fig4_stick_slip.json";
+    if (const auto rel = std::filesystem::proximate(dflt, ec); !ec && !rel.empty() && *rel.begin() != "..") dflt = rel.string();
     if (preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 1) {
       ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
     } else if (std::filesystem::exists(dflt)) {

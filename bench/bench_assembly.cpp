@@ -3,6 +3,8 @@
 //     compare with BM_Fig4Preset (bench_gms.cpp), the one-body path, on the same machine.
 //   BM_Assembly_Chain3Gms2_1e6: presets/three_body_chain.json (3 bodies, 2 springs, 2 dampers, 2
 //     GMS contacts of 4 elements, pull drive) for 1e6 steps (10 s at dt = 1e-5 s).
+//   BM_Assembly_Chain3Gms2_1e6_Bounded: the same, every step recorded into a trace bounded to
+//     1 MiB (the Plant tab's compaction, compact_minmax).
 #include <benchmark/benchmark.h>
 
 #include "core/io/assembly_io.hpp"
@@ -32,3 +34,16 @@ static void BM_Assembly_Chain3Gms2_1e6(benchmark::State& st) {
   st.counters["steps_per_s"] = benchmark::Counter(1e6 * static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_Assembly_Chain3Gms2_1e6)->Unit(benchmark::kMillisecond);
+
+static void BM_Assembly_Chain3Gms2_1e6_Bounded(benchmark::State& st) {
+  AssemblyScenario sc = load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/three_body_chain.json");
+  sc.run.duration = 10.0;  // 1e6 steps
+  sc.run.record_every = 1;
+  for (auto _ : st) {
+    AssemblySimulation sim(sc, TraceOptions{.max_bytes = std::size_t{1} << 20});
+    sim.run_to_end();
+    benchmark::DoNotOptimize(sim.trace().values.data());
+  }
+  st.counters["steps_per_s"] = benchmark::Counter(1e6 * static_cast<double>(st.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Assembly_Chain3Gms2_1e6_Bounded)->Unit(benchmark::kMillisecond);

@@ -201,9 +201,10 @@ void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path
 }
 
 Session make_session(const AppState& s) {
-  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}};
+  Session out{s.scenario_path, s.scenario, s.compare, s.view, {}, {}, {}};
   out.design = design_settings(s.design);
   out.identify = identify_settings(s.identify);
+  if (s.plant.scenario) out.plant = plant_tab_settings(s.plant);
   return out;
 }
 
@@ -213,6 +214,11 @@ void restore_session(AppState& s, const Session& session) {
   s.view = session.view;
   apply_design_settings(s.design, session.design);
   apply_identify_settings(s.identify, session.identify);
+  if (session.plant) {
+    apply_plant_tab_settings(s.plant, *session.plant);
+  } else {
+    s.plant = PlantPanelState{};
+  }
   s.select_tab = 2;
   if (session.compare) apply_compare(s, *session.compare);
   // Unsaved changes are judged against the file the session's scenario came from.

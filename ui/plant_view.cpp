@@ -12,10 +12,16 @@
 #include "core/io/assembly_io.hpp"
 #include "ui/param_editor.hpp"
 #include "ui/plot.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
 namespace {
+std::string printf_string(const char* fmt, double a, double b = 0.0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
 bool prescribed_kind(DrivePart::Kind k) { return k == DrivePart::Kind::Displacement || k == DrivePart::Kind::Velocity; }
 }  // namespace
 
@@ -523,43 +529,81 @@ Assembly remove_part(const Assembly& a, PartRef p) {
   return out;
 }
 
+namespace {
+bool name_used(const Assembly& a, const std::string& n) {
+  for (const auto& x : a.bodies) if (x.name == n) return true;
+  for (const auto& x : a.springs) if (x.name == n) return true;
+  for (const auto& x : a.dampers) if (x.name == n) return true;
+  for (const auto& x : a.contacts) if (x.name == n) return true;
+  for (const auto& x : a.drives) if (x.name == n) return true;
+  return false;
+}
+std::string fresh_name(const Assembly& a, const std::string& base) {
+  for (int n = 1;; ++n)
+    if (!name_used(a, base + std::to_string(n))) return base + std::to_string(n);
+}
+// A spring, damper or contact from a to b with the palette's default values; its ref.
+PartRef add_link(Assembly& a, PartRef::Kind kind, int ia, int ib) {
+  switch (kind) {
+    case PartRef::Kind::Spring:
+      a.springs.push_back({fresh_name(a, "spring"), ia, ib, 1000.0});  // [N/m]
+      return {kind, static_cast<int>(a.springs.size()) - 1};
+    case PartRef::Kind::Damper:
+      a.dampers.push_back({fresh_name(a, "damper"), ia, ib, 1.0});  // [N s/m]
+      return {kind, static_cast<int>(a.dampers.size()) - 1};
+    case PartRef::Kind::Contact:
+      a.contacts.push_back({fresh_name(a, "contact"), ia, ib, model_info("gms").defaults()});
+      return {kind, static_cast<int>(a.contacts.size()) - 1};
+    default: return {};
+  }
+}
+}  // namespace
+
 PartRef add_part(Assembly& a, PartRef::Kind kind, int at) {
-  auto used = [&](const std::string& n) {
-    for (const auto& x : a.bodies) if (x.name == n) return true;
-    for (const auto& x : a.springs) if (x.name == n) return true;
-    for (const auto& x : a.dampers) if (x.name == n) return true;
-    for (const auto& x : a.contacts) if (x.name == n) return true;
-    for (const auto& x : a.drives) if (x.name == n) return true;
-    return false;
-  };
-  auto fresh = [&](const std::string& base) {
-    for (int n = 1;; ++n)
-      if (!used(base + std::to_string(n))) return base + std::to_string(n);
-  };
   if (at < 0 || at >= static_cast<int>(a.bodies.size())) at = a.bodies.empty() ? kGround : 0;
   switch (kind) {
     case PartRef::Kind::None: return {};
     case PartRef::Kind::Body: {
-      a.bodies.push_back({fresh("body"), 1.0});
+      a.bodies.push_back({fresh_name(a, "body"), 1.0});
       const int i = static_cast<int>(a.bodies.size()) - 1;
-      a.springs.push_back({fresh("spring"), i, at, 1000.0});
+      a.springs.push_back({fresh_name(a, "spring"), i, at, 1000.0});
       return {kind, i};
     }
-    case PartRef::Kind::Spring: a.springs.push_back({fresh("spring"), at, kGround, 1000.0}); return {kind, static_cast<int>(a.springs.size()) - 1};
-    case PartRef::Kind::Damper: a.dampers.push_back({fresh("damper"), at, kGround, 1.0}); return {kind, static_cast<int>(a.dampers.size()) - 1};
-    case PartRef::Kind::Contact:
-      a.contacts.push_back({fresh("contact"), at, kGround, model_info("gms").defaults()});
-      return {kind, static_cast<int>(a.contacts.size()) - 1};
+    case PartRef::Kind::Spring:
+    case PartRef::Kind::Damper:
+    case PartRef::Kind::Contact: return add_link(a, kind, at, kGround);
     case PartRef::Kind::Drive:
-      a.drives.push_back({fresh("drive"), DrivePart::Kind::Force, at, Signal::constant(1.0)});
+      a.drives.push_back({fresh_name(a, "drive"), DrivePart::Kind::Force, at, Signal::constant(1.0)});
       return {kind, static_cast<int>(a.drives.size()) - 1};
   }
   return {};
 }
 
+int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double mag, float mx, float my) {
+  if (!(mx >= 0.0f && my >= 0.0f && mx <= l.width && my <= l.height)) return kNoEnd;  // off the schematic
+  const float reach = 8.0f;
+  for (std::size_t i = 0; i < a.bodies.size() && i < l.bodies.size(); ++i) {
+    const Box& b = l.bodies[i];
+    const float o = body_dx(l, pose, mag, static_cast<int>(i));
+    if (mx >= b.x0 + o - reach && mx <= b.x1 + o + reach && my >= b.y0 - reach && my <= b.y1 + reach) return static_cast<int>(i);
+  }
+  if (my >= l.floor_y - 2.0f) return kGround;
+  if (l.wall && mx <= l.wall_x + 2.0f && my >= 0.22f * l.height) return kGround;
+  return kNoEnd;
+}
+
+PartRef connect_parts(Assembly& a, PartRef::Kind kind, int from, int to) {
+  const int nb = static_cast<int>(a.bodies.size());
+  auto ok = [&](int e) { return e == kGround || (e >= 0 && e < nb); };
+  if (!ok(from) || !ok(to) || from == to) return {};
+  if (kind != PartRef::Kind::Spring && kind != PartRef::Kind::Damper && kind != PartRef::Kind::Contact) return {};
+  if (from == kGround) std::swap(from, to);
+  return add_link(a, kind, from, to);
+}
+
 bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited) {
   try {
-    auto sim = std::make_unique<AssemblySimulation>(edited);
+    auto sim = std::make_unique<AssemblySimulation>(edited, TraceOptions{.max_bytes = st.history_bytes});
     if (st.scenario) st.undo.push_back(*st.scenario);
     st.redo.clear();
     st.scenario = std::make_unique<AssemblyScenario>(edited);
@@ -581,7 +625,7 @@ void swap_to(PlantPanelState& st, std::vector<AssemblyScenario>& from, std::vect
   from.pop_back();
   to.push_back(*st.scenario);
   st.scenario = std::make_unique<AssemblyScenario>(s);
-  st.sim = std::make_unique<AssemblySimulation>(s);  // was valid when it was pushed
+  st.sim = std::make_unique<AssemblySimulation>(s, TraceOptions{.max_bytes = st.history_bytes});  // was valid when pushed
   st.running = false;
   st.plotted.assign(st.sim->trace().channels.size(), 1);
   st.selected = {};
@@ -675,7 +719,7 @@ void plant_undo(PlantPanelState& st) { swap_to(st, st.undo, st.redo); }
 void plant_redo(PlantPanelState& st) { swap_to(st, st.redo, st.undo); }
 
 void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::string& path) {
-  auto sim = std::make_unique<AssemblySimulation>(s);  // validates first
+  auto sim = std::make_unique<AssemblySimulation>(s, TraceOptions{.max_bytes = st.history_bytes});  // validates first
   st.scenario = std::make_unique<AssemblyScenario>(s);
   st.sim = std::move(sim);
   st.path = path;
@@ -690,6 +734,34 @@ void load_plant(PlantPanelState& st, const AssemblyScenario& s, const std::strin
   for (std::size_t c = 0; c < st.plotted.size(); ++c)
     st.plotted[c] = st.sim->trace().channels[c].kind == Channel::Kind::Position ||
                     st.sim->trace().channels[c].kind == Channel::Kind::ContactForce;
+}
+
+PlantTabSettings plant_tab_settings(const PlantPanelState& st) {
+  PlantTabSettings t{st.path, *st.scenario, st.speed, static_cast<double>(st.magnification), {}, "", "", st.tf_sliding};
+  const Assembly& a = st.scenario->plant;
+  if (st.sim) {
+    const auto& ch = st.sim->trace().channels;
+    for (std::size_t c = 0; c < ch.size() && c < st.plotted.size(); ++c)
+      if (st.plotted[c]) t.plotted.push_back(ch[c].name);
+  }
+  if (!a.drives.empty()) t.tf_drive = a.drives[static_cast<std::size_t>(std::clamp(st.tf_drive, 0, static_cast<int>(a.drives.size()) - 1))].name;
+  t.tf_output = a.bodies[static_cast<std::size_t>(std::clamp(st.tf_output, 0, static_cast<int>(a.bodies.size()) - 1))].name;
+  return t;
+}
+
+void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t) {
+  load_plant(st, t.scenario, t.path);
+  st.speed = t.speed;
+  st.magnification = static_cast<float>(t.magnification);
+  const auto& ch = st.sim->trace().channels;
+  for (std::size_t c = 0; c < ch.size() && c < st.plotted.size(); ++c)
+    st.plotted[c] = std::find(t.plotted.begin(), t.plotted.end(), ch[c].name) != t.plotted.end();
+  const Assembly& a = st.scenario->plant;
+  for (std::size_t i = 0; i < a.drives.size(); ++i)
+    if (a.drives[i].name == t.tf_drive) st.tf_drive = static_cast<int>(i);
+  for (std::size_t i = 0; i < a.bodies.size(); ++i)
+    if (a.bodies[i].name == t.tf_output) st.tf_output = static_cast<int>(i);
+  st.tf_sliding = t.tf_sliding;
 }
 
 void plant_run_until(PlantPanelState& st, double t) {
@@ -742,10 +814,10 @@ void linear_plant_section(PlantPanelState& st) {
       }
       return s.empty() ? std::string("none") : s;
     };
-    ImGui::TextWrapped("poles: %s", list(g.poles()).c_str());
-    ImGui::TextWrapped("zeros: %s", list(g.zeros()).c_str());
+    TextWrappedAtSpaces("poles: " + list(g.poles()));
+    TextWrappedAtSpaces("zeros: " + list(g.zeros()));
   } catch (const std::exception& e) {
-    ImGui::TextWrapped("%s", e.what());
+    TextWrappedAtSpaces(e.what());
   }
 }
 }  // namespace
@@ -808,6 +880,20 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       }
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("Add a %s at the selected body (to ground); then edit it below", to_string(k));
     }
+    ImGui::TextUnformatted("Drag from a body to another adds a");
+    for (auto k : {PartRef::Kind::Spring, PartRef::Kind::Damper, PartRef::Kind::Contact}) {
+      if (k != PartRef::Kind::Spring) ImGui::SameLine();
+      if (ImGui::RadioButton(to_string(k), st.connect_kind == k)) st.connect_kind = k;
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Dragging from a body (or the ground) to another body in the schematic adds a %s between them (%s)",
+                          to_string(k),
+                          k == PartRef::Kind::Spring ? "1000 N/m" : k == PartRef::Kind::Damper ? "1 N s/m" : "GMS, default parameters");
+    }
+    if (!st.hint.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.55f, 0.35f, 0.0f, 1.0f));
+      TextWrappedAtSpaces(st.hint);
+      ImGui::PopStyleColor();
+    }
     ImGui::BeginDisabled(st.selected.kind == PartRef::Kind::None);
     if (ImGui::SmallButton("delete")) {
       AssemblyScenario ed = *st.scenario;
@@ -826,14 +912,14 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
     part_editor(st);
     if (!st.edit_msg.empty()) {
       ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
-      ImGui::TextWrapped("Not applied: %s", st.edit_msg.c_str());
+      TextWrappedAtSpaces("Not applied: " + st.edit_msg);
       ImGui::PopStyleColor();
     }
     ImGui::Separator();
     const auto& sc = *st.scenario;
-    ImGui::TextWrapped("%s", sc.name.c_str());
+    TextWrappedAtSpaces(sc.name);
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.35f, 0.35f, 0.38f, 1.0f));
-    ImGui::TextWrapped("%s", sc.description.c_str());
+    TextWrappedAtSpaces(sc.description);
     ImGui::PopStyleColor();
     const auto w = modal_frequencies(sc.plant, true);
     std::string modes;
@@ -842,11 +928,11 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
       std::snprintf(b, sizeof b, "%s%.3g", modes.empty() ? "" : ", ", wi / (2 * M_PI));
       modes += b;
     }
-    if (modes.empty()) ImGui::TextWrapped("Modes: none (every body's motion is prescribed)");
-    else ImGui::TextWrapped("Modes, contacts stuck: %s Hz", modes.c_str());
+    if (modes.empty()) TextWrappedAtSpaces("Modes: none (every body's motion is prescribed)");
+    else TextWrappedAtSpaces("Modes, contacts stuck: " + modes + " Hz");
     const double lim = stability_limit_dt(sc.plant);
-    if (std::isfinite(lim)) ImGui::TextWrapped("Step limit: dt < %.3g s (run.dt = %.3g s)", lim, sc.run.dt);
-    else ImGui::TextWrapped("Step limit: none (nothing free and stiff; run.dt = %.3g s)", sc.run.dt);
+    if (std::isfinite(lim)) TextWrappedAtSpaces(printf_string("Step limit: dt < %.3g s (run.dt = %.3g s)", lim, sc.run.dt));
+    else TextWrappedAtSpaces(printf_string("Step limit: none (nothing free and stiff; run.dt = %.3g s)", sc.run.dt));
     ImGui::Separator();
     linear_plant_section(st);
     ImGui::Separator();
@@ -860,7 +946,7 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   }
   if (!st.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.75f, 0.10f, 0.10f, 1.0f));
-    ImGui::TextWrapped("%s", st.error.c_str());
+    TextWrappedAtSpaces(st.error);
     ImGui::PopStyleColor();
   }
   ImGui::EndChild();
@@ -881,12 +967,61 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   const double mag = st.magnification > 0.0f ? st.magnification * 1e3 : auto_magnification(l, st.sim->trace());
   const PlantPose pose = pose_of(*st.sim);
   draw_plant(dl, origin.x, origin.y, l, a, pose, mag);
+  st.canvas_x = origin.x, st.canvas_y = origin.y, st.canvas_layout = l, st.canvas_pose = pose, st.canvas_mag = mag;
   ImGui::InvisibleButton("##plant_canvas", ImVec2(avail.x, canvas_h));
-  if (ImGui::IsItemClicked()) {
+  {  // click: select a part; drag from a body (or ground) to another: connect them
     const ImVec2 m = ImGui::GetMousePos();
-    st.selected = hit_test(l, a, pose, mag, m.x - origin.x, m.y - origin.y);
+    const float mx = m.x - origin.x, my = m.y - origin.y;
+    const char* kind = to_string(st.connect_kind);
+    if (ImGui::IsItemActivated()) {
+      st.selected = hit_test(l, a, pose, mag, mx, my);
+      st.drag_from = attachment_at(l, a, pose, mag, mx, my);
+      st.drag_x = mx, st.drag_y = my;
+      st.hint.clear();
+    }
+    const bool moved = std::hypot(mx - st.drag_x, my - st.drag_y) >= 5.0f;
+    if (ImGui::IsItemActive() && st.drag_from != kNoEnd && moved) {
+      const int to = attachment_at(l, a, pose, mag, mx, my);
+      const bool can = to != kNoEnd && to != st.drag_from && !(to == kGround && st.drag_from == kGround);
+      dl->AddLine({origin.x + st.drag_x, origin.y + st.drag_y}, m, can ? kDrive : kDimInk, 2.5f);
+      dl->AddCircleFilled({origin.x + st.drag_x, origin.y + st.drag_y}, 4.5f, kDrive);
+      const std::string from = st.drag_from == kGround ? "ground" : a.bodies[static_cast<std::size_t>(st.drag_from)].name;
+      if (can && to >= 0) {  // the body it would connect to, outlined
+        const Box& b = l.bodies[static_cast<std::size_t>(to)];
+        const float o = body_dx(l, pose, mag, to);
+        dl->AddRect({origin.x + b.x0 + o - 4, origin.y + b.y0 - 4}, {origin.x + b.x1 + o + 4, origin.y + b.y1 + 4}, kDrive, 3.0f, 0, 2.5f);
+      }
+      if (can) {
+        const std::string target = to == kGround ? "ground" : a.bodies[static_cast<std::size_t>(to)].name;
+        ImGui::SetTooltip("Release to connect %s and %s with a %s", from.c_str(), target.c_str(), kind);
+      } else {
+        ImGui::SetTooltip("Drag to another body or the ground to connect %s with a %s", from.c_str(), kind);
+      }
+    }
+    if (ImGui::IsItemDeactivated() && st.drag_from != kNoEnd && moved) {
+      const int from = st.drag_from, to = attachment_at(l, a, pose, mag, mx, my);
+      st.drag_from = kNoEnd;
+      AssemblyScenario ed = *st.scenario;
+      const PartRef added = connect_parts(ed.plant, st.connect_kind, from, to);
+      if (added.kind == PartRef::Kind::None) {
+        st.hint = to == kNoEnd ? std::string("Nothing connected: release the drag on another body or on the ground")
+                               : std::string("Nothing connected: a ") + kind + " needs two different ends (a body and another body or the ground)";
+      } else if (apply_plant_edit(st, ed)) {
+        st.selected = added;
+      }
+    }
+    if (ImGui::IsItemDeactivated()) st.drag_from = kNoEnd;
+    if (ImGui::IsItemHovered() && !ImGui::IsItemActive()) {
+      for (std::size_t i = 0; i < l.bodies.size(); ++i) {  // the attachment points
+        const Box& b = l.bodies[i];
+        const float o = body_dx(l, pose, mag, static_cast<int>(i));
+        dl->AddCircle({origin.x + b.x0 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
+        dl->AddCircle({origin.x + b.x1 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
+      }
+      ImGui::SetTooltip("Click a part to edit it (left column); drag from a body or the ground to another body to connect them with a %s",
+                        kind);
+    }
   }
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Click a part to edit it (left column)");
   {  // the selected block or pad, outlined
     const auto& sel = st.selected;
     const Box* b = nullptr;

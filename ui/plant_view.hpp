@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/io/session_io.hpp"
 #include "core/sim/assembly.hpp"
 
 struct ImDrawList;
@@ -92,12 +93,25 @@ Assembly remove_part(const Assembly& a, PartRef p);
 // tied to `at` - or ground when the plant is empty - by a 1000 N/m spring). Returns its ref.
 PartRef add_part(Assembly& a, PartRef::Kind kind, int at);
 
+// Connecting by dragging: the end under canvas point (mx, my) - a body (its block, as drawn with
+// `pose`, or within 8 px of its faces), ground (the floor hatch and below, or the wall when one is
+// drawn) or kNoEnd (also anywhere outside the schematic's width x height).
+inline constexpr int kNoEnd = -2;
+int attachment_at(const PlantLayout& l, const Assembly& a, const PlantPose& pose, double px_per_m, float mx, float my);
+// Adds a `kind` (spring 1000 N/m, damper 1 N s/m or contact with GMS defaults; unique name) from
+// `from` to `to` (body indices or kGround; ground becomes end b). Returns None and leaves `a` as it
+// was when the ends are the same, both ground, either is kNoEnd, or `kind` is not one of the three.
+PartRef connect_parts(Assembly& a, PartRef::Kind kind, int from, int to);
+
 // The Plant panel's state: its own assembled scenario and run (v1 presets load as one body).
 struct PlantPanelState {
   std::string path;
   std::unique_ptr<AssemblyScenario> scenario;
   std::unique_ptr<AssemblySimulation> sim;
   bool running = false;
+  // Largest memory of the run's trace [bytes]: a longer run is compacted keeping every output's
+  // extremes (AssemblySimulation, TraceOptions::max_bytes), as the Simulation tab's.
+  std::size_t history_bytes = std::size_t{64} << 20;
   double speed = 1.0;                  // simulated s per wall-clock s
   float magnification = 0.0f;          // px per mm; 0 = auto
   std::vector<std::uint8_t> plotted;   // per output channel
@@ -106,6 +120,18 @@ struct PlantPanelState {
   PartRef selected;                    // the part being edited
   std::vector<AssemblyScenario> undo, redo;
   std::string edit_msg;                // why the last edit was not applied
+  // Drag-to-connect: the part kind a drag creates, the end the drag started on (kNoEnd: none),
+  // where it started (canvas px), and the hint after a drag that connected nothing.
+  PartRef::Kind connect_kind = PartRef::Kind::Spring;
+  int drag_from = kNoEnd;
+  float drag_x = 0.0f, drag_y = 0.0f;
+  std::string hint;
+  // The schematic as last drawn (screen position of its top left, layout, pose, px per m), for
+  // input and tests.
+  float canvas_x = 0.0f, canvas_y = 0.0f;
+  PlantLayout canvas_layout;
+  PlantPose canvas_pose;
+  double canvas_mag = 1.0;
   std::string error;
 };
 
@@ -116,6 +142,11 @@ void plant_run_until(PlantPanelState& st, double t);
 // Applies an edited scenario when it validates (the run restarts; the old one goes on the undo
 // stack); else keeps the plant and sets edit_msg. Returns whether it was applied.
 bool apply_plant_edit(PlantPanelState& st, const AssemblyScenario& edited);
+// The panel as the session saves it (PlantTabSettings, core/io/session_io.hpp): plant, path,
+// speed, magnification, plotted outputs, linear-plant choice; and back (loads the plant: the run
+// restarts, the undo history is empty).
+PlantTabSettings plant_tab_settings(const PlantPanelState& st);  // st.scenario must be set
+void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t);
 void plant_undo(PlantPanelState& st);
 void plant_redo(PlantPanelState& st);
 void draw_plant_panel(PlantPanelState& st, double frame_dt);

@@ -29,11 +29,11 @@ void register_simulate(CLI::App& app, Action& action) {
   sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
   sub->callback([&action, o] {
     action = [o] {
-      // An assembled plant (schema_version 2): every named output, written once the run is done.
+      // An assembled plant (schema_version 2): every named output, streamed as it is computed.
       if (preset_schema_version(parse_json(read_file(o->preset), o->preset)) == 2) {
         const AssemblyScenario as = load_assembly_scenario(o->preset);
         if (o->out == "-") {
-          write_assembly_trace_csv(simulate(as), std::cout);
+          stream_assembly_trace_csv(as, [](std::string_view s) { std::cout.write(s.data(), static_cast<std::streamsize>(s.size())); });
           std::cout.flush();
         } else {
           std::cerr << "wrote " << save_assembly_trace_csv(as, o->out) << " samples to " << o->out << '\n';

@@ -166,14 +166,15 @@ AssemblyScenario load_assembly_scenario(const std::string& path) {
   return assembly_scenario_from_json(parse_json(read_file(path), path), path);
 }
 
-void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out) {
+namespace {
+void write_assembly_csv_header(const AssemblyTrace& tr, std::ostream& out) {
   out << "t_s";
   for (const auto& c : tr.channels) out << ',' << c.name << '_' << (c.unit == "m/s" ? "mps" : c.unit);
-  std::vector<std::string> contacts;
   for (const auto& c : tr.channels)
-    if (c.kind == Channel::Kind::ContactForce) contacts.push_back(c.name.substr(2));
-  for (const auto& n : contacts) out << ",slip." << n;
+    if (c.kind == Channel::Kind::ContactForce) out << ",slip." << c.name.substr(2);
   out << '\n';
+}
+void write_assembly_csv_rows(const AssemblyTrace& tr, std::ostream& out) {
   char buf[32];
   const std::size_t nc = tr.channels.size();
   for (std::size_t k = 0; k < tr.size(); ++k) {
@@ -187,13 +188,41 @@ void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out) {
     out << '\n';
   }
 }
+}  // namespace
+
+void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out) {
+  write_assembly_csv_header(tr, out);
+  write_assembly_csv_rows(tr, out);
+}
+
+std::size_t stream_assembly_trace_csv(const AssemblyScenario& s, const std::function<void(std::string_view)>& sink) {
+  constexpr std::size_t kChunkSamples = 1u << 14;
+  AssemblySimulation sim(s, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
+  std::ostringstream o;
+  write_assembly_csv_header(sim.trace(), o);
+  std::size_t written = 0;
+  const auto chunk_steps = kChunkSamples * static_cast<std::size_t>(s.run.record_every);
+  auto drain = [&] {
+    write_assembly_csv_rows(sim.trace(), o);
+    written += sim.trace().size();
+    sim.clear_trace();
+    const std::string text = o.str();
+    sink(text);
+    o.str("");
+  };
+  while (!sim.finished()) {
+    sim.advance(chunk_steps);
+    drain();
+  }
+  if (sim.trace().size() > 0 || written == 0) drain();  // a run of zero steps: its first sample
+  return written;
+}
 
 std::size_t save_assembly_trace_csv(const AssemblyScenario& s, const std::string& path) {
-  const AssemblyTrace tr = simulate(s);
-  std::ostringstream o;
-  write_assembly_trace_csv(tr, o);
-  write_file_atomic(path, o.str());
-  return tr.size();
+  AtomicFileWriter file(path);
+  const std::size_t n = stream_assembly_trace_csv(s, [&](std::string_view t) { file.write(t); });
+  file.commit();
+  return n;
 }
 
 void save_assembly_scenario(const AssemblyScenario& s, const std::string& path) {

@@ -21,7 +21,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <functional>
 #include <ostream>
+#include <string_view>
 #include <string>
 
 #include "core/sim/assembly.hpp"
@@ -38,8 +40,11 @@ void save_assembly_scenario(const AssemblyScenario& s, const std::string& path);
 // The trace as CSV: t_s, every output channel (name_unit: x.motor_m, v.motor_mps, F.shaft_N), then
 // each contact's gross-slip flag (slip.CONTACT, 1 = slipping). Full precision (%.17g).
 void write_assembly_trace_csv(const AssemblyTrace& tr, std::ostream& out);
-// Simulates and writes the CSV atomically; returns the sample count. The trace is kept in memory
-// while it runs (unlike the one-body streamed writer).
+// Simulates and hands the CSV to `sink` in pieces as it is computed (header first, then chunks of
+// rows): constant memory whatever the run length, as the one-body stream_trace_csv. Returns the
+// sample count.
+std::size_t stream_assembly_trace_csv(const AssemblyScenario& s, const std::function<void(std::string_view)>& sink);
+// The same into a file written atomically (temporary file, renamed once the run is complete).
 std::size_t save_assembly_trace_csv(const AssemblyScenario& s, const std::string& path);
 // schema_version of a preset file's JSON (0 when absent or not an integer).
 int preset_schema_version(const nlohmann::json& j);

@@ -1,5 +1,8 @@
 #include "core/io/session_io.hpp"
 
+#include <algorithm>
+
+#include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
@@ -49,6 +52,14 @@ json to_json(const Session& s) {
                    {"model", i.model},
                    {"elements", i.elements},
                    {"compare", i.compare}};
+  j["plant"] = s.plant ? json{{"path", s.plant->path},
+                              {"speed", s.plant->speed},
+                              {"magnification", s.plant->magnification},
+                              {"plotted", s.plant->plotted},
+                              {"linear_plant",
+                               {{"drive", s.plant->tf_drive}, {"output", s.plant->tf_output}, {"sliding", s.plant->tf_sliding}}},
+                              {"scenario", to_json(s.plant->scenario)}}
+                       : json(nullptr);
   return j;
 }
 
@@ -110,6 +121,47 @@ IdentifySettings identify_from_json(JsonReader& r) {
   r.finish();
   return i;
 }
+PlantTabSettings plant_tab_from_json(JsonReader& r, const std::string& file) {
+  PlantTabSettings p;
+  p.path = r.string("path");
+  if (p.path.size() > 4096) r.fail("path", "at most 4096 characters");
+  p.speed = r.number("speed", 1e-3, 1e3, "s/s");
+  p.magnification = r.number("magnification", 0, 1e6, "px/mm");
+  const json& sc = r.raw("scenario");
+  if (preset_schema_version(sc) != kAssemblySchemaVersion)
+    r.fail("scenario", "an assembled plant with schema_version " + std::to_string(kAssemblySchemaVersion) + " expected");
+  p.scenario = assembly_scenario_from_json(sc, file + " (in 'plant.scenario')");
+  const Assembly& a = p.scenario.plant;
+  // Output names of the plant (as the trace names them), for "plotted".
+  std::string outputs;
+  std::vector<std::string> names;
+  for (const auto& c : output_channels(a)) names.push_back(c.name), outputs += (outputs.empty() ? "" : ", ") + c.name;
+  const json& plotted = r.raw("plotted");
+  if (!plotted.is_array()) r.fail("plotted", "an array of output names expected");
+  for (std::size_t i = 0; i < plotted.size(); ++i) {
+    const std::string key = "plotted[" + std::to_string(i) + "]";
+    if (!plotted[i].is_string()) r.fail(key, "an output name (string) expected");
+    const std::string n = plotted[i].get<std::string>();
+    if (std::find(names.begin(), names.end(), n) == names.end()) r.fail(key, "unknown output '" + n + "' (outputs: " + outputs + ")");
+    if (std::find(p.plotted.begin(), p.plotted.end(), n) != p.plotted.end()) r.fail(key, "output '" + n + "' listed twice");
+    p.plotted.push_back(n);
+  }
+  auto lp = r.object("linear_plant");
+  p.tf_drive = lp.string("drive");
+  std::string drives;
+  bool drive_ok = a.drives.empty() && p.tf_drive.empty();
+  for (const auto& d : a.drives) drive_ok = drive_ok || d.name == p.tf_drive, drives += (drives.empty() ? "" : ", ") + d.name;
+  if (!drive_ok) lp.fail("drive", "unknown drive '" + p.tf_drive + "' (drives: " + (drives.empty() ? "none: use \"\"" : drives) + ")");
+  p.tf_output = lp.string("output");
+  std::string bodies;
+  bool body_ok = false;
+  for (const auto& b : a.bodies) body_ok = body_ok || b.name == p.tf_output, bodies += (bodies.empty() ? "" : ", ") + b.name;
+  if (!body_ok) lp.fail("output", "unknown body '" + p.tf_output + "' (bodies: " + bodies + ")");
+  p.tf_sliding = lp.boolean("sliding");
+  lp.finish();
+  r.finish();
+  return p;
+}
 }  // namespace
 
 Session session_from_json(const json& j, const std::string& file) {
@@ -132,6 +184,14 @@ Session session_from_json(const json& j, const std::string& file) {
   if (version >= 3) {
     auto identify = r.object("identify");
     s.identify = identify_from_json(identify);
+  }
+  if (version >= 4) {
+    const json& plant = r.raw("plant");
+    if (!plant.is_null()) {
+      if (!plant.is_object()) r.fail("plant", "an object or null expected");
+      JsonReader p(plant, file, "plant");
+      s.plant = plant_tab_from_json(p, file);
+    }
   }
   r.finish();
   return s;

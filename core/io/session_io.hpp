@@ -2,7 +2,7 @@
 // restore itself. Pure data and strict loading, like scenario_io.
 //
 // {
-//   "schema_version": 3,
+//   "schema_version": 4,
 //   "scenario_path": "presets/fig4_stick_slip.json",   where the scenario came from ("" if none)
 //   "scenario": { ...a full scenario, schema_version 1 (core/io/scenario_io.hpp)... },
 //   "compare": {"model": "lugre", ...} | null,          overlay model on the same input
@@ -15,26 +15,33 @@
 //              "settling_time": 0.15, "other_regime": false, "zero_degree": false},
 //   "identify": {"data": "", "validate": "", "columns": "", "mask": "", "validate_mask": "",
 //                "mask_edges": "", "model": "gms", "elements": 4,
-//                "compare": false}
+//                "compare": false},
+//   "plant": {"path": "presets/two_mass_drive.json", "speed": 1.0, "magnification": 0,
+//             "plotted": ["x.motor", "F.motor_friction"],    outputs shown in the plots
+//             "linear_plant": {"drive": "motor_force", "output": "motor", "sliding": true},
+//             "scenario": { ...the Plant tab's assembled plant as edited, schema_version 2
+//                           (core/io/assembly_io.hpp)... }} | null      Plant tab empty
 // }
-// Every key is required. Versions 1 (no "design", no "identify") and 2 (no "identify") are still
-// read; what they lack gets the defaults below, as those versions had no way to save it. Unknown keys, wrong types,
+// Every key is required. Versions 1 (no "design", no "identify"), 2 (no "identify") and 3 (no
+// "plant") are still read; what they lack gets the defaults below, as those versions had no way to save it. Unknown keys, wrong types,
 // non-finite or out-of-range values are InputErrors naming the file and the key path
 // ("view.speed") with the allowed range; errors in the embedded scenario name the file as
-// "FILE (in 'scenario')".
+// "FILE (in 'scenario')", those in the Plant tab's plant "FILE (in 'plant.scenario')".
 #pragma once
 
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/control/design_settings.hpp"
+#include "core/sim/assembly.hpp"
 #include "core/sim/scenario.hpp"
 
 namespace gmslab {
 
-inline constexpr int kSessionSchemaVersion = 3;
+inline constexpr int kSessionSchemaVersion = 4;
 inline constexpr int kOldestSessionSchemaVersion = 1;
 
 // What the user chose to see (the window's view settings).
@@ -65,6 +72,20 @@ struct IdentifySettings {
   bool operator==(const IdentifySettings&) const = default;
 };
 
+// The Plant tab: its assembled plant as edited (the run and the undo history are not saved).
+struct PlantTabSettings {
+  std::string path;              // where it was loaded from / saves to (at most 4096 characters)
+  AssemblyScenario scenario;     // validated as a schema-2 preset
+  double speed = 1.0;            // simulated s per wall-clock s, [1e-3, 1e3]
+  double magnification = 0.0;    // schematic [px per mm], [0, 1e6]; 0 = auto
+  std::vector<std::string> plotted;  // output names (output_channels) shown in the plots, no repeats
+  // The linear plant's input drive (a drive's name, "" when the plant has none), output body's
+  // name, and whether the contacts are sliding (else stuck).
+  std::string tf_drive, tf_output;
+  bool tf_sliding = true;
+  bool operator==(const PlantTabSettings&) const = default;
+};
+
 struct Session {
   std::string scenario_path;           // where the scenario was loaded from, "" if unknown
   Scenario scenario;                   // the scenario as edited
@@ -72,6 +93,7 @@ struct Session {
   ViewSettings view;
   DesignSettings design;
   IdentifySettings identify;
+  std::optional<PlantTabSettings> plant;  // none: the Plant tab had no plant
   bool operator==(const Session&) const = default;
 };
 

@@ -284,7 +284,7 @@ void check(const AssemblyScenario& s) {
 }
 }  // namespace
 
-AssemblySimulation::AssemblySimulation(const AssemblyScenario& s) : sc_(s) {
+AssemblySimulation::AssemblySimulation(const AssemblyScenario& s, TraceOptions trace) : sc_(s), trace_opts_(trace) {
   check(sc_);
   for (const auto& c : sc_.plant.contacts) models_.push_back(build_model(c.friction));
   channels_ = output_channels(sc_.plant);
@@ -322,6 +322,13 @@ void AssemblySimulation::reset() {
   has_prescribed_ = false;
   for (const auto& d : sc_.plant.drives) has_prescribed_ = has_prescribed_ || prescribes(d.kind);
   one_body_ = nb == 1 && !has_prescribed_;
+  simple_ = -1;
+  if (one_body_ && sc_.plant.drives.size() <= 1 && sc_.plant.springs.size() <= 1 && sc_.plant.dampers.size() <= 1 &&
+      sc_.plant.contacts.size() <= 1) {
+    if (sc_.plant.drives.empty()) simple_ = 0;
+    else if (sc_.plant.drives[0].kind == DrivePart::Kind::Force) simple_ = 1;
+    else if (sc_.plant.drives[0].kind == DrivePart::Kind::Pull && !sc_.plant.drives[0].point_velocity) simple_ = 2;
+  }
   for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
     const auto& d = sc_.plant.drives[i];
     if (d.kind == DrivePart::Kind::Displacement) x_[d.body] = d.signal(0.0);
@@ -351,26 +358,44 @@ void AssemblySimulation::reset() {
   step_ = 0;
   total_steps_ = static_cast<std::uint64_t>(std::llround(sc_.run.duration / sc_.run.dt));
   until_record_ = static_cast<std::uint64_t>(sc_.run.record_every);
-  const std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  max_samples_ = 0;
+  bucket_steps_ = 0;
+  if (trace_opts_.max_bytes > 0)  // room for a few buckets of 2 + 2 channels samples
+    max_samples_ = std::max<std::size_t>({64, 8 * (2 + 2 * channels_.size()), trace_opts_.max_bytes / trace_.sample_bytes()});
+  std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+  expected = std::min(expected, trace_opts_.reserve_samples);
+  if (max_samples_ > 0) expected = std::min(expected, max_samples_);
+  expected = std::min<std::size_t>(expected, std::size_t{1} << 22);  // more grows as it comes
   trace_.t.reserve(expected);
   trace_.values.reserve(expected * channels_.size());
+  for (std::size_t j = 0; j < models_.size(); ++j) {
+    trace_.element_force[j].reserve(expected * trace_.n_elements[j]);
+    trace_.element_slip[j].reserve(expected * trace_.n_elements[j]);
+    trace_.contact_slip[j].reserve(expected);
+  }
+  // Where each channel's value lives (the output arrays keep their storage until the next reset).
+  channel_src_.clear();
+  for (const auto& c : channels_) {
+    const double* src = nullptr;
+    switch (c.kind) {
+      case Channel::Kind::Position: src = &x_[c.index]; break;
+      case Channel::Kind::Velocity: src = &v_[c.index]; break;
+      case Channel::Kind::ContactForce: src = &f_contact_[c.index]; break;
+      case Channel::Kind::SpringForce: src = &f_spring_[c.index]; break;
+      case Channel::Kind::DamperForce: src = &f_damper_[c.index]; break;
+      case Channel::Kind::DriveForce: src = &f_drive_[c.index]; break;
+    }
+    channel_src_.push_back(src);
+  }
   record();
 }
 
 void AssemblySimulation::record() {
   trace_.t.push_back(time());
-  for (const auto& c : channels_) {
-    double y = 0.0;
-    switch (c.kind) {
-      case Channel::Kind::Position: y = x_[c.index]; break;
-      case Channel::Kind::Velocity: y = v_[c.index]; break;
-      case Channel::Kind::ContactForce: y = f_contact_[c.index]; break;
-      case Channel::Kind::SpringForce: y = f_spring_[c.index]; break;
-      case Channel::Kind::DamperForce: y = f_damper_[c.index]; break;
-      case Channel::Kind::DriveForce: y = f_drive_[c.index]; break;
-    }
-    trace_.values.push_back(y);
-  }
+  const std::size_t nc = channel_src_.size(), at = trace_.values.size();
+  trace_.values.resize(at + nc);
+  double* out = trace_.values.data() + at;
+  for (std::size_t c = 0; c < nc; ++c) out[c] = *channel_src_[c];
   for (std::size_t j = 0; j < models_.size(); ++j) {
     const std::size_t ne = trace_.n_elements[j];
     bool all_slip = ne > 0;
@@ -381,6 +406,83 @@ void AssemblySimulation::record() {
       all_slip = all_slip && e.slipping;
     }
     trace_.contact_slip[j].push_back(std::abs(v_rel_[j]) > kSlipVelocity || all_slip ? 1 : 0);
+  }
+  if (max_samples_ > 0 && trace_.size() >= max_samples_) compact_trace();
+}
+
+void AssemblySimulation::compact_trace() {
+  // As Simulation::compact_trace: the current width first (the samples since the last compaction
+  // are raw), then doubled until half the room is free. One bucket keeps at most 2 + 2 nc samples
+  // and max_samples_ >= 8 (2 + 2 nc), so this ends.
+  std::uint64_t w = bucket_steps_ ? bucket_steps_ : static_cast<std::uint64_t>(sc_.run.record_every);
+  if (bucket_steps_) compact_minmax(trace_, sc_.run.dt, w);
+  while (trace_.size() > max_samples_ / 2) {
+    w *= 2;
+    compact_minmax(trace_, sc_.run.dt, w);
+  }
+  bucket_steps_ = w;
+}
+
+std::size_t AssemblyTrace::sample_bytes() const {
+  std::size_t b = sizeof(double) * (1 + channels.size());
+  for (std::size_t ne : n_elements) b += ne * (sizeof(double) + 1) + 1;
+  return b;
+}
+
+void AssemblyTrace::clear() {
+  t.clear();
+  values.clear();
+  for (auto& v : element_force) v.clear();
+  for (auto& v : element_slip) v.clear();
+  for (auto& v : contact_slip) v.clear();
+}
+
+void compact_minmax(AssemblyTrace& tr, double dt, std::uint64_t bucket_steps) {
+  const std::size_t n = tr.size(), nc = tr.channels.size();
+  auto bucket = [&](std::size_t k) { return static_cast<std::uint64_t>(std::llround(tr.t[k] / dt)) / bucket_steps; };
+  std::vector<std::size_t> keep;
+  keep.reserve(2 + 2 * nc);
+  std::size_t out = 0;
+  auto move_sample = [&](std::size_t from, std::size_t to) {
+    tr.t[to] = tr.t[from];
+    for (std::size_t c = 0; c < nc; ++c) tr.values[to * nc + c] = tr.values[from * nc + c];
+    for (std::size_t j = 0; j < tr.n_elements.size(); ++j) {
+      const std::size_t ne = tr.n_elements[j];
+      for (std::size_t i = 0; i < ne; ++i) {
+        tr.element_force[j][to * ne + i] = tr.element_force[j][from * ne + i];
+        tr.element_slip[j][to * ne + i] = tr.element_slip[j][from * ne + i];
+      }
+      tr.contact_slip[j][to] = tr.contact_slip[j][from];
+    }
+  };
+  for (std::size_t i = 0; i < n;) {
+    const std::uint64_t b = bucket(i);
+    std::size_t j = i + 1;
+    while (j < n && bucket(j) == b) ++j;
+    keep.clear();
+    keep.push_back(i);
+    keep.push_back(j - 1);
+    for (std::size_t c = 0; c < nc; ++c) {
+      std::size_t lo = i, hi = i;
+      for (std::size_t k = i + 1; k < j; ++k) {
+        const double y = tr.values[k * nc + c];
+        if (y < tr.values[lo * nc + c]) lo = k;
+        if (y > tr.values[hi * nc + c]) hi = k;
+      }
+      keep.push_back(lo);
+      keep.push_back(hi);
+    }
+    std::sort(keep.begin(), keep.end());
+    keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
+    for (std::size_t k : keep) move_sample(k, out++);  // out <= k: moves only backwards
+    i = j;
+  }
+  tr.t.resize(out);
+  tr.values.resize(out * nc);
+  for (std::size_t j = 0; j < tr.n_elements.size(); ++j) {
+    tr.element_force[j].resize(out * tr.n_elements[j]);
+    tr.element_slip[j].resize(out * tr.n_elements[j]);
+    tr.contact_slip[j].resize(out);
   }
 }
 
@@ -448,6 +550,76 @@ std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
   }
   x_[0] = x;
   v_[0] = v;
+  return done;
+}
+
+template <int K>
+std::size_t AssemblySimulation::advance_simple(std::size_t n) {
+  const double h = sc_.run.dt;
+  const Assembly& p = sc_.plant;
+  const DrivePart* d = p.drives.empty() ? nullptr : &p.drives[0];
+  const bool has_k = !springs_c_.empty(), has_c = !dampers_c_.empty(), has_f = !contacts_c_.empty();
+  const double k = has_k ? springs_c_[0].c : 0.0, c = has_c ? dampers_c_[0].c : 0.0;
+  const double hm = h_over_m_[0];
+  const double m = has_f ? contacts_c_[0].m_eff : 0.0;
+  const FrictionModel* model = has_f ? models_[0].get() : nullptr;
+  const std::span<double> st = has_f ? std::span<double>(state_[0]) : std::span<double>();
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
+  const std::uint64_t total = total_steps_;
+  double x = x_[0], v = v_[0];
+  // The outputs as they stand (the last step's, or the start's).
+  double fdrive = f_drive_.empty() ? 0.0 : f_drive_[0], fs = has_k ? f_spring_[0] : 0.0, fd = has_c ? f_damper_[0] : 0.0;
+  double F = has_f ? f_contact_[0] : 0.0, vr = has_f ? v_rel_[0] : 0.0;
+  std::uint64_t step = step_, left = until_record_;
+  auto flush = [&] {
+    x_[0] = x;
+    v_[0] = v;
+    step_ = step;
+    until_record_ = left;
+    if (K != 0) f_drive_[0] = fdrive;
+    if (has_k) f_spring_[0] = fs;
+    if (has_c) f_damper_[0] = fd;
+    if (has_f) f_contact_[0] = F, v_rel_[0] = vr;
+  };
+  std::size_t done = 0;
+  for (; done < n && step < total; ++done) {
+    const double t = static_cast<double>(step) * h;
+    double f = 0.0;
+    if constexpr (K == 1) {
+      fdrive = d->signal(t);
+      f += fdrive;
+    } else if constexpr (K == 2) {
+      const double xp = d->signal(t), rate = d->signal.rate_at(t);
+      fdrive = d->pull_spring * (xp - x) + d->pull_damper * (rate - v);
+      f += fdrive;
+    }
+    if (has_k) {
+      fs = k * (x - 0.0);
+      f -= fs;
+    }
+    if (has_c) {
+      fd = c * (v - 0.0);
+      f -= fd;
+    }
+    if (has_f) {
+      F = model->step(st, {v, h, f, m});
+      vr = v;
+      f -= F;
+    }
+    v += f * hm;
+    x += h * v;
+    ++step;
+    if (!std::isfinite(f + x + v)) {
+      flush();
+      diverged();
+    }
+    if (--left == 0 || step == total) {
+      left = every;
+      flush();
+      record();
+    }
+  }
+  flush();
   return done;
 }
 
@@ -545,6 +717,12 @@ void AssemblySimulation::diverged() const {
 }
 
 std::size_t AssemblySimulation::advance(std::size_t n) {
+  switch (simple_) {
+    case 0: return advance_simple<0>(n);
+    case 1: return advance_simple<1>(n);
+    case 2: return advance_simple<2>(n);
+    default: break;
+  }
   if (one_body_) return advance_one_body(n);
   const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
   std::size_t done = 0;

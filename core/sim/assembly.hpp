@@ -31,6 +31,7 @@
 #include "core/friction/model.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/signal.hpp"
+#include "core/sim/simulation.hpp"  // TraceOptions
 
 namespace gmslab {
 
@@ -140,7 +141,18 @@ struct AssemblyTrace {
   std::ptrdiff_t channel(const std::string& name) const;  // -1 if absent
   double at(std::size_t sample, std::size_t c) const { return values[sample * channels.size() + c]; }
   std::vector<double> series(const std::string& name) const;  // throws InputError when absent
+  // Bytes one sample takes: t and every channel (8 each), per contact its element forces (8) and
+  // slip flags (1) and its gross-slip flag (1).
+  std::size_t sample_bytes() const;
+  void clear();  // drops the samples, keeps the channels and element counts
 };
+
+// Compacts `tr` in place as compact_minmax does the one-body trace: samples are grouped into
+// buckets of `bucket_steps` integration steps (sample k in bucket round(t_k / dt) / bucket_steps);
+// each bucket keeps, in order and without duplicates, its first and last sample and the first
+// sample of the smallest and of the largest value of every channel (at most 2 + 2 channels).
+// Nested bucket widths compose: compacting twice keeps every bucket extreme of the original.
+void compact_minmax(AssemblyTrace& tr, double dt, std::uint64_t bucket_steps);
 
 class AssemblySimulation {
  public:
@@ -149,7 +161,16 @@ class AssemblySimulation {
   static constexpr double kSlipVelocity = 1e-4;
   static constexpr std::size_t kMaxRecordedElements = 64;
 
-  explicit AssemblySimulation(const AssemblyScenario& s);  // validates; throws InputError
+  // Validates (throws InputError). `trace` bounds the trace's memory as for the one-body
+  // Simulation: max_bytes > 0 compacts it (compact_minmax, bucket widths doubling) whenever it
+  // fills, so a run of any length keeps every extreme of every output within that memory;
+  // max_bytes = 0 keeps every recorded sample (a consumer can take them in chunks: clear_trace()).
+  explicit AssemblySimulation(const AssemblyScenario& s, TraceOptions trace = {});
+  // Not copyable (the trace's channel table points into this object's arrays); movable.
+  AssemblySimulation(const AssemblySimulation&) = delete;
+  AssemblySimulation& operator=(const AssemblySimulation&) = delete;
+  AssemblySimulation(AssemblySimulation&&) = default;
+  AssemblySimulation& operator=(AssemblySimulation&&) = default;
   void reset();
   std::size_t advance(std::size_t n);  // throws SimulationError on a non-finite state
   void run_to_end();
@@ -159,6 +180,10 @@ class AssemblySimulation {
   const AssemblyScenario& scenario() const { return sc_; }
   const AssemblyTrace& trace() const { return trace_; }
   AssemblyTrace take_trace() { return std::move(trace_); }
+  void clear_trace() { trace_.clear(); }  // samples taken by a streaming consumer
+  // Integration steps per bucket of a compacted trace; 0 while every recorded sample is kept.
+  std::uint64_t trace_bucket_steps() const { return bucket_steps_; }
+  std::size_t trace_max_samples() const { return max_samples_; }
   std::span<const double> positions() const { return x_; }
   std::span<const double> velocities() const { return v_; }
   double momentum() const;          // sum over free bodies of m v [kg m/s]
@@ -169,6 +194,7 @@ class AssemblySimulation {
 
  private:
   void record();
+  void compact_trace();
   // One step of the general plant; returns a sum of the new state and forces (non-finite when
   // any of them is).
   double compute_step();
@@ -176,13 +202,24 @@ class AssemblySimulation {
   // same order, with x and v kept in registers across steps - a store and reload per partial
   // sum lengthens the chain v -> forces -> friction -> v that bounds a step's time.
   std::size_t advance_one_body(std::size_t n);
+  // The one-body case with at most one drive (K: 0 none, 1 force, 2 pull by the point's
+  // position), spring, damper and contact, as a v1 preset maps: advance_one_body's sums with the
+  // parts' values, the step counters and the outputs in locals (written back before a sample is
+  // recorded), and the drive inlined - the same loop as Simulation::advance_as.
+  template <int K>
+  std::size_t advance_simple(std::size_t n);
+  int simple_ = -1;  // K of advance_simple when it applies, else -1
   [[noreturn]] void diverged() const;  // one free body, every part to ground: the same sums in registers
 
   AssemblyScenario sc_;
   std::vector<std::unique_ptr<FrictionModel>> models_;
   std::vector<std::vector<double>> state_;
   std::vector<Channel> channels_;
+  std::vector<const double*> channel_src_;  // per channel: its value in x_, v_ or a force array
   AssemblyTrace trace_;
+  TraceOptions trace_opts_;
+  std::size_t max_samples_ = 0;     // 0: unbounded
+  std::uint64_t bucket_steps_ = 0;  // width of the compacted buckets (0: not compacted)
   std::uint64_t step_ = 0, total_steps_ = 0, until_record_ = 1;
   // Per body: position, velocity, contact velocity over the step, force, 1/m, prescribed flag.
   std::vector<double> x_, v_, cv_, f_, h_over_m_;

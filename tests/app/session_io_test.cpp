@@ -3,8 +3,11 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
+#include <random>
 
 #include "core/error.hpp"
+#include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/session_io.hpp"
@@ -80,8 +83,8 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j["view"].erase("tab");
   EXPECT_NE(expect_rejected(j).find("view.tab"), std::string::npos);
   j = good;
-  j["schema_version"] = 4;
-  EXPECT_NE(expect_rejected(j).find("version 4 is not supported; this gmslab reads version 1 to 3"),
+  j["schema_version"] = 5;
+  EXPECT_NE(expect_rejected(j).find("version 5 is not supported; this gmslab reads version 1 to 4"),
             std::string::npos);
   j = good;
   j["identify"]["model"] = "no_such_model";
@@ -135,6 +138,7 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
 TEST(SessionIo, VersionOneSessionsLoadWithDefaultDesignSettings) {
   nlohmann::json j = to_json(sample());
   j["schema_version"] = 1;
+  j.erase("plant");
   j.erase("design");
   j.erase("identify");
   const Session s = session_from_json(j, "old.json");
@@ -151,6 +155,7 @@ TEST(SessionIo, VersionOneSessionsLoadWithDefaultDesignSettings) {
 TEST(SessionIo, VersionTwoSessionsLoadWithDefaultIdentifySettings) {
   nlohmann::json j = to_json(sample());
   j["schema_version"] = 2;
+  j.erase("plant");
   j.erase("identify");
   const Session s = session_from_json(j, "v2.json");
   EXPECT_EQ(s.identify, IdentifySettings{});
@@ -175,4 +180,126 @@ TEST(SessionIo, DesignReferenceIsAnEnumSavedByName) {
   const std::string msg = expect_rejected(j);
   EXPECT_NE(msg.find("design.reference"), std::string::npos) << msg;
   EXPECT_NE(msg.find("sine"), std::string::npos) << msg;
+}
+
+// ---- The Plant tab's assembled plant (schema 4) ----
+namespace {
+// A random valid assembly: 1-8 bodies of random mass, each tied to an earlier body or ground by a
+// spring, random dampers and contacts (random registry model with its defaults, scaled), and a
+// force, displacement, velocity or pull drive with a random signal; run.dt under the step limit.
+AssemblyScenario random_assembly(std::mt19937& rng) {
+  auto U = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  AssemblyScenario s;
+  s.name = "random " + std::to_string(rng() % 1000);
+  s.description = rng() % 2 ? "" : "a plant with \"quotes\" and unicode µm";
+  Assembly& a = s.plant;
+  const int nb = 1 + static_cast<int>(rng() % kMaxBodies);
+  for (int i = 0; i < nb; ++i) a.bodies.push_back({"b" + std::to_string(i), std::exp(U(std::log(1e-3), std::log(1e3)))});
+  const auto& reg = model_registry();
+  for (int i = 0; i < nb; ++i) {
+    const int other = i == 0 ? kGround : static_cast<int>(rng() % (i + 1)) - 1;
+    a.springs.push_back({"k" + std::to_string(i), i, other, std::exp(U(0.0, std::log(1e5)))});
+    if (rng() % 2) a.dampers.push_back({"c" + std::to_string(i), i, static_cast<int>(rng() % (i + 1)) - 1, U(0, 10)});
+    if (rng() % 2) {
+      ModelParams p = reg[rng() % reg.size()].defaults();
+      a.contacts.push_back({"f" + std::to_string(i), i, i > 0 && rng() % 2 ? static_cast<int>(rng() % i) : kGround, p});
+    }
+  }
+  DrivePart d;
+  d.name = "drive";
+  d.kind = static_cast<DrivePart::Kind>(rng() % 4);
+  d.body = static_cast<int>(rng() % nb);
+  switch (rng() % 3) {
+    case 0: d.signal = Signal::constant(U(-2, 2)); break;
+    case 1: d.signal = Signal::ramp(U(-1, 1), U(-0.5, 0.5)); break;
+    default: d.signal = Signal::sine(U(-1, 1), U(0, 1), U(0.1, 10), U(0, 3)); break;
+  }
+  if (d.kind == DrivePart::Kind::Pull) d.pull_spring = U(0.5, 1e3), d.pull_damper = U(0, 5), d.point_velocity = rng() % 2;
+  a.drives.push_back(d);
+  s.run.duration = U(0.01, 5);
+  s.run.record_every = 1 + static_cast<int>(rng() % 20);
+  s.run.dt = std::min(1e-4, 0.5 * stability_limit_dt(a));
+  return s;
+}
+}  // namespace
+
+// Random assemblies (fixed seed) saved with the session and loaded back give the same plant, path,
+// speed and magnification, through the file (atomic write) and through JSON.
+TEST(SessionIo, ThePlantTabsAssemblyRoundTripsForRandomAssemblies) {
+  std::mt19937 rng(1511);
+  const std::string path = (std::filesystem::temp_directory_path() / ("gmslab_plant_session_" + std::to_string(getpid()) + ".json")).string();
+  for (int trial = 0; trial < 40; ++trial) {
+    Session s = sample();
+    s.plant = PlantTabSettings{};
+    s.plant->scenario = random_assembly(rng);
+    ASSERT_TRUE(validate(s.plant->scenario.plant).empty()) << "trial " << trial << ": " << validate(s.plant->scenario.plant)[0];
+    s.plant->path = "presets/plant " + std::to_string(trial) + ".json";
+    s.plant->speed = std::exp(std::uniform_real_distribution<double>(std::log(1e-3), std::log(1e3))(rng));
+    s.plant->magnification = trial % 3 == 0 ? 0.0 : std::uniform_real_distribution<double>(0.1, 1000)(rng);
+    const Assembly& a = s.plant->scenario.plant;
+    for (const auto& c : output_channels(a))
+      if (rng() % 2) s.plant->plotted.push_back(c.name);
+    s.plant->tf_drive = a.drives[rng() % a.drives.size()].name;
+    s.plant->tf_output = a.bodies[rng() % a.bodies.size()].name;
+    s.plant->tf_sliding = rng() % 2;
+    save_session(s, path);
+    const Session back = load_session(path);
+    ASSERT_TRUE(back.plant.has_value());
+    EXPECT_EQ(back.plant->scenario, s.plant->scenario) << "trial " << trial;
+    EXPECT_EQ(back, s) << "trial " << trial;
+    EXPECT_EQ(to_json(back), to_json(s));
+  }
+  Session none = sample();
+  save_session(none, path);
+  EXPECT_FALSE(load_session(path).plant.has_value());
+  std::filesystem::remove(path);
+}
+
+// Version-3 files (no "plant") load with an empty Plant tab; a version-3 file with "plant" is
+// malformed; a version-4 file without it too. Errors inside the plant name the key path.
+TEST(SessionIo, PlantKeyIsVersionedAndStrict) {
+  Session s = sample();
+  s.plant = PlantTabSettings{"presets/two_mass_drive.json",
+                             load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/two_mass_drive.json"), 2.0, 0.0,
+                             {"x.motor", "F.shaft"}, "motor_force", "load", false};
+  nlohmann::json j = to_json(s);
+  ASSERT_EQ(j["schema_version"], 4);
+  {
+    nlohmann::json v3 = j;
+    v3["schema_version"] = 3;
+    EXPECT_NE(expect_rejected(v3).find("plant"), std::string::npos);
+    v3.erase("plant");
+    const Session old = session_from_json(v3, "v3.json");
+    EXPECT_FALSE(old.plant.has_value());
+    EXPECT_EQ(old.identify, s.identify);
+  }
+  {
+    nlohmann::json bad = j;
+    bad.erase("plant");
+    EXPECT_NE(expect_rejected(bad).find("plant"), std::string::npos);
+  }
+  auto reject_with = [&](const std::function<void(nlohmann::json&)>& edit, const std::string& needle) {
+    nlohmann::json bad = j;
+    edit(bad);
+    const std::string msg = expect_rejected(bad);
+    EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+  };
+  reject_with([](nlohmann::json& b) { b["plant"]["speed"] = 0.0; }, "plant.speed");
+  reject_with([](nlohmann::json& b) { b["plant"]["magnification"] = -1.0; }, "plant.magnification");
+  reject_with([](nlohmann::json& b) { b["plant"]["colour"] = "red"; }, "colour");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"][1] = "x.lod"; }, "plant.plotted[1]");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"][1] = "x.motor"; }, "listed twice");
+  reject_with([](nlohmann::json& b) { b["plant"]["plotted"] = "x.motor"; }, "plant.plotted");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"]["drive"] = "pull"; }, "plant.linear_plant.drive");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"]["output"] = "ground"; }, "plant.linear_plant.output");
+  reject_with([](nlohmann::json& b) { b["plant"]["linear_plant"].erase("sliding"); }, "plant.linear_plant.sliding");
+  {
+    const Session back = session_from_json(j, "s.json");
+    EXPECT_EQ(back, s);
+  }
+  reject_with([](nlohmann::json& b) { b["plant"] = 3; }, "plant");
+  reject_with([](nlohmann::json& b) { b["plant"]["scenario"]["plant"]["springs"][0]["b"] = "lod"; }, "in 'plant.scenario'");
+  reject_with([](nlohmann::json& b) { b["plant"]["scenario"]["plant"]["springs"][0]["b"] = "lod"; }, "plant.springs[0].b");
+  reject_with([](nlohmann::json& b) { b["plant"]["scenario"]["plant"]["bodies"][0]["mass"] = -1.0; }, "plant.bodies[0].mass");
+  reject_with([](nlohmann::json& b) { b["plant"]["scenario"] = to_json(sample().scenario); }, "plant.scenario");
 }

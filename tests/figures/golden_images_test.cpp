@@ -1,9 +1,5 @@
 // Golden images: `gmslab-headless figures` renders the whole set and every PNG is compared with
-// the checked-in one in tests/golden/ (same size). The comparison tolerates what differs between
-// llvmpipe builds (anti-aliased edges: small per-pixel differences) but fails on a missing curve,
-// axis or panel:
-//   - pixels whose largest channel difference exceeds 64 levels: at most 0.05 % of the image;
-//   - 8x8 block means (a downscaled comparison): no block may differ by more than 24 levels.
+// the checked-in one in tests/golden/ (same size), with the tolerance of golden_compare.hpp.
 // The test also proves it can fail: erasing one curve or one axis from a golden image must trip it.
 // Regenerate after an intended change: GMSLAB_UPDATE_GOLDEN=1 ./build/gmslab_tests
 // --gtest_filter='GoldenImages*' (then look at every PNG before committing).
@@ -19,8 +15,9 @@
 #include "core/figures/figure_set.hpp"
 
 #ifdef GMSLAB_HEADLESS_EXE
-#include <stb_image.h>
 #include <unistd.h>
+
+#include "tests/figures/golden_compare.hpp"
 #endif
 
 namespace gmslab {
@@ -30,53 +27,12 @@ namespace fs = std::filesystem;
 
 constexpr int kWidth = 1000, kHeight = 560;
 
-struct Image {
-  int w = 0, h = 0;
-  std::vector<unsigned char> rgb;  // 3 bytes per pixel
-  int at(int x, int y, int c) const { return rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c]; }
-};
-
-struct Difference {
-  std::size_t strong_pixels = 0;  // largest channel difference > 64
-  double worst_block = 0.0;       // largest 8x8 block mean difference [levels]
-};
-
-Difference compare(const Image& a, const Image& b) {
-  Difference d;
-  const int B = 8;
-  for (int by = 0; by + B <= a.h; by += B)
-    for (int bx = 0; bx + B <= a.w; bx += B) {
-      double sum = 0.0;
-      for (int y = by; y < by + B; ++y)
-        for (int x = bx; x < bx + B; ++x) {
-          int worst = 0;
-          for (int c = 0; c < 3; ++c) {
-            const int diff = std::abs(a.at(x, y, c) - b.at(x, y, c));
-            worst = std::max(worst, diff);
-            sum += diff / 3.0;
-          }
-          d.strong_pixels += worst > 64;
-        }
-      d.worst_block = std::max(d.worst_block, sum / (B * B));
-    }
-  return d;
-}
-
-bool acceptable(const Difference& d, const Image& im) {
-  return d.strong_pixels <= static_cast<std::size_t>(0.0005 * im.w * im.h) && d.worst_block <= 24.0;
-}
-
 #ifdef GMSLAB_HEADLESS_EXE
-Image load(const std::string& path) {
-  Image im;
-  int n = 0;
-  unsigned char* p = stbi_load(path.c_str(), &im.w, &im.h, &n, 3);
-  if (p) {
-    im.rgb.assign(p, p + static_cast<std::size_t>(im.w) * im.h * 3);
-    stbi_image_free(p);
-  }
-  return im;
-}
+using golden::acceptable;
+using golden::compare;
+using golden::Difference;
+using golden::Image;
+using golden::load;
 
 const std::string kGolden = std::string(GMSLAB_SOURCE_DIR) + "/tests/golden";
 
