@@ -114,8 +114,8 @@ void coefficient_field(DesignViewState& d, bool den) {
 void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) {
   control::PlantChoice& p = d.settings.plant;
   int src = static_cast<int>(p.source);  // the combo's items in PlantSource order
-  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 13.0f);
-  if (ImGui::Combo("plant source", &src, "scenario (one body)\0assembled plant (Plant tab)\0typed num/den\0")) {
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 11.0f);
+  if (ImGui::Combo("plant source", &src, "scenario (one body)\0assembled (Plant tab)\0typed num/den\0")) {
     p.source = static_cast<control::PlantSource>(src);
     d.dirty = true, d.in.locus_view.reset(), d.picked = false;
   }
@@ -137,7 +137,7 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
   const Assembly& a = assembly->plant;
   auto combo = [&](const char* label, std::string& value, const std::vector<std::string>& names,
                    const std::vector<std::string>& items, const std::string& shown, const char* help) {
-    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 13.0f);
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 11.0f);
     if (ImGui::BeginCombo(label, shown.c_str())) {
       for (std::size_t i = 0; i < names.size(); ++i)
         if (ImGui::Selectable(items[i].c_str(), names[i] == value) && names[i] != value)
@@ -161,9 +161,9 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
     drive_shown = port.drive_name, output_shown = port.output;
   } catch (const InputError&) {  // the design reports it (red, under Results)
   }
-  combo("drive (input u)", p.drive, drives, drive_items, drive_shown,
+  combo("drive u", p.drive, drives, drive_items, drive_shown,
         "The drive the controller acts through: a force drive (u = F [N]) or a pull drive (u = x_p [m])");
-  combo("output (measured y)", p.output, outputs, output_items, output_shown,
+  combo("output y", p.output, outputs, output_items, output_shown,
         "The measured position: the drive's own body is collocated control (poles and zeros interlace), "
         "another body non-collocated (no zeros for a chain)");
   const auto port_body = [&]() -> std::string {

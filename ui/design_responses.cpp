@@ -113,8 +113,7 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   }
   static char title[200];
   if (o.source == control::PlantSource::Assembly)
-    std::snprintf(title, sizeof title, "Assembled plant with friction: %s vs reference (u via %s)",
-                  o.port.output.c_str(), o.port.drive_name.c_str());
+    std::snprintf(title, sizeof title, "Assembled plant: %s vs reference", o.port.output.c_str());
   else
     std::snprintf(title, sizeof title, "With friction (%s): position vs reference",
                   d.in.scenario.friction.model.c_str());
