@@ -265,7 +265,7 @@ TEST(PlantSource, CollocatedTwoMassPolesAndZerosInterlaceNonCollocatedHasNoZeros
 
 // A random damped chain without contacts (no friction): the loop simulated on the assembled plant
 // follows the linear closed loop's step response (ZOH-exact, linear_response.hpp) with a first-order
-// integration error: below 1e-3 of the step and about halved with half the step.
+// integration error: below 5e-4 of the step (measured 1e-5 to 1.6e-4 at dt = 1e-5 s) and halved with half the step.
 TEST(PlantSource, AssembledLoopWithoutFrictionMatchesTheLinearClosedLoop) {
   std::mt19937 rng(909);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -319,8 +319,8 @@ TEST(PlantSource, AssembledLoopWithoutFrictionMatchesTheLinearClosedLoop) {
       return e / amp;
     };
     const double e1 = max_error(2e-5), e2 = max_error(1e-5);
-    EXPECT_LT(e2, 1e-3) << "trial " << trial << (pull ? " pull " : " force ") << output;
-    EXPECT_LT(e2, 0.7 * e1) << "first order: " << e1 << " -> " << e2;
+    EXPECT_LT(e2, 5e-4) << "trial " << trial << (pull ? " pull " : " force ") << output;
+    EXPECT_LT(e2, 0.6 * e1) << "first order: " << e1 << " -> " << e2;
   }
   EXPECT_GE(checked, 6);
 }
