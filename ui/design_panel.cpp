@@ -73,6 +73,27 @@ void sync_assembly(DesignViewState& d, const AssemblyScenario* assembly) {
   if (d.settings.plant.source == control::PlantSource::Assembly) d.dirty = true, d.in.locus_view.reset();
 }
 
+}  // namespace
+
+bool apply_coefficient_edit(DesignViewState& d, bool den, const std::string& text) {
+  std::string& error = den ? d.den_error : d.num_error;
+  std::string& value = den ? d.settings.plant.den : d.settings.plant.num;
+  try {
+    control::typed_plant(den ? d.settings.plant.num : text, den ? text : d.settings.plant.den, "num", "den");
+  } catch (const InputError& e) {
+    error = std::string("rejected: ") + e.what() + "; in force: \"" + value + "\"";
+    return false;
+  }
+  error.clear();
+  (den ? d.num_error : d.den_error).clear();  // the pair is valid now
+  if (value != text) {
+    value = text;
+    d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+  }
+  return true;
+}
+
+namespace {
 // One typed coefficient field: edited as text, applied when the edit ends and the pair is valid;
 // a rejected edit shows why under the field, which goes back to the value in force.
 void coefficient_field(DesignViewState& d, bool den) {
@@ -81,24 +102,15 @@ void coefficient_field(DesignViewState& d, bool den) {
   std::string& value = den ? d.settings.plant.den : d.settings.plant.num;
   const char* id = den ? "den(s)##typed_den" : "num(s)##typed_num";
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 12.0f);
+  if (!error.empty()) ImGui::PushStyleColor(ImGuiCol_FrameBg, ImVec4(0.95f, 0.80f, 0.80f, 1.0f));
   ImGui::InputText(id, &edit);
+  if (!error.empty()) ImGui::PopStyleColor();
   const bool active = ImGui::IsItemActive();
   tip(den ? "Denominator coefficients, highest power of s first, e.g. \"1 2 0\" for s^2 + 2 s; the leading "
             "coefficient must be non-zero and deg num <= deg den. Applied when you leave the field (Enter / Tab / click)"
           : "Numerator coefficients, highest power of s first, e.g. \"4\" or \"1 5\" for s + 5 (u -> y, e.g. [m/N]). "
             "Applied when you leave the field");
-  if (ImGui::IsItemDeactivatedAfterEdit()) {
-    try {
-      control::typed_plant(den ? d.settings.plant.num : edit, den ? edit : d.settings.plant.den, "num", "den");
-      error.clear();
-      if (value != edit) {
-        value = edit;
-        d.dirty = true, d.in.locus_view.reset(), d.picked = false;
-      }
-    } catch (const InputError& e) {
-      error = std::string("rejected: ") + e.what() + "; in force: \"" + value + "\"";
-    }
-  }
+  if (ImGui::IsItemDeactivatedAfterEdit()) apply_coefficient_edit(d, den, edit);
   if (!active) edit = value;  // shows the value in force
   if (!error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);

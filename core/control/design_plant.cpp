@@ -149,7 +149,7 @@ DesignPlant design_plant(const PlantChoice& c, Regime r, double v0, const Scenar
     case PlantSource::Typed:
       out.linear.g = typed_plant(c.num, c.den, "plant num", "plant den");
       out.linear.velocity = 0.0;
-      out.label = "typed G(s) = (" + to_string(out.linear.g.num) + ") / (" + to_string(out.linear.g.den) + ")";
+      out.label = "typed num/den (linear, no friction)";
       break;
   }
   return out;
