@@ -127,7 +127,7 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
   control::PlantChoice& p = d.settings.plant;
   int src = static_cast<int>(p.source);  // the combo's items in PlantSource order
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 11.0f);
-  if (ImGui::Combo("plant source", &src, "scenario (one body)\0assembled (Plant tab)\0typed num/den\0")) {
+  if (ImGui::Combo("plant source", &src, "scenario (one body)\0assembled plant\0typed num/den\0")) {
     p.source = static_cast<control::PlantSource>(src);
     d.dirty = true, d.in.locus_view.reset(), d.picked = false;
   }

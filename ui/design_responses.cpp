@@ -83,8 +83,8 @@ bool typed_plant_note(const DesignViewState& d, ImVec2 size) {
       "nonlinear loop to simulate (and no describing function). The linear closed-loop step at the left is "
       "this G(s) with the compensator.");
   ImGui::Spacing();
-  ImGui::TextDisabled("For the loop with friction choose the plant source 'scenario (one body)' or 'assembled "
-                      "plant (Plant tab)'.");
+  ImGui::TextDisabled("For the loop with friction choose the plant source 'scenario (one body)' or 'assembled plant' (the "
+                      "Plant tab's).");
   ImGui::PopTextWrapPos();
   ImGui::EndChild();
   return true;
