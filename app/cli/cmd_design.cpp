@@ -17,6 +17,7 @@
 
 #include "app/cli/cli.hpp"
 #include "core/control/design_json.hpp"
+#include "core/control/design_plant_json.hpp"
 #include "core/control/scenario_plant.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
@@ -184,18 +185,8 @@ int run_design(const Opts& o) {
     choice.den = o.den;
   }
   const DesignPlant dp = design_plant(choice, regime, o.velocity, sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
-  const LinearPlant& lp = dp.linear;
-  const TransferFunction g = lp.g;
-  plant = {{"source", choice.source == PlantSource::Typed ? std::string("coefficients") : o.preset},
-           {"plant_source", to_string(dp.source)}, {"label", dp.label}};
-  if (sc)
-    plant.update({{"regime", to_string(lp.regime)}, {"mass_kg", lp.mass}, {"stiffness_N_per_m", lp.stiffness},
-                  {"damping_N_s_per_m", lp.damping}, {"velocity_m_per_s", lp.velocity}});
-  if (asc)
-    plant.update({{"regime", to_string(regime)}, {"drive", dp.port.drive_name}, {"output", dp.port.output},
-                  {"velocity_m_per_s", o.velocity}});
-  plant["num"] = g.num.descending_coeffs();
-  plant["den"] = g.den.descending_coeffs();
+  const TransferFunction g = dp.linear.g;
+  plant = plant_json(dp, o.preset, o.velocity);
   if (o.simulate && !sc && !asc) throw InputError("--simulate needs --preset (the friction to simulate with)");
 
   const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin}, o.T);
