@@ -239,10 +239,12 @@ int render_command(const cli::RenderOptions& o) {
   if (o.zeta != 0.0 && !(o.zeta >= 0.02 && o.zeta <= 0.98)) throw InputError("--zeta: must be in [0.02, 0.98]");
   if (o.wn != 0.0 && !(o.wn > 0.0 && o.wn <= 1e5)) throw InputError("--wn: must be in (0, 1e5] rad/s");
   if (o.num.empty() != o.den.empty()) throw InputError("--num and --den go together (a typed plant)");
-  // The design view of an assembled preset (schema 2) designs on the assembled plant (as the Plant tab
-  // holds it in the window).
+  // The design view of an assembled preset (schema 2), or of a v1 preset with --drive / --output (its
+  // one-body assembly, as `gmslab design`), designs on the assembled plant (as the Plant tab holds it
+  // in the window).
   const bool assembled = design_view && o.format == "png" &&
-                         preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2;
+                         (!o.drive.empty() || !o.output.empty() ||
+                          preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2);
   const bool plant_view = std::string(panel->name) == "Plant" || assembled;
   if (plant_view) {  // an assembled plant (schema 2) or a one-body preset, in the Plant panel
     ui::load_plant(s.plant, load_assembly_scenario(o.preset), o.preset);
@@ -274,8 +276,6 @@ int render_command(const cli::RenderOptions& o) {
       ds.plant.output = o.output;
       // Errors in the names are this command's errors (listing the names there are).
       control::assembly_port(s.plant.scenario->plant, o.drive, o.output);
-    } else if (!o.drive.empty() || !o.output.empty()) {
-      throw InputError("--drive / --output: the preset is not an assembled plant (schema_version 2)");
     }
     if (!o.num.empty()) {
       control::typed_plant(o.num, o.den, "--num", "--den");
