@@ -220,6 +220,15 @@ bool plant_other_source(DesignViewState& d) {
     ch |= ImGui::RadioButton("sliding at v0", &regime, 1);
     tip("Every contact sliding at v0 (default 10 Vs of each contact): the local Stribeck slope plus sigma2 as a damper");
     if (ch) s.regime = regime == 0 ? "presliding" : "sliding", d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+    if (s.regime == "sliding") {  // 0: each contact at its own 10 Vs; shown as the first contact's
+      double v0 = s.velocity;
+      if (!(v0 > 0.0) && d.in.assembly && !d.in.assembly->plant.contacts.empty())
+        v0 = control::default_sliding_velocity(d.in.assembly->plant.contacts.front().friction);
+      if (!(v0 > 0.0)) v0 = 0.01;
+      if (input_double("v0 [m/s]##assembly_v0", &v0, 1e-5, 1.0, "%.3g",
+                       "Sliding velocity of every contact (until set: each contact's own 10 Vs)", true))
+        s.velocity = v0, d.dirty = true, d.in.locus_view.reset();
+    }
     d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &s.other_regime);
     tip("Overlay the locus of the other regime's plant with the same compensator");
   }

@@ -69,6 +69,11 @@ void metrics_table(const DesignViewState& d) {
                         pc->stable ? "" : ":\nlarger motions grow");
   else if (d.out.limit_cycles)
     ImGui::TextDisabled("DF: no cycle predicted");
+  if (d.out.source == control::PlantSource::Assembly && !d.out.loop_note.empty()) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("%s", d.out.loop_note.c_str());
+    ImGui::PopTextWrapPos();
+  }
 }
 
 // A typed plant has no friction to simulate: the loop plots' place says so (instead of empty axes).

@@ -131,8 +131,8 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (out.source == PlantSource::Typed) return out;
     stage = "describing function";
     if (out.source == PlantSource::Assembly) {
-      out.loop_note = "assembled plant: the describing function's limit cycles are for one body and one "
-                      "contact, not drawn here; the loops below run on the assembled nonlinear plant";
+      out.loop_note = "DF: not predicted for an assembled plant (the describing function here is for one "
+                      "body and one contact); the loops run on the assembled nonlinear plant";
     } else {
       const auto fm = build_model(in.scenario.friction);
       out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,

@@ -409,6 +409,32 @@ TEST(PlantSource, DesignOnTheTwoMassPresetRunsTheAssembledLoops) {
   EXPECT_EQ(non.port.output, "x.load");
   ASSERT_EQ(non.plant.g.zeros().size(), 1u);
   EXPECT_NEAR(non.plant.g.zeros()[0].real(), -2000.0 / 2.0, 1e-6 * 1000);  // shaft 2000 N/m, 2 N s/m
+  // `gmslab design PRESET --drive --output`: the same plant (design_plant) and the same lead as the
+  // Design tab's computation, for both outputs.
+  for (const char* o : {"x.motor", "x.load"}) {
+    ds.plant.output = o;
+    set_design_inputs(ds, in);
+    in.simulate = false;
+    const DesignOutputs tab = compute_design(in);
+    const std::string json = temp_path("assembled");
+    ASSERT_EQ(run_cli({"design", "--preset", path, "--drive", "motor_force", "--output", o, "--regime", "sliding",
+                       "--zeta", "0.7", "--wn", "10", "--json", json}),
+              0);
+    const auto j = nlohmann::json::parse(read_file(json));
+    std::filesystem::remove(json);
+    EXPECT_EQ(j["plant"]["plant_source"], "assembly");
+    EXPECT_EQ(j["plant"]["output"], o);
+    EXPECT_EQ(j["plant"]["drive"], "motor_force");
+    const auto den = tab.plant.g.den.descending_coeffs();
+    ASSERT_EQ(j["plant"]["den"].size(), den.size());
+    for (std::size_t i = 0; i < den.size(); ++i) EXPECT_DOUBLE_EQ(j["plant"]["den"][i].get<double>(), den[i]);
+    ASSERT_TRUE(tab.compensator);
+    EXPECT_NEAR(j["Kc"].get<double>(), tab.compensator->Kc, 1e-9 * tab.compensator->Kc);
+    EXPECT_NEAR(j["z"].get<double>(), tab.compensator->z, 1e-9 * tab.compensator->z);
+    EXPECT_NEAR(j["p"].get<double>(), tab.compensator->p, 1e-9 * tab.compensator->p);
+  }
+  EXPECT_EQ(run_cli({"design", "--preset", path, "--drive", "load", "--zeta", "0.7", "--wn", "10"}), 2);
+  EXPECT_EQ(run_cli({"design", "--preset", path, "--output", "x.shaft", "--zeta", "0.7", "--wn", "10"}), 2);
   // Without an assembled plant the design says so (not a blank view).
   in.assembly.reset();
   const DesignOutputs none = compute_design(in);
