@@ -55,7 +55,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     }
     if (out.source == PlantSource::Typed)
       out.loop_note = "typed plant: no friction and no scenario to simulate, so no loop with friction and no "
-                      "describing function; the step above is the typed plant's linear closed loop";
+                      "describing function; the linear closed-loop step is the typed plant's with the compensator";
     try {  // a failed design still leaves the plant's own locus to draw
       out.report = lead_design(out.plant.g, in.root, in.K, in.options);
       choose(in, out);
