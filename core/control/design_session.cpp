@@ -73,8 +73,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     const cplx sd = in.root.s();
     std::vector<cplx> pts = {sd, 2.0 * sd.real()};
     auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
-    for (const cplx& s : out.plant.g.poles()) pts.push_back(s);
-    for (const cplx& s : out.plant.g.zeros()) pts.push_back(s);
+    double reach = std::abs(sd);
+    for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
+    // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
+    // shrink the region where the locus bends to a dot: left to the user's zoom.
+    for (const cplx& s : out.plant.g.zeros())
+      if (std::abs(s) <= 4.0 * reach) pts.push_back(s);
     if (out.compensator) {
       const LeadCompensator& c = *out.compensator;
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};

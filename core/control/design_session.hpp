@@ -16,9 +16,10 @@
 // horizon, or two periods of a sine reference when that is longer, at a view-rate step
 // dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
 // Kc) / m)).
-// locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
-// zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
-// pole would otherwise shrink the interesting region to a dot).
+// locus view (unless given): the region around s_d, the plant's poles, its zeros within 4x the
+// farthest of s_d and the poles, the compensator zero, and the compensator pole and closed-loop
+// poles when they lie within 4 |s_d| (a far lead pole would otherwise shrink the interesting region
+// to a dot).
 // A typed failure of any stage (InputError, SimulationError: core/error.hpp) is reported in
 // `error` with its kind and later stages are skipped; a failed design (e.g. K0 <= 0) still gets
 // the plant's locus (or the manual compensator's loop). Any other exception is a bug and
