@@ -409,6 +409,11 @@ TEST(PlantSource, DesignOnTheTwoMassPresetRunsTheAssembledLoops) {
   EXPECT_EQ(non.port.output, "x.load");
   ASSERT_EQ(non.plant.g.zeros().size(), 1u);
   EXPECT_NEAR(non.plant.g.zeros()[0].real(), -2000.0 / 2.0, 1e-6 * 1000);  // shaft 2000 N/m, 2 N s/m
+  // The automatic view fits s_d and the resonance (+-j70.7), not the far zero at -1000 rad/s.
+  EXPECT_GT(non.locus.view.re_min, -500.0);
+  EXPECT_GT(non.locus.view.im_max, 70.7);
+  EXPECT_LT(non.locus.view.im_min, -70.7);
+  EXPECT_LT(non.locus.view.re_min, -7.0);
   // `gmslab design PRESET --drive --output`: the same plant (design_plant) and the same lead as the
   // Design tab's computation, for both outputs.
   for (const char* o : {"x.motor", "x.load"}) {
