@@ -177,7 +177,7 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
         "The drive the controller acts through: a force drive (u = F [N]) or a pull drive (u = x_p [m])");
   combo("output y", p.output, outputs, output_items, output_shown,
         "The measured position: the drive's own body is collocated control (poles and zeros interlace), "
-        "another body non-collocated (no zeros for a chain)");
+        "another body non-collocated (no finite zeros for an undamped chain; a damper c adds -k/c)");
   const auto port_body = [&]() -> std::string {
     try {
       const auto port = control::assembly_port(a, p.drive, p.output);
