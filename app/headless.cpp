@@ -20,6 +20,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/control/design_plant.hpp"
 #include "core/error.hpp"
 #include "core/figures/figure_set.hpp"
 #include "core/ident/dataset.hpp"
@@ -231,7 +232,20 @@ int render_command(const cli::RenderOptions& o) {
     throw InputError("--data: only the identify view runs an identification (use --view identify)");
   if (!o.data.empty()) panel = ui::find_panel("identify");
   ui::AppState s;
-  const bool plant_view = std::string(panel->name) == "Plant";
+  const bool design_view = std::string(panel->name) == "Design";
+  if ((!o.drive.empty() || !o.output.empty() || !o.num.empty() || !o.den.empty() || o.zeta != 0.0 || o.wn != 0.0) &&
+      !design_view)
+    throw InputError("--drive, --output, --num, --den, --zeta, --wn: only the design view takes them (use --view design)");
+  if (o.zeta != 0.0 && !(o.zeta >= 0.02 && o.zeta <= 0.98)) throw InputError("--zeta: must be in [0.02, 0.98]");
+  if (o.wn != 0.0 && !(o.wn > 0.0 && o.wn <= 1e5)) throw InputError("--wn: must be in (0, 1e5] rad/s");
+  if (o.num.empty() != o.den.empty()) throw InputError("--num and --den go together (a typed plant)");
+  // The design view of an assembled preset (schema 2), or of a v1 preset with --drive / --output (its
+  // one-body assembly, as `gmslab design`), designs on the assembled plant (as the Plant tab holds it
+  // in the window).
+  const bool assembled = design_view && o.format == "png" &&
+                         (!o.drive.empty() || !o.output.empty() ||
+                          preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2);
+  const bool plant_view = std::string(panel->name) == "Plant" || assembled;
   if (plant_view) {  // an assembled plant (schema 2) or a one-body preset, in the Plant panel
     ui::load_plant(s.plant, load_assembly_scenario(o.preset), o.preset);
     ui::plant_run_until(s.plant, o.time);
@@ -256,7 +270,26 @@ int render_command(const cli::RenderOptions& o) {
   }
   ui::mark_clean(s);
   s.view.tab = panel->name;
-  if (!plant_view) ui::run_until(s, o.time);
+  if (!plant_view || assembled) ui::run_until(s, o.time);
+  if (design_view) {
+    DesignSettings ds = ui::design_settings(s.design);
+    if (assembled) {
+      ds.plant.source = control::PlantSource::Assembly;
+      ds.plant.drive = o.drive;
+      ds.plant.output = o.output;
+      // Errors in the names are this command's errors (listing the names there are).
+      control::assembly_port(s.plant.scenario->plant, o.drive, o.output);
+    }
+    if (!o.num.empty()) {
+      control::typed_plant(o.num, o.den, "--num", "--den");
+      ds.plant.source = control::PlantSource::Typed;
+      ds.plant.num = o.num;
+      ds.plant.den = o.den;
+    }
+    if (o.zeta != 0.0) ds.zeta = o.zeta;
+    if (o.wn != 0.0) ds.wn = o.wn;
+    ui::apply_design_settings(s.design, ds);
+  }
   if (!o.data.empty()) {
     // Bad records are an error of this command (file, line, column), not only a red line in the view.
     ident::load_dataset({o.data, "", "", o.mask_edges});
@@ -285,7 +318,7 @@ int render_command(const cli::RenderOptions& o) {
   const auto& rgba = off.render([&] { draw_app(s); }, 4);
   write_png(o.out, w, h, rgba);
   std::cout << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "
-            << (plant_view ? s.plant.sim->time() : s.main.sim->time()) << " s)\n";
+            << (plant_view && !assembled ? s.plant.sim->time() : s.main.sim->time()) << " s)\n";
   return 0;
 }
 

@@ -11,7 +11,10 @@
 #include <cstdio>
 #include <numbers>
 
+#include <imgui_stdlib.h>
+
 #include "core/control/design_json.hpp"
+#include "core/error.hpp"
 #include "ui/design_view.hpp"
 
 namespace gmslab::ui {
@@ -61,6 +64,132 @@ void sync(DesignViewState& d, const Scenario& scenario, int generation) {
   }
 }
 
+// The Plant tab's assembled plant, when it changed (or went away).
+void sync_assembly(DesignViewState& d, const AssemblyScenario* assembly) {
+  const bool same = assembly ? d.in.assembly && *d.in.assembly == *assembly : !d.in.assembly;
+  if (same) return;
+  if (assembly) d.in.assembly = *assembly;
+  else d.in.assembly.reset();
+  if (d.settings.plant.source == control::PlantSource::Assembly) d.dirty = true, d.in.locus_view.reset();
+}
+
+}  // namespace
+
+bool apply_coefficient_edit(DesignViewState& d, bool den, const std::string& text) {
+  std::string& error = den ? d.den_error : d.num_error;
+  std::string& value = den ? d.settings.plant.den : d.settings.plant.num;
+  try {
+    control::typed_plant(den ? d.settings.plant.num : text, den ? text : d.settings.plant.den, "num", "den");
+  } catch (const InputError& e) {
+    error = std::string("rejected: ") + e.what() + "; in force: \"" + value + "\"";
+    return false;
+  }
+  error.clear();
+  (den ? d.num_error : d.den_error).clear();  // the pair is valid now
+  if (value != text) {
+    value = text;
+    d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+  }
+  return true;
+}
+
+namespace {
+// One typed coefficient field: edited as text, applied when the edit ends and the pair is valid;
+// a rejected edit shows why under the field, which goes back to the value in force.
+void coefficient_field(DesignViewState& d, bool den) {
+  std::string& edit = den ? d.den_edit : d.num_edit;
+  std::string& error = den ? d.den_error : d.num_error;
+  std::string& value = den ? d.settings.plant.den : d.settings.plant.num;
+  const char* id = den ? "den(s)##typed_den" : "num(s)##typed_num";
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 12.0f);
+  if (!error.empty()) ImGui::PushStyleColor(ImGuiCol_FrameBg, ImVec4(0.95f, 0.80f, 0.80f, 1.0f));
+  ImGui::InputText(id, &edit);
+  if (!error.empty()) ImGui::PopStyleColor();
+  const bool active = ImGui::IsItemActive();
+  tip(den ? "Denominator coefficients, highest power of s first, e.g. \"1 2 0\" for s^2 + 2 s; the leading "
+            "coefficient must be non-zero and deg num <= deg den. Applied when you leave the field (Enter / Tab / click)"
+          : "Numerator coefficients, highest power of s first, e.g. \"4\" or \"1 5\" for s + 5 (u -> y, e.g. [m/N]). "
+            "Applied when you leave the field");
+  if (ImGui::IsItemDeactivatedAfterEdit()) apply_coefficient_edit(d, den, edit);
+  if (!active) edit = value;  // shows the value in force
+  if (!error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextUnformatted(error.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopStyleColor();
+  }
+}
+
+// Where G(s) comes from: the scenario's one body, the Plant tab's assembled plant from a drive to
+// an output, or typed coefficients (core/control/design_plant.hpp).
+void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) {
+  control::PlantChoice& p = d.settings.plant;
+  int src = static_cast<int>(p.source);  // the combo's items in PlantSource order
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 11.0f);
+  if (ImGui::Combo("plant source", &src, "scenario (one body)\0assembled plant\0typed num/den\0")) {
+    p.source = static_cast<control::PlantSource>(src);
+    d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+  }
+  tip("scenario: force -> position of the scenario's mass, with its friction.\n"
+      "assembled plant: the Plant tab's plant (e.g. presets/two_mass_drive.json) from a drive to an output, "
+      "the loops run on the assembled nonlinear plant.\ntyped num/den: your G(s), no friction (no loop with friction)");
+  if (p.source == control::PlantSource::Typed) {
+    coefficient_field(d, false);
+    coefficient_field(d, true);
+    return;
+  }
+  if (p.source != control::PlantSource::Assembly) return;
+  if (!assembly) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErr);
+    ImGui::TextWrapped("No assembled plant loaded: open a schema-2 preset (e.g. presets/two_mass_drive.json) in the Plant tab.");
+    ImGui::PopStyleColor();
+    return;
+  }
+  const Assembly& a = assembly->plant;
+  auto combo = [&](const char* label, std::string& value, const std::vector<std::string>& names,
+                   const std::vector<std::string>& items, const std::string& shown, const char* help) {
+    ImGui::SetNextItemWidth(ImGui::GetFontSize() * 11.0f);
+    if (ImGui::BeginCombo(label, shown.c_str())) {
+      for (std::size_t i = 0; i < names.size(); ++i)
+        if (ImGui::Selectable(items[i].c_str(), names[i] == value) && names[i] != value)
+          value = names[i], d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+      ImGui::EndCombo();
+    }
+    tip(help);
+  };
+  std::vector<std::string> drives, drive_items, outputs, output_items;
+  for (const auto& x : a.drives)
+    if (x.kind == DrivePart::Kind::Force || x.kind == DrivePart::Kind::Pull) {
+      drives.push_back(x.name);
+      drive_items.push_back(x.name + " (" + to_string(x.kind) + " on " + a.bodies[static_cast<std::size_t>(x.body)].name + ")");
+    }
+  for (const auto& b : a.bodies) outputs.push_back("x." + b.name), output_items.push_back("x." + b.name + " [m]");
+  // The names resolved as the design resolves them ("" = the first drive, its body's position).
+  std::string drive_shown = p.drive.empty() ? "(first force / pull drive)" : p.drive;
+  std::string output_shown = p.output.empty() ? "(the drive's body)" : p.output;
+  try {
+    const control::AssemblyPort port = control::assembly_port(a, p.drive, p.output);
+    drive_shown = port.drive_name, output_shown = port.output;
+  } catch (const InputError&) {  // the design reports it (red, under Results)
+  }
+  combo("drive u", p.drive, drives, drive_items, drive_shown,
+        "The drive the controller acts through: a force drive (u = F [N]) or a pull drive (u = x_p [m])");
+  combo("output y", p.output, outputs, output_items, output_shown,
+        "The measured position: the drive's own body is collocated control (poles and zeros interlace), "
+        "another body non-collocated (no finite zeros for an undamped chain; a damper c adds -k/c)");
+  const auto port_body = [&]() -> std::string {
+    try {
+      const auto port = control::assembly_port(a, p.drive, p.output);
+      return a.bodies[static_cast<std::size_t>(a.drives[port.drive].body)].name == port.output.substr(2) ? "collocated"
+                                                                                                         : "non-collocated";
+    } catch (const InputError&) {
+      return "";
+    }
+  }();
+  if (!port_body.empty()) ImGui::TextColored(kDim, "%s control of '%s'", port_body.c_str(), assembly->name.c_str());
+}
+
 void recompute(DesignViewState& d) {
   if (!d.dirty) return;
   control::set_design_inputs(d.settings, d.in);  // the panel only offers valid names
@@ -77,9 +206,50 @@ void recompute(DesignViewState& d) {
   d.dirty = false;
 }
 
-void plant_section(DesignViewState& d) {
-  ImGui::TextUnformatted("Plant: force -> position of the mass");
+// The plant of an assembled or typed source: what G(s) is (and, assembled, the regime of its
+// contacts). Returns false for the scenario's plant (plant_section draws it).
+bool plant_other_source(DesignViewState& d) {
+  const control::PlantSource src = d.settings.plant.source;
+  if (src == control::PlantSource::Scenario) return false;
   DesignSettings& s = d.settings;
+  if (src == control::PlantSource::Assembly) {
+    int regime = s.regime == "presliding" ? 0 : 1;
+    bool ch = ImGui::RadioButton("contacts stuck", &regime, 0);
+    tip("Every contact stuck: its elements add their stiffness sum k_i and micro-damping between its bodies");
+    ImGui::SameLine();
+    ch |= ImGui::RadioButton("sliding at v0", &regime, 1);
+    tip("Every contact sliding at v0 (default 10 Vs of each contact): the local Stribeck slope plus sigma2 as a damper");
+    if (ch) s.regime = regime == 0 ? "presliding" : "sliding", d.dirty = true, d.in.locus_view.reset(), d.picked = false;
+    if (s.regime == "sliding") {  // 0: each contact at its own 10 Vs; shown as the first contact's
+      double v0 = s.velocity;
+      if (!(v0 > 0.0) && d.in.assembly && !d.in.assembly->plant.contacts.empty())
+        v0 = control::default_sliding_velocity(d.in.assembly->plant.contacts.front().friction);
+      if (!(v0 > 0.0)) v0 = 0.01;
+      if (input_double("v0 [m/s]##assembly_v0", &v0, 1e-5, 1.0, "%.3g",
+                       "Sliding velocity of every contact (until set: each contact's own 10 Vs)", true))
+        s.velocity = v0, d.dirty = true, d.in.locus_view.reset();
+    }
+    d.dirty |= ImGui::Checkbox("show the other regime's locus (grey)", &s.other_regime);
+    tip("Overlay the locus of the other regime's plant with the same compensator");
+  }
+  d.dirty |= ImGui::Checkbox("show the 0-degree locus (k < 0, light blue)", &s.zero_degree);
+  tip("The complementary locus: negative gain / positive feedback");
+  if (d.out.source == src && !d.out.plant_label.empty()) {
+    const auto& g = d.out.plant.g;
+    ImGui::PushStyleColor(ImGuiCol_Text, kDim);
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::Text("G(s) = (%s) / (%s)\n%s", control::to_string(g.num).c_str(), control::to_string(g.den).c_str(),
+                d.out.plant_label.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::PopStyleColor();
+  }
+  return true;
+}
+
+void plant_section(DesignViewState& d) {
+  DesignSettings& s = d.settings;
+  if (plant_other_source(d)) return;
+  ImGui::TextUnformatted("Plant: force -> position of the mass");
   int regime = s.regime == "presliding" ? 0 : 1;
   bool ch = ImGui::RadioButton("presliding", &regime, 0);
   tip("Friction elements stuck: they add their stiffness sum k_i and micro-damping");
@@ -263,12 +433,14 @@ void simulation_section(DesignViewState& d) {
 }
 }  // namespace
 
-void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation) {
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation, const AssemblyScenario* assembly) {
   sync(d, scenario, generation);
+  sync_assembly(d, assembly);
   recompute(d);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float left = std::min(ImGui::GetFontSize() * 24.0f, 0.34f * avail.x);
   ImGui::BeginChild("##design_controls", ImVec2(left, avail.y), true);
+  plant_source_section(d, assembly);
   plant_section(d);
   root_section(d);
   result_section(d);

@@ -20,7 +20,9 @@ void metrics_table(const DesignViewState& d) {
     // Nothing was simulated (no compensator, or the loops are switched off): no numbers to show.
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("no loop simulated: %s",
-                        d.out.compensator ? "loops are off" : "no compensator (see the design)");
+                        d.out.source == control::PlantSource::Typed ? "typed plant (no friction)"
+                        : d.out.compensator                         ? "loops are off"
+                                                                    : "no compensator (see the design)");
     ImGui::PopTextWrapPos();
     return;
   }
@@ -67,6 +69,30 @@ void metrics_table(const DesignViewState& d) {
                         pc->stable ? "" : ":\nlarger motions grow");
   else if (d.out.limit_cycles)
     ImGui::TextDisabled("DF: no cycle predicted");
+  if (d.out.source == control::PlantSource::Assembly && !d.out.loop_note.empty()) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("%s", d.out.loop_note.c_str());
+    ImGui::PopTextWrapPos();
+  }
+}
+
+// A typed plant has no friction to simulate: the loop plots' place says so (instead of empty axes).
+bool typed_plant_note(const DesignViewState& d, ImVec2 size) {
+  if (d.out.source != control::PlantSource::Typed) return false;
+  ImGui::BeginChild("##typed_note", size, true);
+  ImGui::TextUnformatted("Loop with friction: not simulated");
+  ImGui::Separator();
+  ImGui::PushTextWrapPos(0.0f);
+  ImGui::TextUnformatted(
+      "The plant is typed as num/den: a linear G(s) without friction and without a scenario, so there is no "
+      "nonlinear loop to simulate (and no describing function). The linear closed-loop step at the left is "
+      "this G(s) with the compensator.");
+  ImGui::Spacing();
+  ImGui::TextDisabled("For the loop with friction choose the plant source 'scenario (one body)' or 'assembled plant' (the "
+                      "Plant tab's).");
+  ImGui::PopTextWrapPos();
+  ImGui::EndChild();
+  return true;
 }
 }  // namespace
 
@@ -83,9 +109,19 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
     EndPlot();
   }
   ImGui::SameLine();
-  static char title[160];
-  std::snprintf(title, sizeof title, "With friction (%s): position vs reference",
-                d.in.scenario.friction.model.c_str());
+  if (typed_plant_note(d, ImVec2(w, size.y))) {
+    ImGui::SameLine();
+    ImGui::BeginChild("##design_metrics", ImVec2(0, size.y), false);
+    metrics_table(d);
+    ImGui::EndChild();
+    return;
+  }
+  static char title[200];
+  if (o.source == control::PlantSource::Assembly)
+    std::snprintf(title, sizeof title, "Assembled plant: %s vs reference", o.port.output.c_str());
+  else
+    std::snprintf(title, sizeof title, "With friction (%s): position vs reference",
+                  d.in.scenario.friction.model.c_str());
   PlotOptions nl;
   nl.title = title;
   const float gap = ImGui::GetStyle().ItemSpacing.y;

@@ -33,8 +33,15 @@ namespace gmslab::ui {
 double zeta_for_overshoot(double overshoot_percent);
 
 // The Design panel: its own state and the scenario it designs for (generation: the app's scenario
-// generation; a new one resyncs the design's plant). Knows nothing of the app.
-void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation);
+// generation; a new one resyncs the design's plant), and the Plant tab's assembled plant (null when
+// none is loaded) for the plant source "assembly". Knows nothing of the app.
+void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generation,
+                       const AssemblyScenario* assembly = nullptr);
+
+// The end of an edit of the typed plant's numerator (den = false) or denominator: applied when the
+// pair is valid (core/control/design_plant.hpp typed_plant), else d.num_error / d.den_error says
+// why, naming the field, and the value in force stays (the field shows it). Returns whether applied.
+bool apply_coefficient_edit(DesignViewState& d, bool den, const std::string& text);
 
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);

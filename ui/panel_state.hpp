@@ -85,6 +85,9 @@ struct DesignViewState {
   std::vector<control::cplx> picked_poles;
   PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
   bool harmonic_balance = false;     // the Nyquist canvas shows H(jw) and -1/N (describing function)
+  // Typed plant fields: the text being edited (the value in force, settings.plant.num / den, when
+  // not being edited) and why the last edit was rejected ("" when it was not).
+  std::string num_edit, den_edit, num_error, den_error;
 };
 
 // The Identify panel (ui/identify_panel.hpp).

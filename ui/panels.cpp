@@ -20,7 +20,7 @@ const std::vector<PanelEntry>& panels() {
        }},
       {"Design", "Phase-lead design on the root locus, simulated with the friction",
        [](AppState& s) {
-         draw_design_panel(s.design, s.scenario, s.generation);
+         draw_design_panel(s.design, s.scenario, s.generation, s.plant.scenario.get());
          s.forward_error(Panel::Design);
        }},
       {"Identify", "Fit a friction model to measured data and find what it lacks",

@@ -25,6 +25,12 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
       ->capture_default_str();
   sub.add_flag("--compare", o.compare, "Identify view: also fit and compare every model (slower)");
   sub.add_flag("--no-run", o.no_run, "Identify view: load and show the records of --data without identifying");
+  sub.add_option("--drive", o.drive, "Design view, assembled preset: the drive the controller acts through");
+  sub.add_option("--output", o.output, "Design view, assembled preset: the measured output x.BODY");
+  sub.add_option("--num", o.num, "Design view: a typed plant's numerator, highest power first (with --den)");
+  sub.add_option("--den", o.den, "Design view: a typed plant's denominator, highest power first (with --num)");
+  sub.add_option("--zeta", o.zeta, "Design view: damping ratio of the desired dominant roots, in [0.02, 0.98]");
+  sub.add_option("--wn", o.wn, "Design view: natural frequency of the desired dominant roots [rad/s], > 0");
   sub.add_option("--format", o.format,
                  "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
       ->check(CLI::IsMember({"png", "svg"}))

@@ -22,6 +22,10 @@ struct RenderOptions {
   bool no_run = false;   // only load and show the records
   bool compare = false;  // also compare every model
   std::string format = "png";  // png, or svg: the Simulation view's plots as a vector figure
+  // Design view: the plant source (core/control/design_plant.hpp). An assembled preset (schema 2)
+  // designs from `drive` to `output` ("" = the first drive, its body); num / den: a typed plant.
+  std::string drive, output, num, den;
+  double zeta = 0.0, wn = 0.0;  // design view: desired dominant roots (0: the Design tab's defaults)
 };
 
 struct FiguresOptions {

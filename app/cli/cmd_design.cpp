@@ -4,6 +4,10 @@
 //   gmslab design --num "4" --den "1 2 0" --zeta 0.5 --wn 4 [--K 5] [--max-ratio 20] --json OUT
 //   gmslab design --preset SCENARIO.json --zeta 0.7 --wn 60 [--regime sliding] [--K 1000]
 //                 [--simulate --reference ramp --compensation all] --json OUT
+//   gmslab design --preset presets/two_mass_drive.json --drive motor_force --output x.load ...
+// The plant comes from core/control/design_plant.hpp (the Design tab's function): typed
+// coefficients, a v1 scenario's one body, or an assembled plant (schema 2, or a v1 preset with
+// --drive / --output) from a drive to an output; --simulate then runs the loop on that plant.
 // OUT may be '-' (stdout). Without --K the design is the usable maximum (p/z = --max-ratio).
 #include <cmath>
 #include <iostream>
@@ -13,9 +17,12 @@
 
 #include "app/cli/cli.hpp"
 #include "core/control/design_json.hpp"
+#include "core/control/design_plant_json.hpp"
 #include "core/control/scenario_plant.hpp"
 #include "core/error.hpp"
+#include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
+#include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
 
 namespace gmslab::cli {
@@ -25,6 +32,7 @@ using namespace gmslab::control;
 
 struct Opts {
   std::string num, den, preset, json;
+  std::string drive, output;  // assembled plant: drive name, output x.BODY / v.BODY
   std::string regime = "presliding";
   double velocity = 0.0;
   double zeta = 0.0, wn = 0.0;
@@ -46,7 +54,16 @@ Signal reference_signal(const Opts& o) {
   throw InputError("--reference '" + o.reference + "': expected step, ramp or sine");
 }
 
-nlohmann::json simulate(const Scenario& sc, const Opts& o, const LeadDesign& d) {
+// The loop on the plant the design was for: the scenario's one body or the assembled plant.
+struct LoopPlant {
+  const Scenario* scenario = nullptr;
+  const AssemblyScenario* assembly = nullptr;
+  AssemblyPort port;
+  double dt() const { return assembly ? assembly->run.dt : scenario->run.dt; }
+  LoopTrace run(const LoopConfig& c) const { return assembly ? simulate_loop(*assembly, port, c) : simulate_loop(*scenario, c); }
+};
+
+nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadDesign& d) {
   std::vector<Compensation> comps;
   if (o.compensation == "all") comps = {Compensation::None, Compensation::Coulomb, Compensation::Gms};
   else comps = {compensation_from_string(o.compensation)};
@@ -58,9 +75,9 @@ nlohmann::json simulate(const Scenario& sc, const Opts& o, const LeadDesign& d) 
     cfg.sample_time = o.T;
     cfg.comp = c;
     cfg.mismatch = {o.mm_force, o.mm_stiffness, o.mm_velocity};
-    cfg.dt = o.dt > 0.0 ? o.dt : sc.run.dt;
+    cfg.dt = o.dt > 0.0 ? o.dt : sc.dt();
     cfg.duration = o.duration;
-    nlohmann::json j = to_json(loop_metrics(simulate_loop(sc, cfg)));
+    nlohmann::json j = to_json(loop_metrics(sc.run(cfg)));
     j["compensation"] = to_string(c);
     out.push_back(j);
   }
@@ -140,29 +157,37 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
 }
 
 int run_design(const Opts& o) {
-  TransferFunction g;
   nlohmann::json plant;
   std::optional<Scenario> sc;
+  std::optional<AssemblyScenario> asc;
+  PlantChoice choice;
+  const Regime regime = regime_from_string(o.regime);
   if (!o.preset.empty()) {
     if (!o.num.empty() || !o.den.empty())
       throw InputError("give either --preset or --num/--den, not both");
-    sc = load_scenario(o.preset);
-    const LinearPlant lp = linear_plant(*sc, regime_from_string(o.regime), o.velocity);
-    g = lp.g;
-    plant = {{"source", o.preset}, {"regime", to_string(lp.regime)}, {"mass_kg", lp.mass},
-             {"stiffness_N_per_m", lp.stiffness}, {"damping_N_s_per_m", lp.damping},
-             {"velocity_m_per_s", lp.velocity}};
+    const bool assembled = preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2;
+    if (assembled || !o.drive.empty() || !o.output.empty()) {
+      // An assembled plant; a v1 preset with --drive / --output as its one-body assembly.
+      asc = load_assembly_scenario(o.preset);
+      choice.source = PlantSource::Assembly;
+      choice.drive = o.drive;
+      choice.output = o.output;
+    } else {
+      sc = load_scenario(o.preset);
+    }
   } else {
     if (o.num.empty() || o.den.empty())
       throw InputError("give the plant as --num and --den (coefficients, highest power first), "
                        "or --preset SCENARIO.json");
-    g = {parse_polynomial(o.num, "--num"), parse_polynomial(o.den, "--den")};
-    g.check_proper("--num/--den");
-    plant = {{"source", "coefficients"}};
+    typed_plant(o.num, o.den, "--num", "--den");  // the errors name the options
+    choice.source = PlantSource::Typed;
+    choice.num = o.num;
+    choice.den = o.den;
   }
-  plant["num"] = g.num.descending_coeffs();
-  plant["den"] = g.den.descending_coeffs();
-  if (o.simulate && !sc) throw InputError("--simulate needs --preset (the friction to simulate with)");
+  const DesignPlant dp = design_plant(choice, regime, o.velocity, sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
+  const TransferFunction g = dp.linear.g;
+  plant = plant_json(dp, o.preset, o.velocity);
+  if (o.simulate && !sc && !asc) throw InputError("--simulate needs --preset (the friction to simulate with)");
 
   const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin}, o.T);
   const LeadReport& r = d.report;
@@ -176,7 +201,7 @@ int run_design(const Opts& o) {
   }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
-    j["simulation"] = simulate(*sc, o, chosen->second);
+    j["simulation"] = simulate(LoopPlant{sc ? &*sc : nullptr, asc ? &*asc : nullptr, dp.port}, o, chosen->second);
   }
   const std::string text = j.dump(2) + "\n";
   if (o.json == "-") {
@@ -198,7 +223,13 @@ void register_design(CLI::App& app, Action& action) {
       "design", "Phase-lead design on the root locus with the largest reachable error constant");
   sub->add_option("--num", o->num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
   sub->add_option("--den", o->den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
-  sub->add_option("--preset", o->preset, "Design for this scenario's plant (force -> position)");
+  sub->add_option("--preset", o->preset,
+                  "Design for this preset's plant: a scenario (force -> position of the mass) or an assembled "
+                  "plant (schema 2: from --drive to --output)");
+  sub->add_option("--drive", o->drive,
+                  "Assembled plant: the force or pull drive the controller acts through (default: the first)");
+  sub->add_option("--output", o->output,
+                  "Assembled plant: the measured output x.BODY [m] or v.BODY [m/s] (default: x of the drive's body)");
   sub->add_option("--regime", o->regime, "Scenario plant regime: presliding or sliding")->capture_default_str();
   sub->add_option("--velocity", o->velocity, "Sliding operating velocity v0 [m/s] (default 10 Vs)");
   sub->add_option("--zeta", o->zeta, "Damping ratio of the desired dominant roots, in (0, 1)")->required();

@@ -16,6 +16,10 @@
 #include <vector>
 
 #include "core/control/design_json.hpp"
+#include "core/io/atomic_file.hpp"
+#include "core/io/json_reader.hpp"
+#include "core/io/assembly_io.hpp"
+#include "core/control/design_plant_json.hpp"
 #include "core/control/polynomial.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/control/scenario_plant.hpp"
@@ -260,18 +264,27 @@ PYBIND11_MODULE(_gmslab, m) {
   // ---- design ------------------------------------------------------------------------------
   m.def("design", [](double zeta, double wn, std::optional<std::vector<double>> num,
                      std::optional<std::vector<double>> den, py::object scenario, const std::string& regime,
-                     double velocity, std::optional<double> K, double max_ratio, double margin) {
-    control::TransferFunction g;
-    nlohmann::json plant;
+                     double velocity, std::optional<double> K, double max_ratio, double margin,
+                     const std::string& drive, const std::string& output) {
+    // The plant as `gmslab design` builds it (control::design_plant, control::plant_json).
+    control::PlantChoice choice;
+    std::optional<Scenario> sc;
+    std::optional<AssemblyScenario> asc;
+    std::string source;
     if (!scenario.is_none()) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
-      const Scenario sc = scenario_arg(scenario);
-      const auto lp = control::linear_plant(sc, control::regime_from_string(regime), velocity);
-      g = lp.g;
-      plant = {{"source", py::isinstance<py::str>(scenario) ? scenario.cast<std::string>() : sc.name},
-               {"regime", control::to_string(lp.regime)}, {"mass_kg", lp.mass},
-               {"stiffness_N_per_m", lp.stiffness}, {"damping_N_s_per_m", lp.damping},
-               {"velocity_m_per_s", lp.velocity}};
+      const bool path = py::isinstance<py::str>(scenario);
+      source = path ? scenario.cast<std::string>() : std::string();
+      const bool assembled = path && preset_schema_version(parse_json(read_file(source), source)) == 2;
+      if (assembled || !drive.empty() || !output.empty()) {
+        asc = path ? load_assembly_scenario(source) : assembly_from_scenario(scenario.cast<Scenario>());
+        choice.source = control::PlantSource::Assembly;
+        choice.drive = drive;
+        choice.output = output;
+      } else {
+        sc = scenario_arg(scenario);
+        if (!path) source = sc->name;
+      }
     } else {
       if (!num || !den) throw InputError("give the plant as num and den (coefficients, highest power first), or scenario");
       auto text = [](const std::vector<double>& c) {
@@ -280,21 +293,25 @@ PYBIND11_MODULE(_gmslab, m) {
         for (double x : c) { std::snprintf(b, sizeof b, "%.17g ", x); s += b; }
         return s;
       };
-      g = {control::parse_polynomial(text(*num), "num"), control::parse_polynomial(text(*den), "den")};
-      g.check_proper("num/den");
-      plant = {{"source", "coefficients"}};
+      choice.source = control::PlantSource::Typed;
+      choice.num = text(*num);
+      choice.den = text(*den);
     }
-    plant["num"] = g.num.descending_coeffs();
-    plant["den"] = g.den.descending_coeffs();
+    const control::DesignPlant dp = control::design_plant(choice, control::regime_from_string(regime), velocity,
+                                                          sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
+    const control::TransferFunction g = dp.linear.g;
+    const nlohmann::json plant = control::plant_json(dp, source, velocity);
     auto d = control::design_report(g, {zeta, wn}, K, {max_ratio, margin});
     d.json["plant"] = plant;
     return to_py(d.json);
   }, py::arg("zeta"), py::arg("wn"), py::arg("num") = py::none(), py::arg("den") = py::none(),
         py::arg("scenario") = py::none(), py::arg("regime") = "presliding", py::arg("velocity") = 0.0,
         py::arg("K") = py::none(), py::arg("max_ratio") = 20.0, py::arg("margin") = 0.1,
+        py::arg("drive") = "", py::arg("output") = "",
         "Phase-lead design (as `gmslab design --json`): desired roots zeta [-], wn [rad/s]; plant as "
         "num/den coefficients (highest power first, G(s) in m/N) or a scenario (path or Scenario) "
-        "linearised in `regime` at `velocity` [m/s]; K: desired error constant (None: usable maximum). "
+        "linearised in `regime` at `velocity` [m/s]; an assembled preset (schema 2) or drive / output "
+        "names: from the force / pull `drive` to the `output` x.BODY; K: desired error constant (None: usable maximum). "
         "Returns the report dict (phi_deg, K_max, z, p, Kc, closed_loop_poles, ...)");
 
   m.def("root_locus", [](const std::vector<double>& num, const std::vector<double>& den, bool negative,

@@ -45,7 +45,17 @@ DesignOutputs compute_design(const DesignInputs& in) {
   DesignOutputs out;
   std::string stage = "plant";
   try {
-    out.plant = linear_plant(in.scenario, in.regime, in.velocity);
+    const Assembly* assembly = in.assembly ? &in.assembly->plant : nullptr;
+    {
+      const DesignPlant dp = design_plant(in.plant, in.regime, in.velocity, &in.scenario, assembly);
+      out.plant = dp.linear;
+      out.source = dp.source;
+      out.plant_label = dp.label;
+      out.port = dp.port;
+    }
+    if (out.source == PlantSource::Typed)
+      out.loop_note = "typed plant: no friction and no scenario to simulate, so no loop with friction and no "
+                      "describing function; the linear closed-loop step is the typed plant's with the compensator";
     try {  // a failed design still leaves the plant's own locus to draw
       out.report = lead_design(out.plant.g, in.root, in.K, in.options);
       choose(in, out);
@@ -63,8 +73,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     const cplx sd = in.root.s();
     std::vector<cplx> pts = {sd, 2.0 * sd.real()};
     auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
-    for (const cplx& s : out.plant.g.poles()) pts.push_back(s);
-    for (const cplx& s : out.plant.g.zeros()) pts.push_back(s);
+    double reach = std::abs(sd);
+    for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
+    // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
+    // shrink the region where the locus bends to a dot: left to the user's zoom.
+    for (const cplx& s : out.plant.g.zeros())
+      if (std::abs(s) <= 4.0 * reach) pts.push_back(s);
     if (out.compensator) {
       const LeadCompensator& c = *out.compensator;
       L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
@@ -95,9 +109,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
       neg.extra_gains.clear();
       out.zero_degree_locus = root_locus(L, neg);
     }
-    if (in.other_regime) {
+    if (in.other_regime && out.source != PlantSource::Typed) {  // a typed plant has no regimes
       const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
-      const TransferFunction g2 = linear_plant(in.scenario, other, in.velocity).g;
+      const TransferFunction g2 = design_plant(in.plant, other, in.velocity, &in.scenario, assembly).linear.g;
       TransferFunction L2 = g2;
       if (out.compensator)
         L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
@@ -118,8 +132,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (!out.compensator) return out;
     stage = "step response";
     out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
+    if (out.source == PlantSource::Typed) return out;
     stage = "describing function";
-    {
+    if (out.source == PlantSource::Assembly) {
+      out.loop_note = "DF: not predicted for an assembled plant (the describing function here is for one "
+                      "body and one contact); the loops run on the assembled nonlinear plant";
+    } else {
       const auto fm = build_model(in.scenario.friction);
       out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
                                               DfOptions{400, 2});
@@ -133,20 +151,30 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.mismatch = in.mismatch;
     // A view-rate step: 20000 steps over the run, never coarser than 5 % of the stability limit
     // of the stiffest mode (stuck elements + springs + Kc), never finer than the scenario's dt.
-    const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
-    const double limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
-    const double dt0 = in.scenario.run.dt;
+    double limit = 0.0, dt0 = 0.0;
+    if (out.source == PlantSource::Assembly) {
+      limit = assembly_loop_dt_limit(*assembly, out.port.drive, cfg.C.Kc);
+      dt0 = in.assembly->run.dt;
+    } else {
+      const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
+      limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
+      dt0 = in.scenario.run.dt;
+    }
     cfg.duration = out.horizon;
     if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
       cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
     cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
     cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
+    auto run = [&] {
+      return out.source == PlantSource::Assembly ? simulate_loop(*in.assembly, out.port, cfg)
+                                                 : simulate_loop(in.scenario, cfg);
+    };
     cfg.comp = Compensation::None;
-    out.loop_plain = simulate_loop(in.scenario, cfg);
+    out.loop_plain = run();
     out.metrics_plain = loop_metrics(out.loop_plain);
     out.error_plain = tracking_error(out.loop_plain);
     cfg.comp = in.compensation;
-    out.loop_compensated = simulate_loop(in.scenario, cfg);
+    out.loop_compensated = run();
     out.metrics_compensated = loop_metrics(out.loop_compensated);
     out.error_compensated = tracking_error(out.loop_compensated);
   } catch (const Error& e) {  // typed: bad input, a diverging loop

@@ -1,20 +1,25 @@
 // gmslab core/control: everything the root-locus design view shows, computed from its inputs in
 // one call (the view calls it on every drag; the benchmark times it).
 //
-// plant  = linear_plant(scenario, regime, v0)                 G(s) [m/N]
+// plant  = design_plant(choice, regime, v0, scenario, assembly)  G(s): the scenario's one body
+//          [m/N], an assembled plant's drive -> output, or typed num/den (design_plant.hpp)
 // design = the lead of lead_design() for (zeta, wn, K), or the relocated / usable one, or the
 //          compensator the user dragged (manual)
 // locus  = root locus of the compensated loop in its gain: L(s) = (s + z) G(s) / (s + p), k = Kc
 //          (the plant's own locus when there is no compensator)
 // step   = linear closed-loop unit-step response, t in [0, horizon]
-// loops  = the same loop with the scenario's friction: without and with compensation
+// loops  = the same loop with the scenario's friction: without and with compensation; for an
+//          assembled plant, on the assembled nonlinear plant (the controller's force through the
+//          chosen drive, measuring the chosen output); none for a typed plant (no friction to
+//          simulate: `loop_note` says so)
 // horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
 // horizon, or two periods of a sine reference when that is longer, at a view-rate step
 // dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
 // Kc) / m)).
-// locus view (unless given): the region around s_d, the plant's poles and zeros, the compensator
-// zero, and the compensator pole and closed-loop poles when they lie within 4 |s_d| (a far lead
-// pole would otherwise shrink the interesting region to a dot).
+// locus view (unless given): the region around s_d, the plant's poles, its zeros within 4x the
+// farthest of s_d and the poles, the compensator zero, and the compensator pole and closed-loop
+// poles when they lie within 4 |s_d| (a far lead pole would otherwise shrink the interesting region
+// to a dot).
 // A typed failure of any stage (InputError, SimulationError: core/error.hpp) is reported in
 // `error` with its kind and later stages are skipped; a failed design (e.g. K0 <= 0) still gets
 // the plant's locus (or the manual compensator's loop). Any other exception is a bug and
@@ -24,6 +29,7 @@
 #include <optional>
 #include <string>
 
+#include "core/control/design_plant.hpp"
 #include "core/control/describing_function.hpp"
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
@@ -38,6 +44,8 @@ namespace gmslab::control {
 
 struct DesignInputs {
   Scenario scenario;
+  PlantChoice plant;                        // where G(s) comes from
+  std::optional<AssemblyScenario> assembly;  // the assembled plant (plant source "assembly")
   Regime regime = Regime::Sliding;
   double velocity = 0.0;            // sliding operating velocity v0 [m/s] (0: default)
   DominantRoot root{0.7, 60.0};     // desired dominant roots
@@ -59,6 +67,12 @@ struct DesignOutputs {
   std::string error;  // empty when every stage ran
   std::optional<ErrorKind> error_kind;  // the kind of the (last) failure, if any
   LinearPlant plant;
+  PlantSource source = PlantSource::Scenario;  // of `plant`
+  std::string plant_label;                     // what G(s) is (DesignPlant::label)
+  AssemblyPort port;                           // assembly: the drive and output designed for
+  // Why the loops with friction (or the describing function, or the other regime's locus) were not
+  // computed for this plant source; empty when they were.
+  std::string loop_note;
   std::optional<LeadReport> report;
   std::optional<LeadCompensator> compensator;  // what the loops use
   std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"

@@ -19,6 +19,7 @@ std::optional<DesignReference> design_reference_from_string(std::string_view s) 
 
 namespace control {
 void set_design_inputs(const DesignSettings& s, DesignInputs& in) {
+  in.plant = s.plant;
   in.regime = regime_from_string(s.regime);
   in.velocity = s.velocity;
   in.root = design_root(s);

@@ -20,6 +20,7 @@ std::optional<DesignReference> design_reference_from_string(std::string_view s);
 
 // The Design tab's settings; ranges are those of its fields (checked when a session is loaded).
 struct DesignSettings {
+  control::PlantChoice plant;       // plant source: scenario / assembled drive -> output / typed num/den
   std::string regime = "sliding";   // plant regime: "presliding" | "sliding"
   double velocity = 0.0;            // sliding operating velocity v0 [m/s], [0, 1e3]; 0: automatic
   double zeta = 0.7;                // desired dominant damping ratio [-], [0.02, 0.98]
@@ -45,7 +46,7 @@ struct DesignSettings {
 namespace control {
 // The desired dominant roots of the settings.
 inline DominantRoot design_root(const DesignSettings& s) { return {s.zeta, s.wn}; }
-// Sets every field of `in` that the settings determine (regime, velocity, root, K, options'
+// Sets every field of `in` that the settings determine (plant choice, regime, velocity, root, K, options'
 // max_ratio, reference signal, compensation, mismatch, sample time, extra loci); leaves the rest
 // (scenario, manual compensator, horizon, simulate, locus view) alone. Throws InputError for a
 // regime or compensation name that is not one.

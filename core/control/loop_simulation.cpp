@@ -40,12 +40,12 @@ void scale_column(ModelParams& p, const char* key, double f) {
   for (auto& row : p.elements) row[static_cast<std::size_t>(c)] *= f;
 }
 
-void check_config(const Scenario& s, const LoopConfig& c) {
+// The config's own problems (what does not depend on the plant).
+std::vector<std::string> config_problems(const LoopConfig& c) {
   std::vector<std::string> bad;
   auto need = [&](bool ok, const std::string& what) {
     if (!ok) bad.push_back(what);
   };
-  need(s.plant.mass > 0.0, "plant.mass must be > 0 kg");
   need(c.C.Kc > 0.0 && c.C.z > 0.0 && c.C.p >= 0.0 && std::isfinite(c.C.Kc + c.C.z + c.C.p),
        "compensator: Kc, z must be finite and > 0, p finite and >= 0 (p = 0: PI)");
   need(c.dt > 0.0 && c.dt <= 0.1, "dt must be in (0, 0.1] s");
@@ -55,6 +55,27 @@ void check_config(const Scenario& s, const LoopConfig& c) {
        "sample time T must be 0 (continuous) or in [dt, duration] s");
   need(c.mismatch.force > 0.0 && c.mismatch.stiffness > 0.0 && c.mismatch.velocity > 0.0,
        "mismatch factors must be > 0");
+  return bad;
+}
+
+void throw_problems(const std::vector<std::string>& bad) {
+  if (bad.empty()) return;
+  std::string msg = "closed-loop simulation:";
+  for (const auto& b : bad) msg += "\n  " + b;
+  throw InputError(msg);
+}
+
+std::string dt_problem(double dt, double lim, double Kc) {
+  if (dt < lim) return "";
+  std::ostringstream o;
+  o << "dt = " << dt << " s is too large for the stiffest mode (stuck friction elements, "
+    << "springs and the controller gain Kc = " << Kc << " N/m): it must be < " << lim << " s";
+  return o.str();
+}
+
+void check_config(const Scenario& s, const LoopConfig& c) {
+  std::vector<std::string> bad = config_problems(c);
+  if (!(s.plant.mass > 0.0)) bad.push_back("plant.mass must be > 0 kg");
   if (bad.empty()) {
     Scenario f = s;
     f.drive.kind = Drive::Kind::Force;
@@ -62,19 +83,40 @@ void check_config(const Scenario& s, const LoopConfig& c) {
     const double k_lim = stability_limit_dt(f);
     const double k_eq = 4.0 / (k_lim * k_lim) * s.plant.mass + c.C.Kc;
     const double lim = 2.0 / std::sqrt(k_eq / s.plant.mass);
-    if (c.dt >= lim) {
-      std::ostringstream o;
-      o << "dt = " << c.dt << " s is too large for the stiffest mode (stuck friction elements, "
-        << "springs and the controller gain Kc = " << c.C.Kc << " N/m): it must be < " << lim << " s";
-      bad.push_back(o.str());
+    if (auto p = dt_problem(c.dt, lim, c.C.Kc); !p.empty()) bad.push_back(p);
+  }
+  throw_problems(bad);
+}
+
+// The friction compensation's feedforward u_ff [N] for the given friction contacts (each driven by
+// the reference velocity): none, Coulomb Fc_hat sgn(v_ref) with Fc_hat the sum of the contacts' Fc
+// (their break-away without Fc), or each contact's GMS model (feedforward_model) stepped along.
+class Feedforward {
+ public:
+  Feedforward(const std::vector<ModelParams>& frictions, const LoopConfig& c) : comp_(c.comp) {
+    for (const auto& fr : frictions) {
+      if (comp_ == Compensation::Gms) {
+        models_.push_back(build_model(feedforward_model(fr, c.mismatch)));
+        states_.emplace_back(models_.back()->state_size());
+        models_.back()->reset(states_.back());
+      } else if (comp_ == Compensation::Coulomb) {
+        fc_hat_ += (has_scalar(fr, "Fc") ? fr.scalar("Fc") : build_model(fr)->break_away()) * c.mismatch.force;
+      }
     }
   }
-  if (!bad.empty()) {
-    std::string msg = "closed-loop simulation:";
-    for (const auto& b : bad) msg += "\n  " + b;
-    throw InputError(msg);
+  double step(double v_ref, double h) {
+    if (comp_ == Compensation::Coulomb) return fc_hat_ * sgn(v_ref);
+    double ff = 0.0;
+    for (std::size_t j = 0; j < models_.size(); ++j) ff += models_[j]->step(states_[j], {v_ref, h, 0.0, 0.0});
+    return ff;
   }
-}
+
+ private:
+  Compensation comp_;
+  std::vector<std::unique_ptr<FrictionModel>> models_;
+  std::vector<std::vector<double>> states_;
+  double fc_hat_ = 0.0;
+};
 
 // The lead Kc (s + z)/(s + p), continuous (exact over each step) or Tustin at T with hold.
 class LeadController {
@@ -130,17 +172,7 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
   const auto plant_f = build_model(s.friction);
   std::vector<double> st(plant_f->state_size());
   plant_f->reset(st);
-  std::unique_ptr<FrictionModel> ff_model;
-  std::vector<double> ff_st;
-  double fc_hat = 0.0;
-  if (c.comp == Compensation::Gms) {
-    ff_model = build_model(feedforward_model(s.friction, c.mismatch));
-    ff_st.resize(ff_model->state_size());
-    ff_model->reset(ff_st);
-  } else if (c.comp == Compensation::Coulomb) {
-    fc_hat = (has_scalar(s.friction, "Fc") ? s.friction.scalar("Fc") : plant_f->break_away()) *
-             c.mismatch.force;
-  }
+  Feedforward feedforward({s.friction}, c);
   LeadController ctrl(c.C, c.dt, c.sample_time);
   const Plant& pl = s.plant;
   const double h = c.dt;
@@ -159,14 +191,90 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
     const double r = c.reference(t);
     const double u = ctrl.update(k, r - x);
     const double v_ref = (c.reference(t + h) - r) / h;  // reference velocity over the step
-    double ff = 0.0;
-    if (ff_model) ff = ff_model->step(ff_st, {v_ref, h, 0.0, 0.0});
-    else if (c.comp == Compensation::Coulomb) ff = fc_hat * sgn(v_ref);
+    const double ff = feedforward.step(v_ref, h);
     const double f_other = u + ff - pl.spring * x - pl.damper * v;
     const double f = plant_f->step(st, {v, h, f_other, pl.mass});
     v += h * (f_other - f) / pl.mass;
     x += h * v;
     if (!std::isfinite(x) || !std::isfinite(v) || !std::isfinite(f)) {
+      std::ostringstream o;
+      o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
+      throw SimulationError(o.str());
+    }
+    if ((k + 1) % c.record_every == 0 || k + 1 == steps) record(t + h, c.reference(t + h), u, ff, f);
+  }
+  return tr;
+}
+
+double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc) {
+  if (drive >= a.drives.size()) throw InputError("loop: drive " + std::to_string(drive) + " is not a drive of the plant");
+  Assembly f = a;
+  const DrivePart& d = a.drives[drive];
+  const double k = d.kind == DrivePart::Kind::Pull ? Kc * d.pull_spring : Kc;
+  f.springs.push_back({"controller", d.body, kGround, std::max(0.0, k)});
+  return stability_limit_dt(f);
+}
+
+LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
+  std::vector<std::string> bad = config_problems(c);
+  const Assembly& a = s.plant;
+  if (port.drive >= a.drives.size() || port.body < 0 || static_cast<std::size_t>(port.body) >= a.bodies.size())
+    bad.push_back("drive / output: not a drive and a body of the plant");
+  if (bad.empty()) {
+    const DrivePart& d = a.drives[port.drive];
+    if (d.kind != DrivePart::Kind::Force && d.kind != DrivePart::Kind::Pull)
+      bad.push_back("drive '" + d.name + "': the controller acts through a force or pull drive");
+    else if (auto p = dt_problem(c.dt, assembly_loop_dt_limit(a, port.drive, c.C.Kc), c.C.Kc); !p.empty())
+      bad.push_back(p);
+  }
+  throw_problems(bad);
+  AssemblyScenario run = s;
+  run.run.dt = c.dt;
+  run.run.duration = c.duration;
+  run.run.record_every = 1 << 20;  // the loop keeps its own trace
+  AssemblySimulation sim(run);
+  const DrivePart& d = a.drives[port.drive];
+  const double pull_k = d.kind == DrivePart::Kind::Pull ? d.pull_spring : 0.0;
+  // The contacts to ground carry the friction the feedforward cancels (sign: force on the body).
+  std::vector<ModelParams> frictions;
+  std::vector<std::pair<std::size_t, double>> ground;  // contact index, sign
+  for (std::size_t j = 0; j < a.contacts.size(); ++j) {
+    const ContactPart& ct = a.contacts[j];
+    if (ct.b == kGround) ground.push_back({j, 1.0}), frictions.push_back(ct.friction);
+    else if (ct.a == kGround) ground.push_back({j, -1.0}), frictions.push_back(ct.friction);
+  }
+  Feedforward feedforward(frictions, c);
+  LeadController ctrl(c.C, c.dt, c.sample_time);
+  const double h = c.dt;
+  const long long steps = std::llround(c.duration / h);
+  const auto body = static_cast<std::size_t>(port.body);
+  auto output = [&] { return port.velocity ? sim.velocities()[body] : sim.positions()[body]; };
+  LoopTrace tr;
+  auto record = [&](double t, double r, double u, double ff, double f) {
+    tr.t.push_back(t), tr.r.push_back(r), tr.x.push_back(output()), tr.v.push_back(sim.velocities()[body]);
+    tr.u.push_back(u), tr.ff.push_back(ff), tr.friction.push_back(f);
+  };
+  const std::size_t n_rec = static_cast<std::size_t>(steps / c.record_every + 2);
+  for (auto* vec : {&tr.t, &tr.r, &tr.x, &tr.v, &tr.u, &tr.ff, &tr.friction}) vec->reserve(n_rec);
+  record(0.0, c.reference(0.0), 0.0, 0.0, 0.0);
+  for (long long k = 0; k < steps; ++k) {
+    const double t = static_cast<double>(k) * h;
+    const double r = c.reference(t);
+    const double u = ctrl.update(k, r - output());
+    const double v_ref = (c.reference(t + h) - r) / h;
+    const double ff = feedforward.step(v_ref, h);
+    // A pull drive's input is its point's position: the feedforward force acts through its spring.
+    sim.set_drive_input(port.drive, pull_k > 0.0 ? u + ff / pull_k : u + ff);
+    try {
+      sim.advance(1);
+    } catch (const SimulationError&) {
+      std::ostringstream o;
+      o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
+      throw SimulationError(o.str());
+    }
+    double f = 0.0;
+    for (const auto& [j, sign] : ground) f += sign * sim.contact_force(j);
+    if (!std::isfinite(output()) || !std::isfinite(f)) {
       std::ostringstream o;
       o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
       throw SimulationError(o.str());

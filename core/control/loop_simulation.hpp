@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control/design_plant.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/sim/scenario.hpp"
 
@@ -69,6 +70,20 @@ struct LoopMetrics {
 // The compensator's GMS model (see the mismatch rules above).
 ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch& m);
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
+// The loop on an assembled plant (core/sim/assembly.hpp, its own integrator and contacts): the
+// controller's u acts through drive port.drive (a force drive: F = u + u_ff [N]; a pull drive: u is
+// the point's position x_p [m] and the feedforward adds u_ff / k_p), measuring port's output (x.BODY
+// [m], or v.BODY [m/s]: a velocity loop). Every other drive keeps its signal (a disturbance). The
+// compensation feeds forward the friction of every contact to ground, each driven by v_ref (a rigid
+// train moves at v_ref, where contacts between two bodies do not slip). Trace: x = the output, v =
+// the output body's velocity, friction = the sum of the contacts' forces to ground on their bodies.
+// The assembly's run settings are replaced by c.dt and c.duration. Throws as the one-body loop; the
+// dt limit is assembly_loop_dt_limit. For a one-body assembly of a force-driven scenario
+// (assembly_from_scenario) it gives the one-body loop's trace.
+LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c);
+// Largest stable step of that loop [s]: 2 / w_max with contacts stuck and the controller's
+// high-frequency gain Kc as one more spring from the drive's body to ground (Kc k_p for a pull drive).
+double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc);
 LoopMetrics loop_metrics(const LoopTrace& tr);
 // e = r - x at every recorded sample [m].
 std::vector<double> tracking_error(const LoopTrace& tr);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
@@ -23,7 +24,13 @@ json to_json(const Session& s) {
                {"tab", s.view.tab},
                {"friction_against", s.view.friction_against}};
   const DesignSettings& d = s.design;
-  j["design"] = {{"regime", d.regime},
+  j["design"] = {{"plant",
+                  {{"source", control::to_string(d.plant.source)},
+                   {"num", d.plant.num},
+                   {"den", d.plant.den},
+                   {"drive", d.plant.drive},
+                   {"output", d.plant.output}}},
+                 {"regime", d.regime},
                  {"velocity", d.velocity},
                  {"zeta", d.zeta},
                  {"wn", d.wn},
@@ -76,8 +83,37 @@ ViewSettings view_from_json(JsonReader& r) {
   return v;
 }
 
+// design.plant: the plant source; num / den checked as the Design tab checks them (the value in
+// force is always a valid pair).
+control::PlantChoice plant_choice_from_json(JsonReader& r) {
+  control::PlantChoice p;
+  p.source = *control::plant_source_from_string(r.choice("source", {"scenario", "assembly", "typed"}));
+  const auto text = [&r](const char* key, std::size_t max) {
+    std::string v = r.string(key);
+    if (v.size() > max) r.fail(key, "at most " + std::to_string(max) + " characters");
+    return v;
+  };
+  p.num = text("num", 4096);
+  p.den = text("den", 4096);
+  if (const std::string why = control::coefficients_problem(p.num, false); !why.empty()) r.fail("num", why);
+  if (const std::string why = control::coefficients_problem(p.den, true); !why.empty()) r.fail("den", why);
+  try {
+    control::typed_plant(p.num, p.den);
+  } catch (const InputError& e) {  // improper: deg num > deg den
+    r.fail("num", e.what());
+  }
+  p.drive = text("drive", 256);
+  p.output = text("output", 256);
+  r.finish();
+  return p;
+}
+
 DesignSettings design_from_json(JsonReader& r) {
   DesignSettings d;
+  if (r.has("plant")) {  // sessions before the plant source have none: the scenario's plant
+    auto plant = r.object("plant");
+    d.plant = plant_choice_from_json(plant);
+  }
   d.regime = r.choice("regime", {"presliding", "sliding"});
   d.velocity = r.number("velocity", 0, 1e3, "m/s");
   d.zeta = r.number("zeta", 0.02, 0.98);

@@ -8,7 +8,8 @@
 //   "compare": {"model": "lugre", ...} | null,          overlay model on the same input
 //   "view": {"speed": 1.0, "color_phases": true, "slip_velocity": 1e-4, "tab": "Simulation",
 //            "friction_against": "auto"},                auto | displacement | velocity
-//   "design": {"regime": "sliding", "velocity": 0, "zeta": 0.7, "wn": 60, "use_K": false,
+//   "design": {"plant": {"source": "scenario", "num": "1", "den": "1 2 0", "drive": "", "output": ""},
+//              "regime": "sliding", "velocity": 0, "zeta": 0.7, "wn": 60, "use_K": false,
 //              "K": 1000, "max_ratio": 20, "reference": "sine", "amplitude": 0.01,
 //              "slope": 0.01, "frequency": 2, "compensation": "gms", "mismatch_force": 1,
 //              "mismatch_stiffness": 1, "sample_time": 0, "max_overshoot": 10,
@@ -22,8 +23,11 @@
 //             "scenario": { ...the Plant tab's assembled plant as edited, schema_version 2
 //                           (core/io/assembly_io.hpp)... }} | null      Plant tab empty
 // }
-// Every key is required. Versions 1 (no "design", no "identify"), 2 (no "identify") and 3 (no
-// "plant") are still read; what they lack gets the defaults below, as those versions had no way to save it. Unknown keys, wrong types,
+// Every key is required, except "design.plant" (older sessions have none: the scenario's plant).
+// design.plant.source: scenario | assembly | typed; num / den: coefficients highest power first,
+// checked (finite, den's leading coefficient non-zero, deg num <= deg den). Versions 1 (no
+// "design", no "identify"), 2 (no "identify") and 3 (no "plant") are still read; what they lack
+// gets the defaults below, as those versions had no way to save it. Unknown keys, wrong types,
 // non-finite or out-of-range values are InputErrors naming the file and the key path
 // ("view.speed") with the allowed range; errors in the embedded scenario name the file as
 // "FILE (in 'scenario')", those in the Plant tab's plant "FILE (in 'plant.scenario')".

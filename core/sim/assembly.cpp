@@ -303,6 +303,8 @@ void AssemblySimulation::reset() {
   prescribed_.push_back(1);
   for (std::size_t i = 0; i < nb; ++i) h_over_m_[i] = sc_.run.dt / sc_.plant.bodies[i].mass;
   xp_.assign(sc_.plant.drives.size(), 0.0);
+  input_.resize(sc_.plant.drives.size(), 0.0);  // inputs set before a reset stay set
+  has_input_.resize(sc_.plant.drives.size(), 0);
   const int g = static_cast<int>(nb);
   auto slot = [g](int i) { return i < 0 ? g : i; };
   springs_c_.clear();
@@ -486,8 +488,23 @@ void compact_minmax(AssemblyTrace& tr, double dt, std::uint64_t bucket_steps) {
   }
 }
 
+void AssemblySimulation::set_drive_input(std::size_t i, double u) {
+  if (i >= sc_.plant.drives.size() || (sc_.plant.drives[i].kind != DrivePart::Kind::Force &&
+                                       sc_.plant.drives[i].kind != DrivePart::Kind::Pull))
+    throw InputError("drive input: drive " + std::to_string(i) + " is not a force or pull drive of the plant");
+  input_[i] = u;
+  has_input_[i] = 1;
+  any_input_ = true;
+}
+
 double AssemblySimulation::drive_force(std::size_t i, double t, double h, double x, double v) {
   const auto& d = sc_.plant.drives[i];
+  if (any_input_ && has_input_[i]) {
+    if (d.kind == DrivePart::Kind::Force) return input_[i];
+    const double rate = (input_[i] - xp_[i]) / h;  // the point's velocity over the step
+    xp_[i] = input_[i];
+    return d.pull_spring * (input_[i] - x) + d.pull_damper * (rate - v);
+  }
   if (d.kind == DrivePart::Kind::Force) return d.signal(t);
   double xp, rate;  // pull: the drive point's position and rate
   if (d.point_velocity) {

@@ -190,6 +190,12 @@ class AssemblySimulation {
   double kinetic_energy() const;    // [J]
   double spring_energy() const;     // springs + pull springs [J]
   const FrictionModel& contact_model(std::size_t j) const { return *models_[j]; }
+  double contact_force(std::size_t j) const { return f_contact_[j]; }  // last step's F_j on a [N]
+  // Feedback through a drive (core/control/loop_simulation.hpp): from now on, force or pull drive i
+  // takes `u` instead of its signal - a force drive's F [N], a pull drive's point x_p [m] (moving at
+  // (u - last x_p) / h over the next step). Set before each advance(1). Throws InputError for a
+  // drive that is not a force or pull drive.
+  void set_drive_input(std::size_t i, double u);
   std::span<const double> contact_state(std::size_t j) const { return state_[j]; }
 
  private:
@@ -224,7 +230,10 @@ class AssemblySimulation {
   // Per body: position, velocity, contact velocity over the step, force, 1/m, prescribed flag.
   std::vector<double> x_, v_, cv_, f_, h_over_m_;
   std::vector<std::uint8_t> prescribed_;
-  std::vector<double> xp_;  // per drive: drive point position (pull with point_velocity)
+  std::vector<double> xp_;  // per drive: drive point position (pull with point_velocity or an input)
+  std::vector<double> input_;           // per drive: the input set by set_drive_input
+  std::vector<std::uint8_t> has_input_;  // per drive: 1 once set_drive_input was called
+  bool any_input_ = false;
   // Force of force / pull drive i on its body (at x, v) over the step t -> t + h; advances xp_[i].
   double drive_force(std::size_t i, double t, double h, double x, double v);
   // The parts compiled for the step loop (ground = slot nb).

@@ -85,6 +85,21 @@ def test_design_matches_cli(cli, seed):
     assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
 
 
+@pytest.mark.parametrize("output", ["x.motor", "x.load"])
+def test_design_on_the_assembled_plant_matches_cli(cli, output):
+    """The assembled two-mass train from its force drive to a body: the same plant and design as the CLI."""
+    preset = os.path.join(PRESETS, "two_mass_drive.json")
+    mine = gmslab.design(0.7, 10.0, scenario=preset, regime="sliding", output=output)
+    p = cli("design", "--preset", preset, "--regime", "sliding", "--output", output,
+            "--zeta", "0.7", "--wn", "10", "--json", "-")
+    theirs = json.loads(p.stdout)
+    assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
+    assert mine["plant"]["plant_source"] == "assembly"
+    assert mine["plant"]["output"] == output
+    # Collocated: two zeros (the anti-resonance pair); non-collocated: only the shaft damper's -k/c.
+    assert len(np.roots(mine["plant"]["num"])) == (2 if output == "x.motor" else 1)
+
+
 @pytest.mark.parametrize("seed", [21, 22, 23])
 def test_root_locus_points_are_closed_loop_roots(seed):
     rng = np.random.default_rng(seed)
