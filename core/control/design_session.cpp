@@ -111,9 +111,12 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (in.sample_time > 0.0 && out.compensator) {
       stage = "discrete frequency response";
       const LeadCompensator& c = *out.compensator;
-      const TransferFunction Cz = tustin({Poly({c.Kc * c.z, c.Kc}), Poly({c.p, 1.0})}, in.sample_time);
-      const TransferFunction Gz = zoh(out.plant.g, in.sample_time);
-      out.discrete = discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, in.sample_time);
+      const TransferFunction Lz = sampled_loop(out.plant.g, c.z, c.p, in.sample_time);
+      out.discrete = discrete_frequency_response({Lz.num * c.Kc, Lz.den}, in.sample_time);
+      stage = "z-plane root locus";
+      LocusOptions zo;
+      zo.extra_gains = {c.Kc};
+      out.z_locus = z_root_locus(Lz, in.sample_time, zo);
     }
     if (!out.compensator) return out;
     stage = "step response";

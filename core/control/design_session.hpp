@@ -74,6 +74,9 @@ struct DesignOutputs {
   std::optional<FrequencyReport> frequency;
   // With a sample time T > 0: the sampled loop Kc Tustin(Gc) ZOH(G) up to the Nyquist frequency.
   std::optional<DiscreteFrequencyReport> discrete;
+  // With T > 0: the root locus in z of the same sampled loop in Kc, unit circle crossings and
+  // stable gain intervals (core/control/discrete.hpp); the design's Kc is sampled exactly.
+  std::optional<ZLocus> z_locus;
   // Limit cycles of the loop without compensation predicted by the describing function of the
   // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
   // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.

@@ -370,6 +370,10 @@ std::vector<cplx> continued_roots(const TransferFunction& L, const LocusPolys& W
 
 }  // namespace
 
+std::vector<LocusPoint> imaginary_axis_crossings(const TransferFunction& L, bool negative) {
+  return axis_crossings(L, negative);
+}
+
 std::vector<cplx> closed_loop_poles(const TransferFunction& L, double k) {
   const Poly c = L.den + L.num * k;
   std::vector<cplx> r = c.is_zero() ? std::vector<cplx>{} : c.roots();

@@ -165,3 +165,29 @@ TEST(DesignCli, SampleTimeAddsTheSampledLoopsMargins) {
   EXPECT_NEAR(d["margins"]["phase_margin_deg"].get<double>(), pm - wgc * 0.01 / 2 * 180 / M_PI, 0.5);
   EXPECT_TRUE(d["nyquist"]["stable"].get<bool>());
 }
+
+// The z-plane locus of the sampled loop (--sample-time): its first unit-circle crossing is where
+// the gain reaches Kc x the sampled gain margin (computed independently, from the w-plane phase
+// crossover) at the phase crossover frequency; the design gain is stable there exactly when the
+// sampled Nyquist count says so. Over sample times from 1 ms to 0.2 s.
+TEST(DesignCli, SampleTimeAddsTheZPlaneLocusConsistentWithTheSampledMargins) {
+  for (const char* T : {"0.001", "0.01", "0.05", "0.2", "0.4"}) {
+    const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                           "--sample-time", T}, "zlocus");
+    ASSERT_TRUE(j.contains("z_locus")) << T;
+    const auto& z = j["z_locus"];
+    const auto& m = j["frequency"]["discrete"]["margins"];
+    const double Kc = j["Kc"].get<double>();
+    EXPECT_NEAR(z["gain"].get<double>(), Kc, 1e-12 * Kc);
+    EXPECT_EQ(z["stable_at_gain"].get<bool>(), j["frequency"]["discrete"]["nyquist"]["stable"].get<bool>()) << T;
+    ASSERT_FALSE(z["unit_circle_crossings"].empty());
+    const auto& c = z["unit_circle_crossings"][0];
+    const double re = c["z"][0].get<double>(), im = c["z"][1].get<double>();
+    EXPECT_NEAR(std::hypot(re, im), 1.0, 1e-9);
+    if (!m["gain_margin"].is_null() && m["gain_margin"].get<double>() > 1.0) {
+      EXPECT_NEAR(c["gain"].get<double>(), Kc * m["gain_margin"].get<double>(), 1e-6 * c["gain"].get<double>()) << T;
+      EXPECT_NEAR(c["omega_rad_s"].get<double>(), m["phase_crossover_rad_s"].get<double>(), 1e-6 * c["omega_rad_s"].get<double>()) << T;
+      EXPECT_NEAR(z["stable_gain_intervals"][0][1].get<double>(), c["gain"].get<double>(), 1e-9 * c["gain"].get<double>());
+    }
+  }
+}
