@@ -85,6 +85,7 @@ struct DesignViewState {
   std::vector<control::cplx> picked_poles;
   PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
   bool harmonic_balance = false;     // the Nyquist canvas shows H(jw) and -1/N (describing function)
+  bool z_plane = true;               // with a sample time: the locus canvas shows the z-plane locus
 };
 
 // The Identify panel (ui/identify_panel.hpp).

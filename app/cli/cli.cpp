@@ -25,6 +25,7 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
       ->capture_default_str();
   sub.add_flag("--compare", o.compare, "Identify view: also fit and compare every model (slower)");
   sub.add_flag("--no-run", o.no_run, "Identify view: load and show the records of --data without identifying");
+  sub.add_option("--sample-time", o.sample_time, "Design view: controller sample time [s], [0, 0.01] (0: continuous)");
   sub.add_option("--format", o.format,
                  "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
       ->check(CLI::IsMember({"png", "svg"}))

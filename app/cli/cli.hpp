@@ -22,6 +22,7 @@ struct RenderOptions {
   bool no_run = false;   // only load and show the records
   bool compare = false;  // also compare every model
   std::string format = "png";  // png, or svg: the Simulation view's plots as a vector figure
+  double sample_time = 0.0;    // Design view: controller sample time [s] (0: continuous)
 };
 
 struct FiguresOptions {

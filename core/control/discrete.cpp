@@ -169,7 +169,9 @@ ZLocus z_root_locus(const TransferFunction& Lz, double T, const LocusOptions& op
     for (const cplx& p : Lz.poles()) pts.push_back(p);
     for (const cplx& z : Lz.zeros())
       if (std::abs(z) < 10.0) pts.push_back(z);
-    ViewBox v = view_around(pts);
+    ViewBox v = view_around(pts);  // square; widened to a 16:10 canvas so its sides are resolved too
+    const double c = 0.5 * (v.re_min + v.re_max), h = 0.8 * v.height();
+    v.re_min = std::min(v.re_min, c - h), v.re_max = std::max(v.re_max, c + h);
     o.view = v;
   }
   r.locus = root_locus(Lz, o);

@@ -42,8 +42,9 @@ DiscreteFrequencyReport discrete_frequency_response(const TransferFunction& Lz, 
 //     open-loop pole on the circle (z = 1 for a pole at s = 0) is the locus's start, not a crossing;
 //   stable_gains: the gain intervals between successive crossing gains (and 0, +inf) whose
 //     midpoint (geometric; 10 x the last for the unbounded one) has every closed-loop root inside;
-//   view (unless given): the unit circle, the open-loop poles and zeros and the crossings, with a
-//     margin; the crossing gains and `extra_gains` are sampled exactly.
+//   view (unless given): the unit circle, the open-loop poles and the zeros within |z| < 10, with a
+//     30 % margin, widened to 1.6 x its height (a 16:10 canvas); the crossing gains and
+//     `extra_gains` are sampled exactly.
 struct UnitCircleCrossing {
   cplx z;              // on |z| = 1 (Im z >= 0)
   double omega = 0.0;  // arg z / T [rad/s]
