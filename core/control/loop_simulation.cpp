@@ -125,6 +125,10 @@ ModelParams feedforward_model(const ModelParams& plant, const Mismatch& m) {
   return g;
 }
 
+double coulomb_feedforward_level(const ModelParams& plant, const Mismatch& m) {
+  return (has_scalar(plant, "Fc") ? plant.scalar("Fc") : build_model(plant)->break_away()) * m.force;
+}
+
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
   check_config(s, c);
   const auto plant_f = build_model(s.friction);
@@ -138,8 +142,7 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
     ff_st.resize(ff_model->state_size());
     ff_model->reset(ff_st);
   } else if (c.comp == Compensation::Coulomb) {
-    fc_hat = (has_scalar(s.friction, "Fc") ? s.friction.scalar("Fc") : plant_f->break_away()) *
-             c.mismatch.force;
+    fc_hat = coulomb_feedforward_level(s.friction, c.mismatch);
   }
   LeadController ctrl(c.C, c.dt, c.sample_time);
   const Plant& pl = s.plant;

@@ -68,6 +68,9 @@ struct LoopMetrics {
 
 // The compensator's GMS model (see the mismatch rules above).
 ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch& m);
+// The Coulomb compensator's level Fc_hat [N]: the plant's Fc (its break-away force when the model
+// has no Fc) times m.force.
+double coulomb_feedforward_level(const ModelParams& plant_friction, const Mismatch& m);
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 LoopMetrics loop_metrics(const LoopTrace& tr);
 // e = r - x at every recorded sample [m].
