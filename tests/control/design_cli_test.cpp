@@ -191,3 +191,31 @@ TEST(DesignCli, SampleTimeAddsTheZPlaneLocusConsistentWithTheSampledMargins) {
     }
   }
 }
+
+// --lag-K adds a lag after the chosen lead: the G1 Kv = 5 design made Kv = 50 (x10) reports the
+// lag zero at 0.1 |Re s_d| = 0.2 rad/s, its pole at 0.02, K = 50 and the compensator's coefficients
+// (conv of lead and lag), a slow real pole just left of the lag zero -0.2; a target below the lead's own is
+// an error with exit code 2.
+TEST(DesignCli, LagKAddsALagWithItsErrorConstantAndSlowPole) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                         "--lag-K", "50"}, "leadlag");
+  ASSERT_TRUE(j.contains("lead_lag"));
+  const auto& l = j["lead_lag"];
+  EXPECT_NEAR(l["zl"].get<double>(), 0.2, 1e-12);
+  EXPECT_NEAR(l["pl"].get<double>(), 0.02, 1e-9);
+  EXPECT_NEAR(l["K"].get<double>(), 50.0, 1e-9);
+  EXPECT_NEAR(l["K_lead"].get<double>(), 5.0, 1e-9);
+  const double Kc = j["Kc"].get<double>(), z = j["z"].get<double>(), p = j["p"].get<double>();
+  const std::vector<double> num = l["num"], den = l["den"];
+  ASSERT_EQ(num.size(), 3u);
+  EXPECT_NEAR(num[0], Kc, 1e-9 * Kc);
+  EXPECT_NEAR(num[1], Kc * (z + 0.2), 1e-9 * Kc);
+  EXPECT_NEAR(num[2], Kc * z * 0.2, 1e-9 * Kc);
+  EXPECT_NEAR(den[1], p + 0.02, 1e-9);
+  const double slow = l["slow_pole"][0].get<double>();
+  EXPECT_LT(slow, -0.2);  // just left of the lag zero (its branch ends there)
+  EXPECT_GT(slow, -0.26);
+  EXPECT_NEAR(l["slow_time_constant_s"].get<double>(), -1.0 / slow, 1e-12);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                     "--lag-K", "3"}), 2);
+}
