@@ -265,7 +265,7 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
 // The z-plane locus of the sampled loop (d.out.z_locus): unit circle, the s-plane damping / wn
 // grid mapped by z = e^{sT}, branches, open-loop poles (x) and zeros (o), the closed-loop poles at
 // Kc (squares), the unit-circle crossings with their gains, s_d mapped (diamond).
-void draw_z_locus(const DesignViewState& d, ImVec2 size) {
+void draw_z_locus(DesignViewState& d, ImVec2 size) {
   const control::ZLocus& zl = *d.out.z_locus;
   const double T = zl.T;
   char buf[200];
@@ -287,7 +287,8 @@ void draw_z_locus(const DesignViewState& d, ImVec2 size) {
   ImGui::InvisibleButton("##zlocus", size);
   const bool hovered = ImGui::IsItemHovered();
   const ImVec2 p1(p0.x + size.x, p0.y + size.y);
-  const PlotTransform t = fit(zl.locus.view, p0, p1);
+  const PlotTransform t = fit(d.in.z_locus_view ? *d.in.z_locus_view : zl.locus.view, p0, p1);
+  d.z_canvas = t;
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
   dl->PushClipRect(p0, p1, true);
@@ -359,12 +360,31 @@ void draw_z_locus(const DesignViewState& d, ImVec2 size) {
   dl->AddRect(p0, p1, kAxis);
   const char* label = "Re z (horizontal), Im z (vertical); unit circle: stability boundary";
   dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
+  // Wheel zooms about the mouse, drag pans, double-click fits; the locus is recomputed for the
+  // new view (its resolution is relative to the view).
+  ImGuiIO& io = ImGui::GetIO();
+  if (hovered && io.MouseWheel != 0.0f) {
+    const double f = std::pow(0.85, io.MouseWheel);
+    const PlotTransform n = t.zoomed(io.MousePos.x, io.MousePos.y, f, f);
+    d.in.z_locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+    d.dirty = true;
+  }
+  if (ImGui::IsItemActive() && ImGui::IsMouseDragging(0) && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)) {
+    const PlotTransform n = t.panned(io.MouseDelta.x, io.MouseDelta.y);
+    d.in.z_locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+    d.dirty = true;
+  }
+  if (hovered && ImGui::IsMouseDoubleClicked(0)) {
+    d.in.z_locus_view.reset();
+    d.dirty = true;
+  }
   if (hovered) {
     const cplx z = data(t, ImGui::GetIO().MousePos);
     const cplx s = std::log(z) / T;
     const double wn = std::abs(s), zeta = wn > 0 ? -s.real() / wn : 0.0;
     ImGui::SetTooltip("z = %.4g %+.4gj, |z| = %.4g\ns = ln(z)/T = %.4g %+.4gj rad/s: zeta = %.3f, wn = %.4g rad/s\n"
-                      "grey grid: constant zeta (spirals) and wn (arcs, steps of 0.1 pi/T) of z = e^{sT}",
+                      "grey grid: constant zeta (spirals) and wn (arcs, steps of 0.1 pi/T) of z = e^{sT}\n"
+                      "wheel zooms, drag pans, double-click fits",
                       z.real(), z.imag(), std::abs(z), s.real(), s.imag(), zeta, wn);
   }
 }

@@ -86,6 +86,7 @@ struct DesignViewState {
   PlotTransform canvas;              // data <-> pixel map of the canvas in the last frame
   bool harmonic_balance = false;     // the Nyquist canvas shows H(jw) and -1/N (describing function)
   bool z_plane = true;               // with a sample time: the locus canvas shows the z-plane locus
+  PlotTransform z_canvas;            // data <-> pixel map of the z-plane canvas (zoom: in.z_locus_view)
 };
 
 // The Identify panel (ui/identify_panel.hpp).

@@ -150,6 +150,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
       stage = "z-plane root locus";
       LocusOptions zo;
       zo.extra_gains = {c.Kc};
+      zo.view = in.z_locus_view;
       out.z_locus = z_root_locus(Lz, in.sample_time, zo);
     }
     if (!out.compensator) return out;

@@ -51,6 +51,7 @@ struct DesignInputs {
   double horizon = 0.0;      // [s]; 0: automatic
   bool simulate = true;      // run the nonlinear loops
   std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
+  std::optional<ViewBox> z_locus_view;  // same for the z-plane locus (sample time > 0)
   bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
   bool zero_degree = false;   // also compute the 0-degree locus (k < 0) of the drawn loop
 };
