@@ -268,6 +268,9 @@ int render_command(const cli::RenderOptions& o) {
   } else {
     ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
   }
+  if (!(o.sample_time >= 0.0 && o.sample_time <= 0.01))
+    throw InputError("--sample-time " + std::to_string(o.sample_time) + ": must be in [0, 0.01] s (0: continuous)");
+  s.design.settings.sample_time = o.sample_time;
   ui::mark_clean(s);
   s.view.tab = panel->name;
   if (!plant_view || assembled) ui::run_until(s, o.time);

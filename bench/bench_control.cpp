@@ -88,6 +88,38 @@ static void BM_DesignViewFrame(benchmark::State& st) {
 }
 BENCHMARK(BM_DesignViewFrame)->Unit(benchmark::kMillisecond);
 
+// The same frame with a 2 ms controller sample time: adds the sampled loop's Bode / margins and
+// its z-plane root locus (unit-circle crossings, stable gain intervals).
+static void BM_DesignViewFrameSampled(benchmark::State& st) {
+  DesignInputs in;
+  in.scenario = fig4();
+  in.regime = Regime::Sliding;
+  in.root = {0.7, 60.0};
+  in.K = 1000.0;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);
+  in.sample_time = 2e-3;
+  for (auto _ : st) {
+    const DesignOutputs out = compute_design(in);
+    if (!out.error.empty() || !out.z_locus) st.SkipWithError("no z-plane locus");
+    benchmark::DoNotOptimize(out.locus.gains.data());
+  }
+}
+BENCHMARK(BM_DesignViewFrameSampled)->Unit(benchmark::kMillisecond);
+
+// The z-plane locus of the view's sampled loop alone.
+static void BM_ZRootLocusSampledLoop(benchmark::State& st) {
+  const TransferFunction G{Poly({1.0}), Poly({0.0, 0.4, 1.0})};
+  const TransferFunction Lz = sampled_loop(G, 40.6848, 813.697, 2e-3);
+  std::size_t n = 0;
+  for (auto _ : st) {
+    const ZLocus z = z_root_locus(Lz, 2e-3);
+    n = z.locus.gains.size();
+    benchmark::DoNotOptimize(z.crossings.data());
+  }
+  st.counters["gains"] = static_cast<double>(n);
+}
+BENCHMARK(BM_ZRootLocusSampledLoop)->Unit(benchmark::kMillisecond);
+
 #if __has_include(<imgui.h>)  // built with the app: time a whole drag frame of the Design panel
 #include "app/headless.hpp"
 #include "ui/app.hpp"

@@ -262,6 +262,132 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
                       s.real(), s.imag(), z, wn);
   }
 }
+// The z-plane locus of the sampled loop (d.out.z_locus): unit circle, the s-plane damping / wn
+// grid mapped by z = e^{sT}, branches, open-loop poles (x) and zeros (o), the closed-loop poles at
+// Kc (squares), the unit-circle crossings with their gains, s_d mapped (diamond).
+void draw_z_locus(DesignViewState& d, ImVec2 size) {
+  const control::ZLocus& zl = *d.out.z_locus;
+  const double T = zl.T;
+  char buf[200];
+  const double Kc = d.out.compensator ? d.out.compensator->Kc : 1.0;
+  bool stable = false;
+  double k_hi = 0.0;
+  for (const auto& [lo, hi] : zl.stable_gains)
+    if (Kc > lo && Kc < hi) stable = true, k_hi = hi;
+  if (stable && std::isfinite(k_hi))
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g N/m, up to %.4g N/m (x%.3g)", T, Kc, k_hi,
+                  k_hi / Kc);
+  else if (stable)
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g N/m (no upper limit)", T, Kc);
+  else
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: UNSTABLE at Kc = %.4g N/m (a pole outside |z| = 1)", T, Kc);
+  ImGui::TextColored(stable ? ImVec4(0.0f, 0.5f, 0.3f, 1.0f) : ImVec4(0.75f, 0.1f, 0.1f, 1.0f), "%s", buf);
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  size.y -= ImGui::GetTextLineHeightWithSpacing();
+  ImGui::InvisibleButton("##zlocus", size);
+  const bool hovered = ImGui::IsItemHovered();
+  const ImVec2 p1(p0.x + size.x, p0.y + size.y);
+  const PlotTransform t = fit(d.in.z_locus_view ? *d.in.z_locus_view : zl.locus.view, p0, p1);
+  d.z_canvas = t;
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, p1, IM_COL32(255, 255, 255, 255));
+  dl->PushClipRect(p0, p1, true);
+  // grid: constant damping (spirals) and constant wn (arcs) of z = e^{sT}, upper and lower halves
+  const double wN = kPi / T;
+  auto poly_z = [&](auto s_of, int n) {
+    for (double sg : {1.0, -1.0}) {
+      for (int i = 0; i <= n; ++i) {
+        const cplx s = s_of(static_cast<double>(i) / n);
+        dl->PathLineTo(px(t, std::exp(cplx(s.real(), sg * s.imag()) * T)));
+      }
+      dl->PathStroke(kGrid, 0, 1.0f);
+    }
+  };
+  for (double z : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
+    const double c = std::sqrt(1 - z * z);
+    poly_z([&](double u) { return cplx(-z, c) * (u * wN / c); }, 48);
+  }
+  for (int k = 1; k <= 10; ++k) {
+    const double wn = k * 0.1 * wN;
+    poly_z([&](double u) { return cplx(-u * wn, wn * std::sqrt(std::max(0.0, 1 - u * u))); }, 32);
+  }
+  const ImVec2 o = px(t, 0.0);
+  dl->AddLine(ImVec2(static_cast<float>(t.px0), o.y), ImVec2(static_cast<float>(t.px1), o.y), kAxis, 1.2f);
+  dl->AddLine(ImVec2(o.x, static_cast<float>(t.py0)), ImVec2(o.x, static_cast<float>(t.py1)), kAxis, 1.2f);
+  const float scale = static_cast<float>((t.px1 - t.px0) / (t.x1 - t.x0));
+  dl->AddCircle(o, scale, IM_COL32(40, 40, 45, 255), 128, 2.0f);
+  const double xs = nice_step(t.x1 - t.x0);
+  for (double x = std::ceil(t.x0 / xs) * xs; x <= t.x1; x += xs) {
+    std::snprintf(buf, sizeof buf, "%g", std::abs(x) < 1e-12 * xs ? 0.0 : x);
+    dl->AddText(ImVec2(static_cast<float>(t.to_px_x(x)) + 2, static_cast<float>(t.py1) - ImGui::GetFontSize() - 2), kText, buf);
+  }
+  for (double y = std::ceil(t.y0 / xs) * xs; y <= t.y1; y += xs) {
+    if (std::abs(y) < 1e-12 * xs) continue;
+    std::snprintf(buf, sizeof buf, "%gj", y);
+    dl->AddText(ImVec2(static_cast<float>(t.px0) + 3, static_cast<float>(t.to_px_y(y)) - ImGui::GetFontSize()), kText, buf);
+  }
+  const double far = 20 * std::hypot(t.x1 - t.x0, t.y1 - t.y0);
+  for (std::size_t b = 0; b < zl.locus.branches.size(); ++b) {
+    const ImU32 col = palette(static_cast<int>(b % 6));
+    const auto& br = zl.locus.branches[b];
+    for (std::size_t i = 1; i < br.size(); ++i) {
+      const cplx a = br[i - 1], c = br[i];
+      if (std::isnan(a.real()) || std::isnan(c.real()) || std::abs(a) > far || std::abs(c) > far) continue;
+      dl->AddLine(px(t, a), px(t, c), col, 2.0f);
+    }
+  }
+  const float r = 6.0f;
+  for (const cplx& p : zl.locus.poles) cross(dl, px(t, p), r, kPlant, 2.2f);
+  for (const cplx& z : zl.locus.zeros) dl->AddCircle(px(t, z), r, kPlant, 20, 2.2f);
+  if (d.out.discrete)
+    for (const cplx& p : d.out.discrete->closed_loop_poles) {
+      const ImVec2 q = px(t, p);
+      dl->AddRectFilled(ImVec2(q.x - 4, q.y - 4), ImVec2(q.x + 4, q.y + 4), kClosed);
+    }
+  for (const auto& c : zl.crossings) {
+    for (const cplx& z : {c.z, std::conj(c.z)}) dl->AddCircleFilled(px(t, z), 4.0f, IM_COL32(204, 0, 0, 255));
+    std::snprintf(buf, sizeof buf, "k = %.4g", c.k);
+    const ImVec2 q = px(t, c.z);
+    dl->AddText(ImVec2(q.x + 6, q.y - ImGui::GetFontSize() - 2), kText, buf);
+  }
+  const cplx zd = std::exp(control::design_root(d.settings).s() * T);
+  for (const cplx& z : {zd, std::conj(zd)}) {
+    const ImVec2 q = px(t, z);
+    const float a = 8.0f;
+    dl->AddQuad(ImVec2(q.x, q.y - a), ImVec2(q.x + a, q.y), ImVec2(q.x, q.y + a), ImVec2(q.x - a, q.y), kTarget, 2.5f);
+  }
+  dl->PopClipRect();
+  dl->AddRect(p0, p1, kAxis);
+  const char* label = "Re z (horizontal), Im z (vertical); unit circle: stability boundary";
+  dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
+  // Wheel zooms about the mouse, drag pans, double-click fits; the locus is recomputed for the
+  // new view (its resolution is relative to the view).
+  ImGuiIO& io = ImGui::GetIO();
+  if (hovered && io.MouseWheel != 0.0f) {
+    const double f = std::pow(0.85, io.MouseWheel);
+    const PlotTransform n = t.zoomed(io.MousePos.x, io.MousePos.y, f, f);
+    d.in.z_locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+    d.dirty = true;
+  }
+  if (ImGui::IsItemActive() && ImGui::IsMouseDragging(0) && (io.MouseDelta.x != 0 || io.MouseDelta.y != 0)) {
+    const PlotTransform n = t.panned(io.MouseDelta.x, io.MouseDelta.y);
+    d.in.z_locus_view = control::ViewBox{n.x0, n.x1, n.y0, n.y1};
+    d.dirty = true;
+  }
+  if (hovered && ImGui::IsMouseDoubleClicked(0)) {
+    d.in.z_locus_view.reset();
+    d.dirty = true;
+  }
+  if (hovered) {
+    const cplx z = data(t, ImGui::GetIO().MousePos);
+    const cplx s = std::log(z) / T;
+    const double wn = std::abs(s), zeta = wn > 0 ? -s.real() / wn : 0.0;
+    ImGui::SetTooltip("z = %.4g %+.4gj, |z| = %.4g\ns = ln(z)/T = %.4g %+.4gj rad/s: zeta = %.3f, wn = %.4g rad/s\n"
+                      "grey grid: constant zeta (spirals) and wn (arcs, steps of 0.1 pi/T) of z = e^{sT}\n"
+                      "wheel zooms, drag pans, double-click fits",
+                      z.real(), z.imag(), std::abs(z), s.real(), s.imag(), zeta, wn);
+  }
+}
 }  // namespace
 
 double zeta_for_overshoot(double os) {
@@ -273,6 +399,21 @@ double zeta_for_overshoot(double os) {
 void draw_design_locus(DesignViewState& d, ImVec2 size) {
   const float y_before = ImGui::GetCursorPosY();
   ImGui::BeginGroup();
+  if (d.out.z_locus) {
+    ImGui::Checkbox("z plane", &d.z_plane);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("The locus of the sampled loop (Tustin controller, ZOH plant) in z, with the unit circle;\n"
+                        "off: the continuous s-plane locus with its draggable handles");
+    if (d.z_plane) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("Locus in Kc.  x pole  o zero  square: closed loop at Kc  red dot: leaves |z| = 1  "
+                          "diamond: e^{s_d T}");
+      size.y -= ImGui::GetCursorPosY() - y_before;
+      draw_z_locus(d, size);
+      ImGui::EndGroup();
+      return;
+    }
+  }
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + size.x);
   ImGui::TextDisabled("Locus in Kc.  x pole  o zero  green: compensator  square: closed loop at Kc  "
                       "diamond: s_d  shaded: requirement fails  dashed: asymptotes%s%s",

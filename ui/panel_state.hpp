@@ -88,6 +88,8 @@ struct DesignViewState {
   // Typed plant fields: the text being edited (the value in force, settings.plant.num / den, when
   // not being edited) and why the last edit was rejected ("" when it was not).
   std::string num_edit, den_edit, num_error, den_error;
+  bool z_plane = true;               // with a sample time: the locus canvas shows the z-plane locus
+  PlotTransform z_canvas;            // data <-> pixel map of the z-plane canvas (zoom: in.z_locus_view)
 };
 
 // The Identify panel (ui/identify_panel.hpp).

@@ -18,6 +18,7 @@
 #include "app/cli/cli.hpp"
 #include "core/control/design_json.hpp"
 #include "core/control/design_plant_json.hpp"
+#include "core/control/design_session.hpp"
 #include "core/control/scenario_plant.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
@@ -42,6 +43,8 @@ struct Opts {
   std::string reference = "step", compensation = "all";
   double amplitude = 0.01, slope = 0.01, frequency = 1.0, duration = 2.0, dt = 0.0, T = 0.0;
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
+  std::optional<double> lag_K;  // lead-lag: error constant the lag must reach
+  double lag_zero_fraction = 0.1;
 };
 
 Signal reference_signal(const Opts& o) {
@@ -199,6 +202,20 @@ int run_design(const Opts& o) {
     const LeadDesign& ld = chosen->second;
     j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
   }
+  if (o.lag_K) {  // a lag after the chosen lead: the error constant it buys and what it costs
+    if (!chosen) throw InputError("--lag-K: no lead design to add a lag to (" + r.limits.reason + ")");
+    const LeadDesign& ld = chosen->second;
+    const LeadLagDesign ll = design_lead_lag(g, {ld.Kc, ld.z, ld.p}, {o.zeta, o.wn}, *o.lag_K, o.lag_zero_fraction);
+    const TransferFunction c = ll.tf();
+    nlohmann::json pj = nlohmann::json::array();
+    for (const cplx& p : ll.closed_loop_poles) pj.push_back({p.real(), p.imag()});
+    j["lead_lag"] = {{"zl", ll.zl}, {"pl", ll.pl}, {"K_lead", ll.K_lead}, {"K", ll.K},
+                     {"lag_angle_deg", ll.lag_angle_deg}, {"closed_loop_poles", pj},
+                     {"dominant", {ll.dominant.real(), ll.dominant.imag()}},
+                     {"slow_pole", {ll.slow_pole.real(), ll.slow_pole.imag()}},
+                     {"slow_time_constant_s", ll.time_constant},
+                     {"num", c.num.descending_coeffs()}, {"den", c.den.descending_coeffs()}};
+  }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
     j["simulation"] = simulate(LoopPlant{sc ? &*sc : nullptr, asc ? &*asc : nullptr, dp.port}, o, chosen->second);
@@ -247,6 +264,9 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--dt", o->dt, "Integration step [s] (default: the scenario's run.dt)");
   sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
   sub->add_option("--compensation", o->compensation, "none, coulomb, gms or all")->capture_default_str();
+  sub->add_option("--lag-K", o->lag_K, "Lead-lag: add a lag after the lead reaching this error constant (> the lead's)");
+  sub->add_option("--lag-zero", o->lag_zero_fraction, "Lead-lag: lag zero at this fraction of |Re s_d|, (0, 1]")
+      ->capture_default_str();
   sub->add_option("--mismatch-force", o->mm_force, "Compensator's Fs, Fc / plant's [-]")->capture_default_str();
   sub->add_option("--mismatch-stiffness", o->mm_stiffness, "Compensator's k_i, sigma_i / plant's [-]")->capture_default_str();
   sub->add_option("--mismatch-velocity", o->mm_velocity, "Compensator's Vs / plant's [-]")->capture_default_str();

@@ -22,6 +22,34 @@ SteppedNonlinearity stepped(const FrictionModel& model) {
           [m, st](double v, double h) { return m->step(*st, {v, h, 0.0, 0.0}); }};
 }
 
+SteppedNonlinearity compensated(SteppedNonlinearity f, SteppedNonlinearity f_hat) {
+  return {[f, f_hat] { f.reset(), f_hat.reset(); },
+          [f, f_hat](double v, double h) { return f.step(v, h) - f_hat.step(v, h); }};
+}
+
+SteppedNonlinearity coulomb_law(double Fc_hat) {
+  return {[] {}, [Fc_hat](double v, double) { return v > 0.0 ? Fc_hat : v < 0.0 ? -Fc_hat : 0.0; }};
+}
+
+namespace {
+// A model owned by the returned nonlinearity (stepped() only borrows one).
+SteppedNonlinearity owned(std::shared_ptr<FrictionModel> m) {
+  auto st = std::make_shared<std::vector<double>>(m->state_size());
+  return {[m, st] { m->reset(*st); }, [m, st](double v, double h) { return m->step(*st, {v, h, 0.0, 0.0}); }};
+}
+}  // namespace
+
+SteppedNonlinearity compensated_friction(const ModelParams& friction, Compensation comp, const Mismatch& mm) {
+  std::shared_ptr<FrictionModel> plant = build_model(friction);
+  SteppedNonlinearity f = owned(plant);
+  switch (comp) {
+    case Compensation::None: return f;
+    case Compensation::Coulomb: return compensated(f, coulomb_law(coulomb_feedforward_level(friction, mm)));
+    case Compensation::Gms: return compensated(f, owned(build_model(feedforward_model(friction, mm))));
+  }
+  return f;
+}
+
 cplx describing_function(const SteppedNonlinearity& f, double a, double w, const DfOptions& opt) {
   if (!(a > 0.0) || !(w > 0.0) || !std::isfinite(a + w))
     throw InputError("describing function: need amplitude a > 0 m/s and frequency w > 0 rad/s");
@@ -78,15 +106,17 @@ LimitCycleReport predict_limit_cycles(const SteppedNonlinearity& f, const Plant&
     const double target = 1.0 / std::abs(r.H(cplx(0.0, w0)));
     // |N| - target over a log grid of a, then bisection on the first sign change.
     const int grid = 24;
-    double prev_la = la0, prev = std::abs(N(a_min, w0)) - target;
+    // Re N (not |N|): H(jw0) is negative real, so the balance needs N = +1/|H|; a negative N
+    // (e.g. over-compensated friction) cannot meet it there.
+    double prev_la = la0, prev = N(a_min, w0).real() - target;
     for (int i = 1; i <= grid; ++i) {
       const double la = la0 + (la1 - la0) * i / grid;
-      const double cur = std::abs(N(std::exp(la), w0)) - target;
+      const double cur = N(std::exp(la), w0).real() - target;
       if ((prev > 0) != (cur > 0)) {
         double lo = prev_la, hi = la, flo = prev;
         for (int k = 0; k < 40; ++k) {
           const double mid = 0.5 * (lo + hi);
-          const double fm = std::abs(N(std::exp(mid), w0)) - target;
+          const double fm = N(std::exp(mid), w0).real() - target;
           if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
           else hi = mid;
         }
@@ -131,7 +161,7 @@ LimitCycleReport predict_limit_cycles(const SteppedNonlinearity& f, const Plant&
   if (hm.phase_crossovers.empty())
     r.note = "H(jw) never crosses the negative real axis: -1/N (real for rate-independent friction) cannot meet it";
   else if (r.cycles.empty())
-    r.note = "|N(a)| never equals 1/|H(jw)| at the crossing for velocity amplitudes in the searched range";
+    r.note = "Re N(a) never equals 1/|H(jw)| at the crossing for velocity amplitudes in the searched range";
   // Curves to draw.
   double lo = 1e300, hi = 0.0;
   for (const cplx& q : r.H.poles()) if (std::abs(q) > 0) lo = std::min(lo, std::abs(q)), hi = std::max(hi, std::abs(q));

@@ -10,7 +10,7 @@
 //   v = -H(s) F,  H(s) = s G / (1 + Gc G) = s (s + p) / ((m s^2 + c s + k)(s + p) + Kc (s + z))
 //   harmonic balance: 1 + H(jw) N(a, w) = 0, i.e. H(jw) = -1/N(a, w).
 // Prediction: start at each w0 > 0 where H(jw0) is real negative (polynomial roots, as the phase
-// crossovers of core/control/frequency.hpp), the velocity amplitude a0 where |N(a0, w0)| = 1/|H(jw0)|
+// crossovers of core/control/frequency.hpp), the velocity amplitude a0 where Re N(a0, w0) = 1/|H(jw0)|
 // (bisection in log a over [a_min, a_max]), then Newton on (ln a, w) with the complex N.
 // Stability (Loeb, by the quasi-linear system): with N frozen at a (1 +- 5 %), the closed-loop root
 // of den_H + N num_H nearest j w moves into the left half plane for the larger amplitude and into
@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "core/control/linear_response.hpp"
+#include "core/control/loop_simulation.hpp"
 #include "core/friction/model.hpp"
 #include "core/sim/scenario.hpp"
 
@@ -36,6 +37,21 @@ struct SteppedNonlinearity {
   std::function<double(double v, double h)> step;
 };
 SteppedNonlinearity stepped(const FrictionModel& model);  // prescribed motion (mass 0)
+
+// Model-based friction compensation driven by the measured velocity: the loop then sees the
+// compensated nonlinearity F(v) - F_hat(v) (both stepped with the same v), whose describing
+// function is N_F - N_Fhat (e.g. Coulomb Fc with a Coulomb compensator Fc_hat:
+// 4 (Fc - Fc_hat) / (pi a); perfect compensation leaves only what the compensator does not model).
+SteppedNonlinearity compensated(SteppedNonlinearity f, SteppedNonlinearity f_hat);
+// Fc_hat sgn(v) [N], stateless (0 at v = 0).
+SteppedNonlinearity coulomb_law(double Fc_hat);
+// The nonlinearity of a friction loop with its compensator driven by the measured velocity:
+// none: the friction; coulomb: F - Fc_hat sgn(v), Fc_hat = mismatch.force x the plant's Fc (its
+// break-away force when the model has no Fc); gms: F - F_hat(v), F_hat the compensator's GMS model
+// (feedforward_model(friction, mismatch)). Owns its models. Throws InputError for a bad model.
+// (The loop simulation's feedforward is driven by the reference velocity instead, which is 0
+// around a constant set point: there the loop's nonlinearity is the friction alone.)
+SteppedNonlinearity compensated_friction(const ModelParams& friction, Compensation comp, const Mismatch& m);
 
 struct DfOptions {
   int steps = 2000;  // per period

@@ -122,6 +122,26 @@ nlohmann::json to_json(const DiscreteFrequencyReport& f) {
           {"closed_loop_poles_z", poles_json(f.closed_loop_poles)}};
 }
 
+nlohmann::json to_json(const ZLocus& z, double Kc) {
+  nlohmann::json c = nlohmann::json::array(), st = nlohmann::json::array();
+  for (const UnitCircleCrossing& x : z.crossings)
+    c.push_back({{"z", {x.z.real(), x.z.imag()}}, {"omega_rad_s", x.omega}, {"gain", x.k}});
+  bool stable = false;
+  for (const auto& [lo, hi] : z.stable_gains) {
+    st.push_back({lo, num(hi)});
+    stable |= Kc > lo && Kc < hi;
+  }
+  return {{"sample_time_s", z.T},
+          {"gain", Kc},
+          {"unit_circle_crossings", c},
+          {"stable_gain_intervals", st},
+          {"stable_at_gain", stable},
+          {"open_loop_poles_z", poles_json(z.locus.poles)},
+          {"open_loop_zeros_z", poles_json(z.locus.zeros)},
+          {"branches", z.locus.branches.size()},
+          {"gains_sampled", z.locus.gains.size()}};
+}
+
 nlohmann::json to_json(const LimitCycleReport& r) {
   nlohmann::json a = nlohmann::json::array();
   for (const LimitCycle& c : r.cycles)
@@ -205,9 +225,11 @@ DesignResult design_report(const TransferFunction& g, const DominantRoot& root, 
     if (chosen) j["compensator"] = compensator_json({chosen->second.Kc, chosen->second.z, chosen->second.p});
     if (chosen && sample_time > 0.0) {  // the sampled loop: Tustin controller, ZOH plant
       const LeadDesign& d = chosen->second;
-      const TransferFunction Cz = tustin({Poly({d.Kc * d.z, d.Kc}), Poly({d.p, 1.0})}, sample_time);
-      const TransferFunction Gz = zoh(g, sample_time);
-      j["frequency"]["discrete"] = to_json(discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, sample_time));
+      const TransferFunction Lz = sampled_loop(g, d.z, d.p, sample_time);
+      j["frequency"]["discrete"] = to_json(discrete_frequency_response({Lz.num * d.Kc, Lz.den}, sample_time));
+      LocusOptions zo;
+      zo.extra_gains = {d.Kc};
+      j["z_locus"] = to_json(z_root_locus(Lz, sample_time, zo), d.Kc);
     }
   }
   return out;

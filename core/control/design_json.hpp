@@ -32,6 +32,9 @@ nlohmann::json to_json(const FrequencyReport& f);
 // The sampled loop: {sample_time_s, nyquist_frequency_rad_s, margins {...as above}, nyquist {...},
 // closed_loop_poles_z [[re, im], ...]}.
 nlohmann::json to_json(const DiscreteFrequencyReport& f);
+// The z-plane locus's key facts: unit-circle crossings {z [re, im], omega_rad_s, gain}, stable gain
+// intervals [[lo, hi | null for +inf]], whether the gain Kc is inside one, open-loop poles/zeros in z.
+nlohmann::json to_json(const ZLocus& z, double Kc);
 // The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
 // stable, converged}], note.
 nlohmann::json to_json(const LimitCycleReport& r);

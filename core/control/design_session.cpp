@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <exception>
 #include <limits>
 
@@ -39,6 +40,39 @@ LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vec
     if (std::isfinite(s.real()) && std::abs(s + c.z) < best) best = std::abs(s + c.z), r.slow_pole = s;
   r.time_constant = 1.0 / std::abs(r.slow_pole.real());
   return r;
+}
+
+TransferFunction LeadLagDesign::tf() const {
+  return {Poly({lead.Kc * lead.z, lead.Kc}) * Poly({zl, 1.0}), Poly({lead.p, 1.0}) * Poly({pl, 1.0})};
+}
+
+LeadLagDesign design_lead_lag(const TransferFunction& g, const LeadCompensator& lead, const DominantRoot& root,
+                              double K_target, double zero_fraction) {
+  const PlantType type = plant_type(g);
+  if (!(lead.Kc > 0.0) || !(lead.z > 0.0) || !(lead.p > 0.0) || !(type.K0 > 0.0))
+    throw InputError("lead-lag: need a lead with Kc > 0, z > 0, p > 0 rad/s and a plant with K0 > 0");
+  LeadLagDesign d;
+  d.lead = lead;
+  d.K_lead = lead.Kc * lead.z / lead.p * type.K0;
+  if (!(K_target > d.K_lead) || !std::isfinite(K_target))
+    throw InputError("lead-lag: the target error constant " + std::to_string(K_target) +
+                     " must exceed the lead's own " + std::to_string(d.K_lead) + " (else no lag is needed)");
+  if (!(zero_fraction > 0.0 && zero_fraction <= 1.0))
+    throw InputError("lead-lag: the lag zero fraction of |Re s_d| must be in (0, 1]");
+  const cplx sd = root.s();
+  d.zl = zero_fraction * std::abs(sd.real());
+  d.pl = d.zl * d.K_lead / K_target;
+  d.K = d.K_lead * d.zl / d.pl;
+  d.lag_angle_deg = std::arg((sd + d.zl) / (sd + d.pl)) * 180.0 / std::numbers::pi;
+  const TransferFunction c = d.tf();
+  d.closed_loop_poles = (c.den * g.den + c.num * g.num).roots();
+  double best_d = std::numeric_limits<double>::infinity(), best_s = best_d;
+  for (const cplx& s : d.closed_loop_poles) {
+    if (std::abs(s - sd) < best_d) best_d = std::abs(s - sd), d.dominant = s;
+    if (std::abs(s + d.zl) < best_s) best_s = std::abs(s + d.zl), d.slow_pole = s;
+  }
+  d.time_constant = 1.0 / std::abs(d.slow_pole.real());
+  return d;
 }
 
 DesignOutputs compute_design(const DesignInputs& in) {
@@ -125,9 +159,13 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (in.sample_time > 0.0 && out.compensator) {
       stage = "discrete frequency response";
       const LeadCompensator& c = *out.compensator;
-      const TransferFunction Cz = tustin({Poly({c.Kc * c.z, c.Kc}), Poly({c.p, 1.0})}, in.sample_time);
-      const TransferFunction Gz = zoh(out.plant.g, in.sample_time);
-      out.discrete = discrete_frequency_response({Cz.num * Gz.num, Cz.den * Gz.den}, in.sample_time);
+      const TransferFunction Lz = sampled_loop(out.plant.g, c.z, c.p, in.sample_time);
+      out.discrete = discrete_frequency_response({Lz.num * c.Kc, Lz.den}, in.sample_time);
+      stage = "z-plane root locus";
+      LocusOptions zo;
+      zo.extra_gains = {c.Kc};
+      zo.view = in.z_locus_view;
+      out.z_locus = z_root_locus(Lz, in.sample_time, zo);
     }
     if (!out.compensator) return out;
     stage = "step response";

@@ -59,6 +59,7 @@ struct DesignInputs {
   double horizon = 0.0;      // [s]; 0: automatic
   bool simulate = true;      // run the nonlinear loops
   std::optional<ViewBox> locus_view;  // region the locus must resolve (auto if absent)
+  std::optional<ViewBox> z_locus_view;  // same for the z-plane locus (sample time > 0)
   bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
   bool zero_degree = false;   // also compute the 0-degree locus (k < 0) of the drawn loop
 };
@@ -88,6 +89,9 @@ struct DesignOutputs {
   std::optional<FrequencyReport> frequency;
   // With a sample time T > 0: the sampled loop Kc Tustin(Gc) ZOH(G) up to the Nyquist frequency.
   std::optional<DiscreteFrequencyReport> discrete;
+  // With T > 0: the root locus in z of the same sampled loop in Kc, unit circle crossings and
+  // stable gain intervals (core/control/discrete.hpp); the design's Kc is sampled exactly.
+  std::optional<ZLocus> z_locus;
   // Limit cycles of the loop without compensation predicted by the describing function of the
   // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
   // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.
@@ -113,5 +117,28 @@ struct LagCost {
 };
 // Throws InputError unless z > p >= 0 and Kc > 0; `poles` are the loop's closed-loop poles.
 LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles);
+
+// Lead-lag: a lead (designed for s_d, error constant K_lead = Kc (z/p) K0) followed by a unity-DC
+// lag (s + z_l)/(s + p_l) that buys the factor z_l/p_l = K_target/K_lead. The lag zero sits at
+// z_l = zero_fraction x |Re s_d| (default 0.1: close to the origin against s_d, so it bends the
+// locus at s_d by only its small angle arg((s_d + z_l)/(s_d + p_l))). The cost: the slow closed-loop
+// pole it leaves on the real axis next to the lag zero -z_l (its branch ends there), with its time
+// constant (the error's slow tail, about 1/z_l), and the shift of the dominant pair off s_d.
+struct LeadLagDesign {
+  LeadCompensator lead;
+  double zl = 0.0, pl = 0.0;            // lag zero / pole at -zl, -pl [rad/s]
+  double K_lead = 0.0, K = 0.0;         // error constants, lead alone / lead-lag (1/s^n)
+  double lag_angle_deg = 0.0;           // arg((s_d + zl)/(s_d + pl)) [deg] (< 0)
+  std::vector<cplx> closed_loop_poles;  // of 1 + Gc G with the lead-lag
+  cplx dominant;                        // the closed-loop pole nearest s_d [rad/s]
+  cplx slow_pole;                       // the closed-loop pole nearest -zl [rad/s]
+  double time_constant = 0.0;           // 1/|Re slow_pole| [s]
+  // Kc (s + z)(s + zl) / ((s + p)(s + pl))
+  TransferFunction tf() const;
+};
+// Throws InputError unless K_target > K_lead > 0, 0 < zero_fraction <= 1, the lead has z > 0,
+// p > 0, Kc > 0, and the plant's K0 > 0.
+LeadLagDesign design_lead_lag(const TransferFunction& g, const LeadCompensator& lead, const DominantRoot& root,
+                              double K_target, double zero_fraction = 0.1);
 
 }  // namespace gmslab::control

@@ -1,8 +1,10 @@
 #include "core/control/discrete.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -108,6 +110,71 @@ DiscreteFrequencyReport discrete_frequency_response(const TransferFunction& Lz, 
     r.nyquist.curve.push_back(Lz(std::exp(cplx(0.0, w * T))));
   }
   for (double ph : continuous_phase(Lw, nus)) r.open.phase_deg.push_back(ph * 180.0 / std::numbers::pi);
+  return r;
+}
+
+TransferFunction sampled_loop(const TransferFunction& G, double z, double p, double T) {
+  const TransferFunction Cz = tustin({Poly({z, 1.0}), Poly({p, 1.0})}, T);
+  const TransferFunction Gz = zoh(G, T);
+  return {Cz.num * Gz.num, Cz.den * Gz.den};
+}
+
+bool roots_inside_unit_circle(const TransferFunction& Lz, double k) {
+  for (const cplx& z : closed_loop_poles(Lz, k))
+    if (!(std::abs(z) < 1.0 - 1e-12)) return false;
+  return true;
+}
+
+ZLocus z_root_locus(const TransferFunction& Lz, double T, const LocusOptions& opt) {
+  check_T(T);
+  Lz.check_proper("z-plane root locus");
+  ZLocus r;
+  r.T = T;
+  // Unit-circle crossings from the w-plane image's imaginary-axis crossings, plus z = -1.
+  // An open-loop pole on the circle (the ZOH of a pole at s = 0 is z = 1) is where the locus
+  // starts (k = 0), not a crossing: dropped when den(z) is at rounding level there.
+  const TransferFunction Lw = to_w_plane(Lz, T);
+  double den_size = 0.0;
+  for (double c : Lz.den.ascending()) den_size += std::abs(c);
+  for (const LocusPoint& p : imaginary_axis_crossings(Lw, false)) {
+    const double nu = p.s.imag();
+    const cplx z = cplx(1.0, nu * T / 2) / cplx(1.0, -nu * T / 2);
+    if (std::abs(Lz.den(z)) <= 1e-10 * den_size) continue;
+    r.crossings.push_back({z, 2.0 / T * std::atan(nu * T / 2), p.k});
+  }
+  const cplx nm1 = Lz.num(cplx(-1.0, 0.0));
+  if (std::abs(nm1) > 0.0) {
+    const double k = (-Lz.den(cplx(-1.0, 0.0)) / nm1).real();
+    if (k > 0.0 && std::abs(Lz.den(cplx(-1.0, 0.0))) > 1e-10 * den_size) r.crossings.push_back({cplx(-1.0, 0.0), std::numbers::pi / T, k});
+  }
+  std::sort(r.crossings.begin(), r.crossings.end(),
+            [](const UnitCircleCrossing& a, const UnitCircleCrossing& b) { return a.k < b.k; });
+  // Stable gain intervals.
+  std::vector<double> edges{0.0};
+  for (const auto& c : r.crossings)
+    if (c.k > edges.back()) edges.push_back(c.k);
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const double lo = edges[i];
+    const double hi = i + 1 < edges.size() ? edges[i + 1] : std::numeric_limits<double>::infinity();
+    const double mid = std::isinf(hi) ? (lo > 0.0 ? 10.0 * lo : 1.0) : (lo > 0.0 ? std::sqrt(lo * hi) : 0.5 * hi);
+    if (!roots_inside_unit_circle(Lz, mid)) continue;
+    if (!r.stable_gains.empty() && r.stable_gains.back().second == lo) r.stable_gains.back().second = hi;
+    else r.stable_gains.emplace_back(lo, hi);
+  }
+  // The locus itself, sampled at the crossing gains.
+  LocusOptions o = opt;
+  for (const auto& c : r.crossings) o.extra_gains.push_back(c.k);
+  if (!o.view) {
+    std::vector<cplx> pts{{1.0, 0.0}, {-1.0, 0.0}, {0.0, 1.0}, {0.0, -1.0}};
+    for (const cplx& p : Lz.poles()) pts.push_back(p);
+    for (const cplx& z : Lz.zeros())
+      if (std::abs(z) < 10.0) pts.push_back(z);
+    ViewBox v = view_around(pts);  // square; widened to a 16:10 canvas so its sides are resolved too
+    const double c = 0.5 * (v.re_min + v.re_max), h = 0.8 * v.height();
+    v.re_min = std::min(v.re_min, c - h), v.re_max = std::max(v.re_max, c + h);
+    o.view = v;
+  }
+  r.locus = root_locus(Lz, o);
   return r;
 }
 

@@ -100,7 +100,7 @@ class Feedforward {
         states_.emplace_back(models_.back()->state_size());
         models_.back()->reset(states_.back());
       } else if (comp_ == Compensation::Coulomb) {
-        fc_hat_ += (has_scalar(fr, "Fc") ? fr.scalar("Fc") : build_model(fr)->break_away()) * c.mismatch.force;
+        fc_hat_ += coulomb_feedforward_level(fr, c.mismatch);
       }
     }
   }
@@ -165,6 +165,10 @@ ModelParams feedforward_model(const ModelParams& plant, const Mismatch& m) {
   scale_column(g, "k", m.stiffness);
   scale_column(g, "sigma", m.stiffness);
   return g;
+}
+
+double coulomb_feedforward_level(const ModelParams& plant, const Mismatch& m) {
+  return (has_scalar(plant, "Fc") ? plant.scalar("Fc") : build_model(plant)->break_away()) * m.force;
 }
 
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {

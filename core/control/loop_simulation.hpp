@@ -69,6 +69,9 @@ struct LoopMetrics {
 
 // The compensator's GMS model (see the mismatch rules above).
 ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch& m);
+// The Coulomb compensator's level Fc_hat [N]: the plant's Fc (its break-away force when the model
+// has no Fc) times m.force.
+double coulomb_feedforward_level(const ModelParams& plant_friction, const Mismatch& m);
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 // The loop on an assembled plant (core/sim/assembly.hpp, its own integrator and contacts): the
 // controller's u acts through drive port.drive (a force drive: F = u + u_ff [N]; a pull drive: u is

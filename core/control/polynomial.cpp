@@ -77,6 +77,32 @@ cplx polish(const Poly& p, const Poly& dp, cplx r) {
   }
   return r;
 }
+// Diagonal similarity scaling by powers of 2 (Osborne / LAPACK gebal) so that every row and
+// column of the companion matrix have comparable norms. Eigen's EigenSolver does not balance, and
+// without it a polynomial with widely spread coefficients (e.g. s^6 + ... + 2e10, a root locus at
+// a large gain) gets eigenvalues wrong by O(1) (found by the root-locus continuation test).
+void balance(Eigen::MatrixXd& A) {
+  const int n = static_cast<int>(A.rows());
+  bool changed = true;
+  for (int sweep = 0; sweep < 100 && changed; ++sweep) {
+    changed = false;
+    for (int i = 0; i < n; ++i) {
+      double c = 0.0, r = 0.0;
+      for (int j = 0; j < n; ++j)
+        if (j != i) c += std::abs(A(j, i)), r += std::abs(A(i, j));
+      if (c == 0.0 || r == 0.0) continue;
+      double f = 1.0;
+      const double s = c + r;
+      while (c < 0.5 * r) c *= 2.0, r *= 0.5, f *= 2.0;
+      while (c >= 2.0 * r) c *= 0.5, r *= 2.0, f *= 0.5;
+      if (c + r < 0.95 * s) {
+        changed = true;
+        A.row(i) /= f;
+        A.col(i) *= f;
+      }
+    }
+  }
+}
 }  // namespace
 
 std::vector<cplx> Poly::roots() const {
@@ -93,6 +119,7 @@ std::vector<cplx> Poly::roots() const {
   Eigen::MatrixXd C = Eigen::MatrixXd::Zero(n, n);
   for (int i = 1; i < n; ++i) C(i, i - 1) = 1.0;
   for (int i = 0; i < n; ++i) C(i, n - 1) = -q.c_[static_cast<std::size_t>(i)] / q.c_.back();
+  balance(C);
   Eigen::EigenSolver<Eigen::MatrixXd> es(C, false);
   const Poly dq = q.derivative();
   for (int i = 0; i < n; ++i) {

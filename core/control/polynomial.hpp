@@ -2,7 +2,7 @@
 //
 //   p(s) = c[0] + c[1] s + ... + c[n] s^n     (coefficients stored lowest power first)
 //
-// Roots: eigenvalues of the companion matrix (Eigen), then each root polished by Newton steps on
+// Roots: eigenvalues of the balanced companion matrix (Eigen), then each root polished by Newton steps on
 // the original polynomial (kept only when the residual |p(r)| drops); exact zero roots (trailing
 // zero coefficients) are split off first, so a type-n plant's poles at the origin are exact.
 // Complex roots come in conjugate pairs; roots whose imaginary part is below 1e-9 |r| are made real.

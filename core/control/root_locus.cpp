@@ -67,7 +67,7 @@ std::vector<LocusPoint> axis_crossings(const TransferFunction& L, bool negative)
   return out;
 }
 
-double distance_in_view(cplx a, cplx b, const ViewBox& v) {
+inline double distance_in_view(cplx a, cplx b, const ViewBox& v) {
   if (is_nan(a) || is_nan(b)) return 0.0;
   if (!v.contains(a) && !v.contains(b)) return 0.0;
   auto clamp = [&](cplx s) {
@@ -77,8 +77,19 @@ double distance_in_view(cplx a, cplx b, const ViewBox& v) {
 }
 
 // Reorders `next` so that next[i] continues prev[i].
+// When every prev[i]'s nearest root of `next` is next[i] (the usual case: continued_roots keeps
+// each root's identity), the identity is optimal (each row's minimum is on the diagonal, so no
+// permutation has a lower sum) and the O(n^3) assignment is skipped.
 std::vector<cplx> match(const std::vector<cplx>& prev, const std::vector<cplx>& next) {
   const int n = static_cast<int>(prev.size());
+  bool identity = next.size() == prev.size();
+  for (int i = 0; i < n && identity; ++i) {
+    if (is_nan(prev[i]) || is_nan(next[i])) { identity = false; break; }
+    const double own = std::norm(prev[i] - next[i]);
+    for (int j = 0; j < n; ++j)
+      if (j != i && !(std::norm(prev[i] - next[j]) > own)) { identity = false; break; }
+  }
+  if (identity) return next;
   double big = 1.0;
   for (const auto& s : prev) if (!is_nan(s)) big = std::max(big, std::abs(s));
   for (const auto& s : next) if (!is_nan(s)) big = std::max(big, std::abs(s));
@@ -100,73 +111,268 @@ std::vector<cplx> match(const std::vector<cplx>& prev, const std::vector<cplx>& 
   return out;
 }
 
-// Roots of den + k num continued from `seed` (the roots at a nearby gain) by Aberth-Ehrlich
-// iterations: a few O(n^2) sweeps instead of a companion eigenproblem. Falls back to
-// closed_loop_poles() (eigenvalues) when a seed is missing (NaN: a root at infinity), the degree
-// differs, or the iteration does not converge in 40 sweeps (converged: every correction below 1e-9
-// relative; Aberth converges cubically, so the corrected roots are then at rounding level).
-std::vector<cplx> continued_roots(const TransferFunction& L, double k, const std::vector<cplx>& seed0,
-                                  double k0) {
-  const Poly c = L.den + L.num * k;
-  // Predictor: each root moved along its tangent dz/dk = -num(z) / P'(z), P = den + k0 num, over
-  // k - k0 (at most 0.3 of its distance to the nearest other root, so roots do not swap).
-  std::vector<cplx> seed = seed0;
-  if (std::none_of(seed0.begin(), seed0.end(), is_nan)) {
-    const Poly P = L.den + L.num * k0;
-    const Poly dP = P.derivative();
-    for (std::size_t i = 0; i < seed0.size(); ++i) {
-      const cplx d = dP(seed0[i]);
-      if (std::norm(d) == 0.0) continue;
-      cplx step = -L.num(seed0[i]) * (k - k0) / d;
-      double near = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < seed0.size(); ++j)
-        if (j != i) near = std::min(near, std::norm(seed0[j] - seed0[i]));
-      const double lim = 0.09 * near;  // (0.3 |distance|)^2
-      if (std::norm(step) > lim) step *= std::sqrt(lim / std::norm(step));
-      if (std::isfinite(step.real()) && std::isfinite(step.imag())) seed[i] += step;
-    }
+// The loop's coefficients, padded to one length, with their derivatives: evaluated without
+// allocating (continued_roots runs a few hundred times per locus).
+struct LocusPolys {
+  int n = 0;                        // max(deg den, deg num)
+  std::vector<double> den, num;     // ascending, n + 1 entries
+  std::vector<double> dden, dnum;   // derivatives, n entries
+  explicit LocusPolys(const TransferFunction& L) : n(std::max(L.den.degree(), L.num.degree())) {
+    den.assign(static_cast<std::size_t>(n + 1), 0.0);
+    num.assign(static_cast<std::size_t>(n + 1), 0.0);
+    for (int i = 0; i <= n; ++i) den[i] = L.den.coeff(i), num[i] = L.num.coeff(i);
+    dden.assign(static_cast<std::size_t>(std::max(n, 1)), 0.0);
+    dnum.assign(dden.size(), 0.0);
+    for (int i = 1; i <= n; ++i) dden[i - 1] = i * den[i], dnum[i - 1] = i * num[i];
   }
-  const int n = c.degree();
-  if (n < 1 || static_cast<int>(seed.size()) != n || std::any_of(seed.begin(), seed.end(), is_nan))
-    return closed_loop_poles(L, k);
-  const auto& a = c.ascending();
-  double scale = 0.0;
-  for (const cplx& z : seed) scale = std::max(scale, std::abs(z));
-  scale = std::max(scale, 1e-300);
-  std::vector<cplx> z = seed;
-  for (int i = 0; i < n; ++i)  // separate coincident seeds (a double root at a breakaway gain)
-    for (int j = 0; j < i; ++j)
-      if (std::abs(z[i] - z[j]) < 1e-9 * scale) z[i] += cplx(1e-7 * scale * (i + 1), 1e-7 * scale);
-  bool done = false;
-  for (int it = 0; it < 40 && !done; ++it) {
-    done = true;
+};
+
+inline cplx horner(const double* a, int deg, cplx z) {  // a[0] + a[1] z + ... + a[deg] z^deg
+  double re = a[deg], im = 0.0;
+  const double x = z.real(), y = z.imag();
+  for (int m = deg - 1; m >= 0; --m) {
+    const double t = re * x - im * y + a[m];
+    im = re * y + im * x;
+    re = t;
+  }
+  return {re, im};
+}
+inline cplx inv(cplx b) { const double d = std::norm(b); return {b.real() / d, -b.imag() / d}; }
+inline cplx mul(cplx a, cplx b) {  // without the library's NaN recovery (hot; inputs finite)
+  return {a.real() * b.real() - a.imag() * b.imag(), a.real() * b.imag() + a.imag() * b.real()};
+}
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// c(z) and c'(z) by Horner, with the rounding bound sum |c_i| |z|^i of c(z); true when c(z) is at
+// rounding level (|c(z)| <= 16 eps bound: the polynomial's backward error, so a double root at a
+// breakaway gain is then as accurate as double precision allows).
+inline bool eval_at(const double* c, const double* ac, int n, cplx z, cplx& p, cplx& dp) {
+  const double x = z.real(), y = z.imag();
+  double pr = c[n], pi = 0.0, dr = 0.0, di = 0.0, bound = ac[n];
+  const double r = std::sqrt(x * x + y * y);
+  for (int m = n - 1; m >= 0; --m) {
+    const double tdr = dr * x - di * y + pr;
+    di = dr * y + di * x + pi;
+    dr = tdr;
+    const double tpr = pr * x - pi * y + c[m];
+    pi = pr * y + pi * x;
+    pr = tpr;
+    bound = bound * r + ac[m];
+  }
+  p = {pr, pi};
+  dp = {dr, di};
+  return pr * pr + pi * pi <= (16.0 * kEps * bound) * (16.0 * kEps * bound);
+}
+
+// Newton on each root alone (O(n) per step, one division): from a tangent-predicted start it
+// converges quadratically in 2-3 steps. A root is done at rounding-level residual or once its
+// correction is below 1e-9 relative (the corrected root is then at rounding level). False when a
+// root does not converge in 30 steps or a step is not finite; two roots that converge to the same
+// root are caught by roots_consistent(). The active roots are stepped in lockstep (Horner over
+// the roots innermost): their recurrences are independent, so the CPU overlaps them.
+bool newton_roots(const double* c, const double* ac, int n, cplx* z, double scale) {
+  int act[64], na = n;
+  for (int i = 0; i < n; ++i) act[i] = i;
+  double x[64], y[64], r[64], pr[64], pi[64], dr[64], di[64], bd[64];
+  for (int it = 0; it < 30 && na > 0; ++it) {
+    for (int a = 0; a < na; ++a) {
+      const cplx zi = z[act[a]];
+      x[a] = zi.real(), y[a] = zi.imag();
+      r[a] = std::sqrt(x[a] * x[a] + y[a] * y[a]);
+      pr[a] = c[n], pi[a] = 0.0, dr[a] = 0.0, di[a] = 0.0, bd[a] = ac[n];
+    }
+    for (int m = n - 1; m >= 0; --m) {
+      const double cm = c[m], am = ac[m];
+      for (int a = 0; a < na; ++a) {
+        const double tdr = dr[a] * x[a] - di[a] * y[a] + pr[a];
+        di[a] = dr[a] * y[a] + di[a] * x[a] + pi[a];
+        dr[a] = tdr;
+        const double tpr = pr[a] * x[a] - pi[a] * y[a] + cm;
+        pi[a] = pr[a] * y[a] + pi[a] * x[a];
+        pr[a] = tpr;
+        bd[a] = bd[a] * r[a] + am;
+      }
+    }
+    int keep = 0;
+    for (int a = 0; a < na; ++a) {
+      const int i = act[a];
+      const double lim0 = 16.0 * kEps * bd[a];
+      if (pr[a] * pr[a] + pi[a] * pi[a] <= lim0 * lim0) continue;  // done
+      const cplx w = mul({pr[a], pi[a]}, inv({dr[a], di[a]}));
+      if (!std::isfinite(w.real()) || !std::isfinite(w.imag())) return false;
+      z[i] -= w;
+      const double lim = 1e-9 * std::max(r[a], 1e-6 * scale);
+      if (std::norm(w) > lim * lim) act[keep++] = i;
+    }
+    na = keep;
+  }
+  return na == 0;
+}
+
+// Aberth-Ehrlich (simultaneous, cubically convergent, roots repel each other so none is found
+// twice): O(n^2) per sweep. Same stopping rule per root; false after 40 sweeps.
+bool aberth_roots(const double* c, const double* ac, int n, cplx* z, double scale) {
+  bool frozen[64] = {};
+  int active = n;
+  for (int it = 0; it < 40 && active > 0; ++it) {
     for (int i = 0; i < n; ++i) {
-      cplx p = a.back(), dp = 0.0;
-      for (int m = n - 1; m >= 0; --m) dp = dp * z[i] + p, p = p * z[i] + a[static_cast<std::size_t>(m)];
-      if (p == 0.0) continue;
-      // Divisions as conj(b) / |b|^2 (no overflow guards needed at these magnitudes; a
-      // non-finite result falls back below): 3x faster than the library's complex division.
-      const auto inv = [](cplx b) { return std::conj(b) / std::norm(b); };
-      const cplx ratio = p * inv(dp);
+      if (frozen[i]) continue;
+      const cplx zi = z[i];
+      cplx p, dp;
+      if (eval_at(c, ac, n, zi, p, dp)) {
+        frozen[i] = true, --active;
+        continue;
+      }
+      const cplx ratio = mul(p, inv(dp));
       cplx sum = 0.0;
       for (int j = 0; j < n; ++j)
-        if (j != i) sum += inv(z[i] - z[j]);
-      const cplx w = ratio * inv(1.0 - ratio * sum);
-      if (!std::isfinite(w.real()) || !std::isfinite(w.imag())) return closed_loop_poles(L, k);
-      z[i] -= w;
-      const double lim = 1e-9 * std::max(std::norm(z[i]) > 0 ? std::sqrt(std::norm(z[i])) : 0.0, 1e-6 * scale);
-      if (std::norm(w) > lim * lim) done = false;
+        if (j != i) sum += inv(zi - z[j]);
+      const cplx w = mul(ratio, inv(1.0 - mul(ratio, sum)));
+      if (!std::isfinite(w.real()) || !std::isfinite(w.imag())) return false;
+      z[i] = zi - w;
+      const double lim = 1e-9 * std::max(std::sqrt(std::norm(z[i])), 1e-6 * scale);
+      if (std::norm(w) <= lim * lim) frozen[i] = true, --active;
     }
   }
-  if (!done) return closed_loop_poles(L, k);
-  for (cplx& r : z)
-    if (std::abs(r.imag()) <= 1e-9 * std::abs(r)) r = cplx(r.real(), 0.0);
-  const int m = std::max(L.den.degree(), L.num.degree());
-  while (static_cast<int>(z.size()) < m) z.emplace_back(kNaN, kNaN);
-  return z;
+  return active == 0;
+}
+
+// Every z_i has a rounding-level residual; this checks they are the n roots and not one found
+// twice and another lost: Vieta's first two power sums, sum z = -c_{n-1}/c_n and
+// sum z^2 = (c_{n-1}/c_n)^2 - 2 c_{n-2}/c_n, within 1e-6 of sum |z| (|z|^2); no two equal.
+bool roots_consistent(const double* c, int n, const cplx* z) {
+  cplx s1 = 0.0, s2 = 0.0;
+  double m1 = 0.0, m2 = 0.0;
+  for (int i = 0; i < n; ++i) {
+    s1 += z[i], s2 += mul(z[i], z[i]);
+    const double a = std::norm(z[i]);
+    m1 += std::sqrt(a), m2 += a;
+  }
+  const double e1 = -c[n - 1] / c[n];
+  const double p2 = e1 * e1 - (n >= 2 ? 2.0 * c[n - 2] / c[n] : 0.0);
+  if (std::norm(s1 - e1) > 1e-12 * m1 * m1 + 1e-300) return false;
+  if (std::norm(s2 - p2) > 1e-12 * m2 * m2 + 1e-300) return false;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < i; ++j)
+      if (z[i] == z[j]) return false;
+  return true;
+}
+
+// Roots of den + k num continued from `seed0` (the roots at the nearby gain k0) instead of a
+// companion eigenproblem. Each root's start is predicted along its tangent dz/dk = -num(z)/P'(z),
+// P = den + k0 num (the step limited to 0.3 of its distance to the nearest other root, so roots do
+// not swap); then Newton on each root (newton_roots); if that fails or two roots collide
+// (roots_consistent), Aberth-Ehrlich from the same starts; if that fails too, closed_loop_poles()
+// (eigenvalues). Also eigenvalues when a seed is missing (NaN: a root at infinity) or the degree
+// differs (equal order at the infinite gain).
+//
+// Step check: when `view` is given, no predicted step had to be limited (no two roots close, so
+// the tangents are reliable) and a root's predicted move inside the view exceeds 1.1 tol, the gain
+// is too far: nothing is solved, the result is empty and *predicted_jump says how far it went.
+std::vector<cplx> continued_roots(const TransferFunction& L, const LocusPolys& W, double k,
+                                  const std::vector<cplx>& seed0, double k0,
+                                  const ViewBox* view = nullptr, double tol = 0.0,
+                                  double* predicted_jump = nullptr) {
+  const int N = W.n;
+  double c[64];
+  int n = N;
+  if (N + 1 > 64) return closed_loop_poles(L, k);
+  for (int i = 0; i <= N; ++i) c[i] = W.den[i] + k * W.num[i];
+  while (n >= 0 && c[n] == 0.0) --n;
+  if (n < 1 || n != N || static_cast<int>(seed0.size()) != n ||
+      std::any_of(seed0.begin(), seed0.end(), is_nan))
+    return closed_loop_poles(L, k);
+  // Predictor, Horner over the roots innermost (independent recurrences, overlapped by the CPU):
+  // num(z), den'(z), num'(z) at every seed.
+  double x[64], y[64], nr[64], ni[64], ddr[64], ddi[64], dnr[64], dni[64];
+  for (int i = 0; i < n; ++i) {
+    x[i] = seed0[i].real(), y[i] = seed0[i].imag();
+    nr[i] = W.num[N], ni[i] = 0.0, ddr[i] = W.dden[N - 1], ddi[i] = 0.0, dnr[i] = W.dnum[N - 1], dni[i] = 0.0;
+  }
+  for (int m = N - 1; m >= 0; --m) {
+    const double a = W.num[m];
+    for (int i = 0; i < n; ++i) {
+      const double t = nr[i] * x[i] - ni[i] * y[i] + a;
+      ni[i] = nr[i] * y[i] + ni[i] * x[i];
+      nr[i] = t;
+    }
+    if (m == 0) break;
+    const double b = W.dden[m - 1], e = W.dnum[m - 1];
+    for (int i = 0; i < n; ++i) {
+      const double t = ddr[i] * x[i] - ddi[i] * y[i] + b;
+      ddi[i] = ddr[i] * y[i] + ddi[i] * x[i];
+      ddr[i] = t;
+      const double u = dnr[i] * x[i] - dni[i] * y[i] + e;
+      dni[i] = dnr[i] * y[i] + dni[i] * x[i];
+      dnr[i] = u;
+    }
+  }
+  cplx z0[64];
+  double scale = 0.0, pjump = 0.0;
+  bool limited = false;
+  for (int i = 0; i < n; ++i) {
+    const cplx zi = seed0[i];
+    z0[i] = zi;
+    const cplx d(ddr[i] + k0 * dnr[i], ddi[i] + k0 * dni[i]);
+    if (std::norm(d) == 0.0) {
+      limited = true;
+      continue;
+    }
+    cplx step = mul({nr[i], ni[i]}, inv(d)) * (k0 - k);
+    if (view) pjump = std::max(pjump, distance_in_view(zi, zi + step, *view));
+    double near = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < n; ++j)
+      if (j != i) near = std::min(near, std::norm(seed0[j] - zi));
+    const double lim = 0.09 * near;  // (0.3 |distance|)^2
+    if (std::norm(step) > lim) step *= std::sqrt(lim / std::norm(step)), limited = true;
+    if (std::isfinite(step.real()) && std::isfinite(step.imag())) z0[i] += step;
+    else limited = true;
+    scale = std::max(scale, std::norm(z0[i]));
+  }
+  if (view && !limited && pjump > 1.1 * tol) {
+    if (predicted_jump) *predicted_jump = pjump;
+    return {};
+  }
+  scale = std::max(std::sqrt(scale), 1e-300);
+  for (int i = 0; i < n; ++i)  // separate coincident seeds (a double root at a breakaway gain)
+    for (int j = 0; j < i; ++j)
+      if (std::norm(z0[i] - z0[j]) < 1e-18 * scale * scale)
+        z0[i] += cplx(1e-7 * scale * (i + 1), 1e-7 * scale);
+  double ac[64];
+  for (int i = 0; i <= n; ++i) ac[i] = std::abs(c[i]);
+  cplx z[64];
+  std::copy(z0, z0 + n, z);
+  bool ok = newton_roots(c, ac, n, z, scale) && roots_consistent(c, n, z);
+  if (!ok) {
+    std::copy(z0, z0 + n, z);
+    ok = aberth_roots(c, ac, n, z, scale) && roots_consistent(c, n, z);
+  }
+  if (!ok) return closed_loop_poles(L, k);
+  // Exact roots at the origin (the lowest coefficients zero, e.g. a type-1 loop's pole at s = 0
+  // with a zero there): the roots nearest the origin are set to 0, as Poly::roots() gives them.
+  for (int zc = 0; zc < n && c[zc] == 0.0; ++zc) {
+    bool taken[64] = {};
+    int best = -1;
+    for (int t = 0; t <= zc; ++t) {  // the (zc + 1)-th nearest root to the origin
+      best = -1;
+      for (int i = 0; i < n; ++i)
+        if (!taken[i] && (best < 0 || std::norm(z[i]) < std::norm(z[best]))) best = i;
+      taken[best] = true;
+    }
+    z[best] = 0.0;
+  }
+  std::vector<cplx> out(z, z + n);
+  for (cplx& r : out)
+    if (std::abs(r.imag()) <= 1e-9 * std::sqrt(std::norm(r))) r = cplx(r.real(), 0.0);
+  return out;
 }
 
 }  // namespace
+
+std::vector<LocusPoint> imaginary_axis_crossings(const TransferFunction& L, bool negative) {
+  return axis_crossings(L, negative);
+}
 
 std::vector<cplx> closed_loop_poles(const TransferFunction& L, double k) {
   const Poly c = L.den + L.num * k;
@@ -192,6 +398,28 @@ ViewBox view_around(const std::vector<cplx>& pts) {
   r *= 1.3;
   return {c - r, c + r, -r, r};
 }
+
+namespace {
+// auto_view from already computed poles, zeros and key points of the 180-degree locus.
+ViewBox auto_view_of(const TransferFunction& L, const std::vector<cplx>& extra,
+                     const std::vector<cplx>& poles, const std::vector<cplx>& zeros,
+                     const std::vector<LocusPoint>& breakaways,
+                     const std::vector<LocusPoint>& crossings) {
+  std::vector<cplx> pts = extra;
+  for (const auto& s : poles) pts.push_back(s);
+  for (const auto& s : zeros) pts.push_back(s);
+  for (const auto& p : breakaways) pts.push_back(p.s);
+  for (const auto& p : crossings) pts.push_back(p.s);
+  const int q = L.relative_degree();
+  if (q > 0) {
+    double c = 0.0;
+    for (const auto& s : poles) c += s.real();
+    for (const auto& s : zeros) c -= s.real();
+    pts.emplace_back(c / q, 0.0);
+  }
+  return view_around(pts);
+}
+}  // namespace
 
 ViewBox auto_view(const TransferFunction& L, const std::vector<cplx>& extra) {
   std::vector<cplx> pts = extra;
@@ -230,7 +458,13 @@ RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt) {
   }
   rl.breakaways = breakaway_points(L, opt.negative);
   rl.crossings = axis_crossings(L, opt.negative);
-  rl.view = opt.view ? *opt.view : auto_view(L);
+  if (opt.view) {
+    rl.view = *opt.view;
+  } else if (!opt.negative) {
+    rl.view = auto_view_of(L, {}, rl.poles, rl.zeros, rl.breakaways, rl.crossings);
+  } else {
+    rl.view = auto_view(L);
+  }
 
   // Gain scale: |k| at which the asymptotic roots reach the view's far edge.
   const double rf = std::max({std::abs(rl.view.re_min), std::abs(rl.view.re_max),
@@ -256,7 +490,9 @@ RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt) {
   const double tol = opt.max_jump * rl.view.width();
   // Roots at each gain are continued from the last accepted gain's roots (continued_roots).
   std::vector<double> stack(gains.rbegin(), gains.rend() - 1);
-  std::vector<cplx> prev = closed_loop_poles(L, 0.0);
+  const LocusPolys W(L);
+  std::vector<cplx> prev = rl.poles;  // the roots at k = 0
+  while (prev.size() < static_cast<std::size_t>(W.n)) prev.emplace_back(kNaN, kNaN);
   const std::size_t nb = prev.size();
   rl.branches.assign(nb, {});
   auto push = [&](double k, const std::vector<cplx>& r) {
@@ -267,14 +503,22 @@ RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt) {
   double k_prev = 0.0;
   while (!stack.empty()) {
     const double k = stack.back();
-    std::vector<cplx> m = match(prev, continued_roots(L, k, prev, k_prev));
-    double jump = 0.0;
-    for (std::size_t b = 0; b < nb; ++b) jump = std::max(jump, distance_in_view(prev[b], m[b], rl.view));
     const bool can_split = static_cast<int>(rl.gains.size() + stack.size()) < opt.max_samples &&
                            std::abs(k - k_prev) > 1e-12 * std::abs(k);
+    double jump = 0.0;
+    std::vector<cplx> r = continued_roots(L, W, k, prev, k_prev, can_split ? &rl.view : nullptr, tol, &jump);
+    std::vector<cplx> m;
+    if (!r.empty()) {
+      m = match(prev, r);
+      jump = 0.0;
+      for (std::size_t b = 0; b < nb; ++b) jump = std::max(jump, distance_in_view(prev[b], m[b], rl.view));
+    }
     if (jump > tol && can_split) {
+      // Split where the move is expected to be 0.7 tol (moves grow about linearly with log k
+      // over a short interval), between 5 % and half of the interval in log k.
+      const double f = std::clamp(0.7 * tol / jump, 0.05, 0.5);
       const double kmid = (k_prev == 0.0) ? 0.1 * k
-                          : (k_prev * k > 0.0 ? std::copysign(std::sqrt(k_prev * k), k)
+                          : (k_prev * k > 0.0 ? k_prev * std::pow(k / k_prev, f)
                                               : 0.5 * (k_prev + k));
       stack.push_back(kmid);
       continue;

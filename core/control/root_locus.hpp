@@ -60,6 +60,9 @@ struct RootLocus {
 
 // Throws InputError when L is improper or zero.
 RootLocus root_locus(const TransferFunction& L, const LocusOptions& opt = {});
+// The points s = j w (w >= 0) where the locus of the given sign crosses the imaginary axis, with
+// their gains (the key points root_locus() reports as `crossings`).
+std::vector<LocusPoint> imaginary_axis_crossings(const TransferFunction& L, bool negative = false);
 // Roots of den + k num (n of them, NaN for a root at infinity), sorted by real part.
 std::vector<cplx> closed_loop_poles(const TransferFunction& L, double k);
 // The gain that puts a closed-loop pole at s: k = -den(s)/num(s) (complex unless s is on a locus).

@@ -190,3 +190,81 @@ TEST(LimitCycle, ThresholdCycleOfEachFrictionFamilyMatchesSimulation) {
       EXPECT_NEAR(above.cycle_period, lc.period, 0.1 * lc.period) << model << " c=" << c;
     }
 }
+
+// Friction compensation driven by the measured velocity (compensated_friction): with a Coulomb law
+// and a Coulomb compensator Fc_hat = r Fc, the loop's nonlinearity is Coulomb with Fc - Fc_hat:
+// N = 4 Fc (1 - r) / (pi a) + sigma2 (over random Fc, sigma2, r in [0.2, 2] incl. over-
+// compensation, a, w); perfect compensation (r = 1) of a GMS law by its own model leaves nothing.
+TEST(DescribingFunction, CompensatedCoulombIsCoulombWithTheResidualLevel) {
+  std::mt19937 rng(1226);
+  std::uniform_real_distribution<double> la(-3.0, 0.0), lw(-1.0, 3.0), fc(0.1, 5.0), s2(0.0, 2.0), ur(0.2, 2.0);
+  for (int i = 0; i < 40; ++i) {
+    ModelParams p = model_info("coulomb").defaults();
+    const double Fc = fc(rng), sigma2 = s2(rng), r = ur(rng);
+    p.set_scalar("Fc", Fc), p.set_scalar("Fs", Fc * 1.2), p.set_scalar("sigma2", sigma2);
+    Mismatch mm;
+    mm.force = r;
+    const double a = std::pow(10.0, la(rng)), w = std::pow(10.0, lw(rng));
+    const cplx N = describing_function(compensated_friction(p, Compensation::Coulomb, mm), a, w);
+    const double expect = 4 * Fc * (1 - r) / (kPi * a) + sigma2;
+    EXPECT_NEAR(N.real(), expect, 2e-3 * (4 * Fc / (kPi * a) + sigma2)) << "a=" << a << " w=" << w << " r=" << r;
+    EXPECT_NEAR(N.imag(), 0.0, 5e-3 * (4 * Fc / (kPi * a) + sigma2));
+    const cplx N0 = describing_function(compensated_friction(p, Compensation::None, mm), a, w);
+    EXPECT_NEAR(N0.real(), 4 * Fc / (kPi * a) + sigma2, 2e-3 * (4 * Fc / (kPi * a) + sigma2));
+  }
+  const ModelParams g = model_info("gms").defaults();
+  const cplx Ng = describing_function(compensated_friction(g, Compensation::Gms, Mismatch{}), 0.01, 20.0);
+  EXPECT_LT(std::abs(Ng), 1e-12);
+  const cplx Ng0 = describing_function(compensated_friction(g, Compensation::None, Mismatch{}), 0.01, 20.0);
+  EXPECT_GT(std::abs(Ng0), 10.0);
+}
+
+// The Coulomb PI loop of CoulombPiThresholdMatchesClosedFormAndSimulation with the compensation
+// on: its threshold cycle shrinks with the residual level, a = 4 Fc (1 - r) / (pi (N - sigma2)),
+// and vanishes with perfect model-based compensation: the compensated nonlinearity is then 0 and
+// no cycle is predicted, while the loop without compensation has one.
+TEST(LimitCycle, CompensationShrinksTheThresholdCycleToTheResidualCoulombLevel) {
+  std::mt19937 rng(1227);
+  std::uniform_real_distribution<double> lk(2.5, 3.5), uz(3.0, 8.0), uc(0.3, 0.8), ur(0.2, 0.9);
+  for (int i = 0; i < 6; ++i) {
+    Plant pl{1.0, 0.0, 0.0};
+    const double Kc = std::pow(10.0, lk(rng)), z = uz(rng);
+    pl.damper = uc(rng) * z;
+    ModelParams f = model_info("coulomb").defaults();
+    const double Fc = f.scalar("Fc"), s2 = f.scalar("sigma2"), r = ur(rng);
+    const LeadCompensator C{Kc, z, 0.0};
+    Mismatch mm;
+    mm.force = r;
+    const LimitCycleReport rc = predict_limit_cycles(compensated_friction(f, Compensation::Coulomb, mm), pl, C);
+    // The threshold cycle (the largest; the sign law also leaves a cycle at the scale of the
+    // model's stick band v_stick, where the law ramps and the compensator does not).
+    ASSERT_GE(rc.cycles.size(), 1u);
+    const LimitCycle* big = &rc.cycles[0];
+    for (const LimitCycle& c : rc.cycles)
+      if (c.velocity_amplitude > big->velocity_amplitude) big = &c;
+    for (const LimitCycle& c : rc.cycles)
+      if (&c != big) EXPECT_LT(c.velocity_amplitude, 100 * f.scalar("v_stick"));
+    const double Nq = z - pl.damper, w = std::sqrt(Kc);
+    const double a = 4 * Fc * (1 - r) / (kPi * (Nq - s2));
+    EXPECT_NEAR(big->velocity_amplitude, a, 0.01 * a) << "r = " << r;
+    EXPECT_NEAR(big->frequency, w, 2e-3 * w);
+    // Perfect model-based compensation (the compensator is the plant's own law, Karnopp stick band
+    // included): nothing is left, no cycle; the loop without it has one.
+    EXPECT_EQ(predict_limit_cycles(compensated_friction(f, Compensation::None, mm), pl, C).cycles.size(), 1u);
+    const auto m1 = build_model(f), m2 = build_model(f);
+    const LimitCycleReport rp = predict_limit_cycles(compensated(stepped(*m1), stepped(*m2)), pl, C);
+    EXPECT_TRUE(rp.cycles.empty());
+    EXPECT_FALSE(rp.note.empty());
+    // The sign law Fc sgn(v) at the right level (r = 1, sigma2 = 0) compensates all but the
+    // model's stick band |v| < vs, where the law ramps (F = Fc v / vs): the residual
+    // -Fc (1 - |v|/vs) sgn v has N = -2 Fc vs^2 / (3 pi a^3) for a >> vs, negative, so it cannot
+    // balance H's negative real crossing: no cycle either.
+    mm.force = 1.0;
+    f.set_scalar("sigma2", 0.0);
+    const double vs = f.scalar("v_stick"), as = 20.0 * vs;
+    const cplx Ns = describing_function(compensated_friction(f, Compensation::Coulomb, mm), as, w, {20000, 2});
+    const double expect_s = -2 * Fc * vs * vs / (3 * kPi * as * as * as);
+    EXPECT_NEAR(Ns.real(), expect_s, 0.05 * std::abs(expect_s));
+    EXPECT_TRUE(predict_limit_cycles(compensated_friction(f, Compensation::Coulomb, mm), pl, C).cycles.empty());
+  }
+}

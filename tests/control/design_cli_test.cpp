@@ -165,3 +165,57 @@ TEST(DesignCli, SampleTimeAddsTheSampledLoopsMargins) {
   EXPECT_NEAR(d["margins"]["phase_margin_deg"].get<double>(), pm - wgc * 0.01 / 2 * 180 / M_PI, 0.5);
   EXPECT_TRUE(d["nyquist"]["stable"].get<bool>());
 }
+
+// The z-plane locus of the sampled loop (--sample-time): its first unit-circle crossing is where
+// the gain reaches Kc x the sampled gain margin (computed independently, from the w-plane phase
+// crossover) at the phase crossover frequency; the design gain is stable there exactly when the
+// sampled Nyquist count says so. Over sample times from 1 ms to 0.2 s.
+TEST(DesignCli, SampleTimeAddsTheZPlaneLocusConsistentWithTheSampledMargins) {
+  for (const char* T : {"0.001", "0.01", "0.05", "0.2", "0.4"}) {
+    const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                           "--sample-time", T}, "zlocus");
+    ASSERT_TRUE(j.contains("z_locus")) << T;
+    const auto& z = j["z_locus"];
+    const auto& m = j["frequency"]["discrete"]["margins"];
+    const double Kc = j["Kc"].get<double>();
+    EXPECT_NEAR(z["gain"].get<double>(), Kc, 1e-12 * Kc);
+    EXPECT_EQ(z["stable_at_gain"].get<bool>(), j["frequency"]["discrete"]["nyquist"]["stable"].get<bool>()) << T;
+    ASSERT_FALSE(z["unit_circle_crossings"].empty());
+    const auto& c = z["unit_circle_crossings"][0];
+    const double re = c["z"][0].get<double>(), im = c["z"][1].get<double>();
+    EXPECT_NEAR(std::hypot(re, im), 1.0, 1e-9);
+    if (!m["gain_margin"].is_null() && m["gain_margin"].get<double>() > 1.0) {
+      EXPECT_NEAR(c["gain"].get<double>(), Kc * m["gain_margin"].get<double>(), 1e-6 * c["gain"].get<double>()) << T;
+      EXPECT_NEAR(c["omega_rad_s"].get<double>(), m["phase_crossover_rad_s"].get<double>(), 1e-6 * c["omega_rad_s"].get<double>()) << T;
+      EXPECT_NEAR(z["stable_gain_intervals"][0][1].get<double>(), c["gain"].get<double>(), 1e-9 * c["gain"].get<double>());
+    }
+  }
+}
+
+// --lag-K adds a lag after the chosen lead: the G1 Kv = 5 design made Kv = 50 (x10) reports the
+// lag zero at 0.1 |Re s_d| = 0.2 rad/s, its pole at 0.02, K = 50 and the compensator's coefficients
+// (conv of lead and lag), a slow real pole just left of the lag zero -0.2; a target below the lead's own is
+// an error with exit code 2.
+TEST(DesignCli, LagKAddsALagWithItsErrorConstantAndSlowPole) {
+  const auto j = design({"--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                         "--lag-K", "50"}, "leadlag");
+  ASSERT_TRUE(j.contains("lead_lag"));
+  const auto& l = j["lead_lag"];
+  EXPECT_NEAR(l["zl"].get<double>(), 0.2, 1e-12);
+  EXPECT_NEAR(l["pl"].get<double>(), 0.02, 1e-9);
+  EXPECT_NEAR(l["K"].get<double>(), 50.0, 1e-9);
+  EXPECT_NEAR(l["K_lead"].get<double>(), 5.0, 1e-9);
+  const double Kc = j["Kc"].get<double>(), z = j["z"].get<double>(), p = j["p"].get<double>();
+  const std::vector<double> num = l["num"], den = l["den"];
+  ASSERT_EQ(num.size(), 3u);
+  EXPECT_NEAR(num[0], Kc, 1e-9 * Kc);
+  EXPECT_NEAR(num[1], Kc * (z + 0.2), 1e-9 * Kc);
+  EXPECT_NEAR(num[2], Kc * z * 0.2, 1e-9 * Kc);
+  EXPECT_NEAR(den[1], p + 0.02, 1e-9);
+  const double slow = l["slow_pole"][0].get<double>();
+  EXPECT_LT(slow, -0.2);  // just left of the lag zero (its branch ends there)
+  EXPECT_GT(slow, -0.26);
+  EXPECT_NEAR(l["slow_time_constant_s"].get<double>(), -1.0 / slow, 1e-12);
+  EXPECT_EQ(run_cli({"design", "--num", "4", "--den", "1 2 0", "--zeta", "0.5", "--wn", "4", "--K", "5",
+                     "--lag-K", "3"}), 2);
+}

@@ -82,4 +82,29 @@ TEST(DesignViewInput, DraggingTheCompensatorZeroMakesAManualDesignThatTheLocusFo
   for (const cplx& p : out.closed_loop_poles)
     EXPECT_LT(std::abs(1.0 + out.compensator->Kc * out.loop(p)), 1e-6) << p.real() << " + j" << p.imag();
 }
+
+// With a sample time the locus canvas shows the z plane; the wheel over it zooms about the mouse
+// and the z-plane locus is recomputed for the zoomed view (its resolution follows the view).
+TEST(DesignViewInput, WheelZoomsTheZPlaneLocusAndItIsRecomputedForTheView) {
+  Harness h;
+  h.d().settings.sample_time = 0.01;
+  h.d().dirty = true;
+  for (int i = 0; i < 3; ++i) h.frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+  ASSERT_TRUE(h.d().out.z_locus.has_value());
+  ASSERT_TRUE(h.d().z_plane);
+  const control::ViewBox v0 = h.d().out.z_locus->locus.view;
+  const auto& t = h.d().z_canvas;
+  const ImVec2 at(static_cast<float>(t.to_px_x(0.5)), static_cast<float>(t.to_px_y(0.2)));
+  ImGui::GetIO().MouseWheel = 3.0f;
+  h.frame(at, false);
+  ImGui::GetIO().MouseWheel = 0.0f;
+  h.frame(at, false);
+  ASSERT_TRUE(h.d().in.z_locus_view.has_value());
+  const control::ViewBox& v1 = *h.d().in.z_locus_view;
+  EXPECT_LT(v1.width(), 0.7 * v0.width());
+  EXPECT_TRUE(v1.contains(cplx(0.5, 0.2)));  // zoomed about the mouse
+  // Recomputed: the drawn locus was resolved for the zoomed view.
+  EXPECT_DOUBLE_EQ(h.d().out.z_locus->locus.view.re_min, v1.re_min);
+  EXPECT_DOUBLE_EQ(h.d().out.z_locus->locus.view.width(), v1.width());
+}
 #endif

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
+#include "core/control/design_session.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/error.hpp"
 
@@ -243,4 +245,57 @@ TEST(LeadDesignInput, BadDominantRootsAndConstantsAreRejected) {
   EXPECT_THROW(design_for_constant(G1, {0.5, 4.0}, 8.0), gmslab::InputError);
   EXPECT_THROW(lead_design(tf({1, 0}, {1, 2, 1}), {0.5, 4.0}, 1.0), gmslab::InputError);
   EXPECT_THROW(lead_design(tf({1, 0, 0}, {1, 2}), {0.5, 4.0}, 1.0), gmslab::InputError);
+}
+
+// Lead-lag over random type-1 plants K/(s (s + a)) and desired roots: the lead is designed for
+// K_lead (design_for_constant), the lag buys the factor F = K_target/K_lead. Checked independently:
+// the error constant lim s Gc G as s -> 0 (evaluated at s = 1e-9 |s_d|) equals K_target; the lag's
+// angle at s_d is the phase of Gc_leadlag / Gc_lead there and is small (zero at 0.1 |Re s_d|); the
+// closed-loop pole set has a pair within 25 % of |s_d| of s_d (the lag's small angle moves it a
+// little; up to x20 lags), and the price: a slow real pole within 50 % of the lag zero -z_l
+// (its branch ends there), time constant about 1/z_l, over 3x that of the dominant pair.
+TEST(LeadLag, LagBuysTheErrorConstantAndLeavesASlowPoleNearItsZero) {
+  std::mt19937 rng(1229);
+  std::uniform_real_distribution<double> ua(0.5, 5.0), uk(0.5, 10.0), uz(0.4, 0.8), uw(2.0, 8.0), uf(3.0, 20.0);
+  int designs = 0;
+  for (int i = 0; i < 60; ++i) {
+    const double a = ua(rng), k = uk(rng);
+    const TransferFunction g{Poly({k}), Poly({0.0, a, 1.0})};
+    const DominantRoot root{uz(rng), uw(rng)};
+    const LeadLimits lim = lead_limits(g, root);
+    if (!lim.applicable || !(lim.K_max > 0.0)) continue;
+    const double K_lead = 0.5 * lim.K_max;
+    const LeadDesign ld = design_for_constant(g, root, K_lead);
+    const double F = uf(rng);
+    const LeadLagDesign ll = design_lead_lag(g, {ld.Kc, ld.z, ld.p}, root, F * K_lead);
+    ++designs;
+    const TransferFunction c = ll.tf();
+    const double s0 = 1e-9 * root.wn;
+    const double K = (cplx(s0) * c.num(cplx(s0)) * g.num(cplx(s0)) / (c.den(cplx(s0)) * g.den(cplx(s0)))).real();
+    EXPECT_NEAR(ll.K_lead, K_lead, 1e-6 * K_lead);
+    EXPECT_NEAR(K, F * K_lead, 1e-5 * F * K_lead) << "i " << i;
+    const cplx sd = root.s();
+    const TransferFunction cl{Poly({ld.Kc * ld.z, ld.Kc}), Poly({ld.p, 1.0})};
+    const double ang = std::arg((c.num(sd) / c.den(sd)) / (cl.num(sd) / cl.den(sd))) * 180 / std::numbers::pi;
+    EXPECT_NEAR(ll.lag_angle_deg, ang, 1e-9);
+    EXPECT_LT(ll.lag_angle_deg, 0.0);
+    EXPECT_GT(ll.lag_angle_deg, -8.0);
+    EXPECT_LT(std::abs(ll.dominant - sd), 0.25 * std::abs(sd)) << "i " << i;
+    // Closed-loop poles independently: roots of (s+p)(s+pl) den + Kc (s+z)(s+zl) num.
+    const std::vector<cplx> ref = (c.den * g.den + c.num * g.num).roots();
+    ASSERT_EQ(ref.size(), ll.closed_loop_poles.size());
+    int slow = 0;
+    for (const cplx& s : ref)
+      if (std::abs(s.imag()) < 1e-9 && std::abs(s.real() + ll.zl) < 0.5 * ll.zl) ++slow;
+    EXPECT_GE(slow, 1) << "i " << i;
+    EXPECT_NEAR(std::abs(ll.slow_pole.imag()), 0.0, 1e-9);
+    EXPECT_LT(ll.time_constant, 1.0 / (0.5 * ll.zl));
+    EXPECT_GT(ll.time_constant, 1.0 / (1.5 * ll.zl));
+    EXPECT_GT(ll.time_constant, 3.0 / std::abs(sd.real()));  // far slower than the dominant pair
+  }
+  EXPECT_GT(designs, 40);
+  const DominantRoot root{0.5, 4.0};
+  const TransferFunction g1{Poly({4.0}), Poly({0.0, 2.0, 1.0})};
+  const LeadDesign ld = design_for_constant(g1, root, 5.0);
+  EXPECT_THROW(design_lead_lag(g1, {ld.Kc, ld.z, ld.p}, root, 4.0), gmslab::InputError);  // below the lead's
 }

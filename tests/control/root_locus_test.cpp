@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 
 #include "core/control/assignment.hpp"
 #include "core/control/lead_design.hpp"
@@ -228,4 +229,95 @@ TEST(RootLocus, PassesThroughTheLeadDesignsClosedLoopPolesAtItsGain) {
   const cplx k = gain_at(L, cplx(-2, std::sqrt(12.0)));
   EXPECT_NEAR(k.real(), d.Kc, 1e-9);
   EXPECT_NEAR(k.imag(), 0.0, 1e-9);
+}
+
+namespace {
+// A random real polynomial's roots: each a real root in [-6, 1], a pair re [-5, 1] +- j [0.2, 5],
+// or (p_origin) a root at the origin.
+std::vector<cplx> random_roots(std::mt19937& rng, int n, double p_origin) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<cplx> r;
+  while (static_cast<int>(r.size()) < n) {
+    const double w = u(rng);
+    if (w < p_origin) {
+      r.emplace_back(0.0, 0.0);
+    } else if (w < 0.5 && static_cast<int>(r.size()) + 2 <= n) {
+      const double re = -5.0 + 6.0 * u(rng), im = 0.2 + 4.8 * u(rng);
+      r.emplace_back(re, im);
+      r.emplace_back(re, -im);
+    } else {
+      r.emplace_back(-6.0 + 7.0 * u(rng), 0.0);
+    }
+  }
+  return r;
+}
+}  // namespace
+
+// The locus continues each gain's roots from the previous gain's (predictor + Newton, Aberth,
+// eigenvalues as fallbacks). Over random 2nd..10th order loops (fixed seed; type 0-2, zeros up to
+// equal order, both locus signs): every sample is a root of den + k num by residual, the root set
+// at every sampled gain is the eigen solver's (closed_loop_poles, optimal matching), and inside
+// the view no branch moves more than max_jump x width between successive gains.
+TEST(RootLocus, ContinuedRootsAgreeWithTheEigenSolverOverRandomLoops) {
+  std::mt19937 rng(20261125);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int loops = 0, samples = 0;
+  for (int trial = 0; trial < 180; ++trial) {
+    const int n = 2 + trial % 9;
+    const int m = static_cast<int>(u(rng) * (n + 1)) % (n + 1);  // 0..n zeros
+    const double lead = (0.5 + 2.5 * u(rng)) * (u(rng) < 0.5 ? -1.0 : 1.0);
+    const TransferFunction L{Poly::from_roots(random_roots(rng, m, 0.0), lead),
+                             Poly::from_roots(random_roots(rng, n, 0.12))};
+    LocusOptions o;
+    o.negative = u(rng) < 0.3;
+    const RootLocus rl = root_locus(L, o);
+    ++loops;
+    const double tol = o.max_jump * rl.view.width();
+    for (std::size_t i = 0; i < rl.gains.size(); ++i) {
+      const double k = rl.gains[i];
+      const Poly c = L.den + L.num * k;
+      std::vector<cplx> got;
+      for (const auto& br : rl.branches) got.push_back(br[i]);
+      const std::vector<cplx> ref = closed_loop_poles(L, k);
+      ASSERT_EQ(got.size(), ref.size());
+      double scale = 1.0;
+      for (const cplx& s : ref)
+        if (!std::isnan(s.real())) scale = std::max(scale, std::abs(s));
+      const int nn = static_cast<int>(got.size());
+      std::vector<double> cost(static_cast<std::size_t>(nn * nn));
+      for (int a = 0; a < nn; ++a)
+        for (int b = 0; b < nn; ++b) {
+          const bool na = std::isnan(got[a].real()), nb = std::isnan(ref[b].real());
+          cost[static_cast<std::size_t>(a * nn + b)] =
+              (na && nb) ? 0.0 : (na || nb) ? 1e6 : std::abs(got[a] - ref[b]);
+        }
+      const auto col = solve_assignment(cost, nn);
+      for (int a = 0; a < nn; ++a) {
+        ASSERT_LE(cost[static_cast<std::size_t>(a * nn + col[a])], 1e-5 * scale)
+            << "trial " << trial << " k = " << k << " root " << got[a] << " vs " << ref[col[a]]
+            << " c = " << to_string(c) << " got " << ::testing::PrintToString(got) << " ref "
+            << ::testing::PrintToString(ref) << " L " << to_string(L.num) << " / " << to_string(L.den);
+        const cplx s = got[a];
+        if (std::isnan(s.real())) continue;
+        double terms = 0.0;
+        for (int j = 0; j <= c.degree(); ++j) terms += std::abs(c.coeff(j)) * std::pow(std::abs(s), j);
+        ASSERT_LE(std::abs(c(s)), 1e-9 * terms) << "trial " << trial << " k = " << k << " s = " << s << " c = " << to_string(c) << " got " << ::testing::PrintToString(got);
+        ++samples;
+      }
+      if (i == 0) continue;
+      const bool can_split = std::abs(k - rl.gains[i - 1]) > 1e-12 * std::abs(k);
+      for (const auto& br : rl.branches) {
+        const cplx a = br[i - 1], b = br[i];
+        if (std::isnan(a.real()) || std::isnan(b.real()) || !can_split) continue;
+        if (!rl.view.contains(a) && !rl.view.contains(b)) continue;
+        const auto cl = [&](cplx s) {
+          return cplx(std::clamp(s.real(), rl.view.re_min, rl.view.re_max),
+                      std::clamp(s.imag(), rl.view.im_min, rl.view.im_max));
+        };
+        EXPECT_LE(std::abs(cl(a) - cl(b)), tol * (1 + 1e-9)) << "trial " << trial << " k = " << k;
+      }
+    }
+  }
+  EXPECT_EQ(loops, 180);
+  EXPECT_GT(samples, 10000);
 }
