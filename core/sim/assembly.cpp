@@ -734,7 +734,9 @@ void AssemblySimulation::diverged() const {
 }
 
 std::size_t AssemblySimulation::advance(std::size_t n) {
-  switch (simple_) {
+  // The dedicated one-body loop drives from the signal; a controller's input (set_drive_input)
+  // goes through the general path.
+  switch (any_input_ ? -1 : simple_) {
     case 0: return advance_simple<0>(n);
     case 1: return advance_simple<1>(n);
     case 2: return advance_simple<2>(n);

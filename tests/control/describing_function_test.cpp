@@ -243,7 +243,7 @@ TEST(LimitCycle, CompensationShrinksTheThresholdCycleToTheResidualCoulombLevel) 
     for (const LimitCycle& c : rc.cycles)
       if (c.velocity_amplitude > big->velocity_amplitude) big = &c;
     for (const LimitCycle& c : rc.cycles)
-      if (&c != big) EXPECT_LT(c.velocity_amplitude, 100 * f.scalar("v_stick"));
+      if (&c != big) { EXPECT_LT(c.velocity_amplitude, 100 * f.scalar("v_stick")); }
     const double Nq = z - pl.damper, w = std::sqrt(Kc);
     const double a = 4 * Fc * (1 - r) / (kPi * (Nq - s2));
     EXPECT_NEAR(big->velocity_amplitude, a, 0.01 * a) << "r = " << r;

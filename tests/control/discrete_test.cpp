@@ -115,7 +115,7 @@ TEST(Discrete, ZPlaneLocusLeavesTheUnitCircleAtTheJuryGain) {
     EXPECT_NEAR(std::abs(c.z), 1.0, 1e-9);
     EXPECT_NEAR(std::abs(Gz.den(c.z) + c.k * Gz.num(c.z)), 0.0, 1e-7 * std::abs(Gz.den(c.z)) + 1e-12);
     EXPECT_NEAR(c.omega, std::arg(c.z) / T, 1e-9 / T);
-    if (k_minus1 < k_circle) EXPECT_NEAR(c.z.real(), -1.0, 1e-6);
+    if (k_minus1 < k_circle) { EXPECT_NEAR(c.z.real(), -1.0, 1e-6); }
     ASSERT_EQ(zl.stable_gains.size(), 1u);
     EXPECT_EQ(zl.stable_gains[0].first, 0.0);
     EXPECT_NEAR(zl.stable_gains[0].second, k_crit, 1e-6 * k_crit);
