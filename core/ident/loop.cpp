@@ -335,7 +335,14 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     for (std::size_t k = 0; k < train_in.size(); ++k)
       if (train_in.use[k]) s += std::pow(fc * (g1[k] - g0[k]), 2), n += 1;
     rep.path_difference = n > 0 ? std::sqrt(s / n) : 0.0;
-    rep.fine_path = rep.path_difference > 0.25 * rep.noise.sigma;
+    // Only a fast attraction makes the path within a step matter (a slipping element relaxes at
+    // C / S(v); at least a tenth of the way within the median step): on slow-relaxing records the
+    // difference is the base fit's own roughness, and the fine path costs 4x the time for nothing.
+    double relax = 1.0;  // relaxation per median step; models without C: only the difference decides
+    const ModelInfo& fi = model_info(cur.friction.model);
+    if (fi.scalar_index("C") >= 0 && fi.scalar_index("Fs") >= 0 && cur.friction.scalar("Fs") > 0)
+      relax = cur.friction.scalar("C") / cur.friction.scalar("Fs") * c.h_med;
+    rep.fine_path = rep.path_difference > 0.25 * rep.noise.sigma && relax >= 0.1;
     if (rep.fine_path) {
       val_fine = val_in;
       set_path(val_fine, kFinePath);
@@ -496,6 +503,23 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
           a.kept = false, a.verdict = "small (below " + std::to_string(o.sure_size).substr(0, 3) +
                                       " x the floor) and explains less than " + std::to_string(o.min_excess).substr(0, 4) +
                                       " of the validation error above the floor";
+      }
+      if (a.kept && k.effect == Effect::Inertia) {
+        // A mass is positive. A negative one is the model lagging along the sampled path (a
+        // force that leads the modelled one by a fraction of a step looks like -M a), not inertia.
+        for (const auto& t : a.terms)
+          if (t.name == "M" && !(t.value > 0))
+            a.kept = false, a.verdict = "negative mass M = " + std::to_string(t.value) +
+                                        " kg: not an inertia (the model lags along the sampled path)";
+      }
+      if (a.kept && (k.effect == Effect::Inertia || k.effect == Effect::TimeShift || k.effect == Effect::SensorFilter) &&
+          a.size < 1.5 * rep.noise.sampling) {
+        // Lag-like effects (a force leading or lagging the motion) are what the unmeasured path
+        // between samples also changes: below 1.5 x that share of the floor they cannot be told
+        // from it, and the loop says so instead of naming one.
+        a.kept = false;
+        a.verdict = "contribution " + std::to_string(a.size) + " N is within 1.5 x what the path between samples "
+                    "changes (" + std::to_string(rep.noise.sampling) + " N): cannot be told from the sampling";
       }
       if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
       rd.attempts.push_back(a);
