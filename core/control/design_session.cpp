@@ -72,6 +72,9 @@ std::optional<std::pair<LeadCompensator, std::string>> lead_choice(const LeadRep
 }
 
 void choose(const DesignInputs& in, DesignOutputs& out) {
+  // Lag / PI: the gain point stays the view's focus (and the horizon's) while handles are dragged.
+  if (in.type == CompensatorType::Lag || in.type == CompensatorType::PI)
+    out.gain_point = gain_on_damping_ray(out.plant.g, in.root);
   if (in.manual) {
     out.compensator = in.manual;
     out.compensator_kind = "manual";
@@ -113,11 +116,10 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
     }
     case CompensatorType::Lag:
     case CompensatorType::PI: {
-      const auto gp = gain_on_damping_ray(out.plant.g, in.root);
+      const auto& gp = out.gain_point;
       if (!gp)
         throw InputError("lag / PI: the plant's own locus does not cross the zeta = " + std::to_string(in.root.zeta).substr(0, 5) +
                          " line, so no gain alone gives that damping (use a lead or lead-lag)");
-      out.gain_point = gp;
       const double zl = 0.1 * std::abs(gp->s.real());
       if (in.type == CompensatorType::PI) {
         out.compensator = LeadCompensator{gp->k, zl, 0.0};
@@ -208,15 +210,17 @@ DesignOutputs compute_design(const DesignInputs& in) {
       out.report.reset();
       if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
     }
-    out.horizon = in.horizon > 0.0 ? in.horizon
-                                   : std::clamp(10.0 / (in.root.zeta * in.root.wn), 0.01, 20.0);
+    // Lag / PI: the loop's speed is the gain point's (Kc alone), not s_d's.
+    const double sigma = out.gain_point ? std::abs(out.gain_point->s.real()) : in.root.zeta * in.root.wn;
+    out.horizon = in.horizon > 0.0 ? in.horizon : std::clamp(10.0 / sigma, 0.01, 20.0);
     stage = "root locus";
     LocusOptions lo;
     TransferFunction L = out.plant.g;
     const cplx sd = in.root.s();
-    std::vector<cplx> pts = {sd, 2.0 * sd.real()};
-    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
-    double reach = std::abs(sd);
+    const cplx focus = out.gain_point ? out.gain_point->s : sd;  // lag / PI: where Kc alone puts the pole
+    std::vector<cplx> pts = {focus, 2.0 * focus.real()};
+    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(focus); };
+    double reach = std::abs(focus);
     for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
     // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
     // shrink the region where the locus bends to a dot: left to the user's zoom.
@@ -232,6 +236,21 @@ DesignOutputs compute_design(const DesignInputs& in) {
       if (out.gain_point) target.wn = std::abs(out.gain_point->s);
       if (out.report)
         out.dominance = check_dominance(out.plant.g, target, c, out.closed_loop_poles);
+      if (out.gain_point) {  // a lag zero sits near the origin on purpose: its cost is out.lag's slow pole
+        auto& n = out.dominance.notes;
+        n.erase(std::remove_if(n.begin(), n.end(),
+                               [](const std::string& t) { return t.rfind("the compensator zero", 0) == 0; }),
+                n.end());
+      }
+      if (out.gain_point && !in.manual) {
+        const double w = std::abs(out.gain_point->s);
+        if (w < 0.5 * in.root.wn || w > 2.0 * in.root.wn)
+          out.dominance.notes.insert(out.dominance.notes.begin(),
+                                     "the gain alone reaches zeta = " + std::to_string(in.root.zeta).substr(0, 4) +
+                                         " only at wn = " + std::to_string(w).substr(0, 7) + " rad/s (desired " +
+                                         std::to_string(in.root.wn).substr(0, 7) +
+                                         "): a lag or PI cannot move the poles there; a lead or lead-lag can");
+      }
       for (double z : c.zeros()) pts.emplace_back(-z, 0.0);
       for (double p : c.poles())
         if (near(-p)) pts.emplace_back(-p, 0.0);
