@@ -215,6 +215,8 @@ int run_design(const Opts& o) {
                      {"slow_pole", {ll.slow_pole.real(), ll.slow_pole.imag()}},
                      {"slow_time_constant_s", ll.time_constant},
                      {"num", c.num.descending_coeffs()}, {"den", c.den.descending_coeffs()}};
+    // The two-section compensator for export (MATLAB / python-control code, sections).
+    j["lead_lag"]["compensator"] = compensator_json(LeadCompensator{ld.Kc, ld.z, ld.p, Section{ll.zl, ll.pl}});
   }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
