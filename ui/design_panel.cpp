@@ -319,7 +319,7 @@ void result_section(DesignViewState& d) {
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
-    if (!c.second) {
+    if (!c.second && c.p > 0.0) {
       ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
       ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
                          c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
