@@ -109,7 +109,9 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
       auto l = lead_choice(r);
       if (!l) return;
       LeadCompensator c = l->first;
-      c.second = Section{0.1 * std::abs(in.root.s().real()), 0.0};
+      const Relocation* rel = l->second.rfind("relocated:", 0) == 0 ? best_relocation(r) : nullptr;
+      const DominantRoot root = rel ? rel->root : in.root;  // the integral zero sits under the lead's s_d
+      c.second = Section{0.1 * std::abs(root.s().real()), 0.0};
       out.compensator = c;
       out.compensator_kind = "pid:" + l->second;
       return;

@@ -51,7 +51,7 @@ namespace gmslab::control {
 //             design_lead_lag() for K (or lag_factor x the lead's constant)
 //   pi        Kc (s + zi)/s: the lag's gain point, zi = 0.1 |Re| of it
 //   pid       Kc (s + z)(s + zi)/((s + p) s): the lead (its pole p is the derivative filter), then
-//             an integral section with zi = 0.1 |Re s_d|
+//             an integral section with zi = 0.1 |Re s_d| (of the relocated s_d for a relocated lead)
 enum class CompensatorType { Lead, Lag, LeadLag, PI, PID };
 const char* to_string(CompensatorType t);  // "lead" | "lag" | "lead_lag" | "pi" | "pid"
 std::optional<CompensatorType> compensator_type_from_string(const std::string& s);

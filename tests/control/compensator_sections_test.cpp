@@ -314,3 +314,28 @@ TEST(CompensatorSections, DesignTypesBuyTheRequestedErrorConstant) {
     EXPECT_EQ(out.compensator->p, ud.p);
   }
 }
+
+// The lag on the worked G1 = 4/(s(s+2)) at zeta 0.5 (random targets K): the gain point is the closed
+// form -1 + j sqrt(3) with Kc = |s||s + 2|/4 = 1 (Kv 2 by the gain alone), the lag buys Kv = K exactly.
+TEST(CompensatorSections, LagOnTheWorkedG1IsTheClosedForm) {
+  std::mt19937 rng(1206);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 5; ++trial) {
+    const double K = 5 + 50 * u(rng);
+    DesignInputs in;
+    in.plant.source = PlantSource::Typed;
+    in.plant.num = "4";
+    in.plant.den = "1 2 0";
+    in.root = {0.5, 2.0};
+    in.K = K;
+    in.type = CompensatorType::Lag;
+    in.simulate = false;
+    const DesignOutputs out = compute_design(in);
+    ASSERT_TRUE(out.gain_point && out.compensator && out.lag) << out.error;
+    EXPECT_NEAR(out.gain_point->s.real(), -1.0, 1e-9);
+    EXPECT_NEAR(out.gain_point->s.imag(), std::sqrt(3.0), 1e-9);
+    EXPECT_NEAR(out.compensator->Kc, 1.0, 1e-9);
+    EXPECT_NEAR(out.lag->K, K, 1e-9 * K);
+    EXPECT_NEAR(out.lag->K_gain_only, 2.0, 1e-9);
+  }
+}
