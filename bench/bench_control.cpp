@@ -57,6 +57,20 @@ static void BM_FrictionLoop1s(benchmark::State& st) {
 }
 BENCHMARK(BM_FrictionLoop1s)->Unit(benchmark::kMillisecond);
 
+// The same loop with a PID Kc (s + z)(s + zi)/((s + p) s): the two-section cascade (exact ZOH of
+// its 2-state realisation each step) against the one-section update above.
+static void BM_FrictionLoopPid1s(benchmark::State& st) {
+  const Scenario s = fig4();
+  LoopConfig c;
+  c.C = {4440.18, 8.47263, 94.05, Section{4.2, 0.0}};
+  c.reference = Signal::sine(0.0, 0.01, 1.0);
+  c.comp = Compensation::Gms;
+  c.duration = 1.0;
+  for (auto _ : st) benchmark::DoNotOptimize(simulate_loop(s, c).x.back());
+  st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_FrictionLoopPid1s)->Unit(benchmark::kMillisecond);
+
 static void BM_FrequencyResponse10thOrder(benchmark::State& st) {
   const TransferFunction L = tenth_order();
   const TransferFunction K{L.num * 5.0, L.den};

@@ -187,8 +187,14 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
   if (hovered && ImGui::IsMouseClicked(0)) {
     d.drag = DesignViewState::Drag::None;
     if (near_px(m, px(t, sd), grab) || near_px(m, px(t, std::conj(sd)), grab)) d.drag = DesignViewState::Drag::Root;
-    else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->z, 0)), grab)) d.drag = DesignViewState::Drag::Zero;
-    else if (out.compensator && near_px(m, px(t, cplx(-out.compensator->p, 0)), grab)) d.drag = DesignViewState::Drag::Pole;
+    else if (out.compensator) {
+      // Every section's zero and pole is a handle (the first one under the mouse: zeros first).
+      const control::LeadCompensator& c = *out.compensator;
+      for (int i = 0; i < c.sections() && d.drag == DesignViewState::Drag::None; ++i)
+        if (near_px(m, px(t, cplx(-c.section(i).z, 0)), grab)) d.drag = DesignViewState::Drag::Zero, d.drag_section = i;
+      for (int i = 0; i < c.sections() && d.drag == DesignViewState::Drag::None; ++i)
+        if (near_px(m, px(t, cplx(-c.section(i).p, 0)), grab)) d.drag = DesignViewState::Drag::Pole, d.drag_section = i;
+    }
     if (d.drag != DesignViewState::Drag::None && !d.in.locus_view) {
       // Freeze the view while a handle is dragged, so the point under the mouse stays put.
       d.in.locus_view = control::ViewBox{t.x0, t.x1, t.y0, t.y1};
@@ -230,7 +236,9 @@ void handle_input(DesignViewState& d, const PlotTransform& t, bool hovered) {
     case DesignViewState::Drag::Pole: {
       control::LeadCompensator c = *out.compensator;
       const double v = std::max(-s.real(), 1e-6 * (t.x1 - t.x0));
-      (d.drag == DesignViewState::Drag::Zero ? c.z : c.p) = v;
+      const bool zero = d.drag == DesignViewState::Drag::Zero;
+      if (d.drag_section == 0 || !c.second) (zero ? c.z : c.p) = v;
+      else (zero ? c.second->z : c.second->p) = v;
       d.in.manual = c;
       d.dirty = true;
       break;
@@ -440,7 +448,10 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   // plant poles (black x) and zeros (o); compensator zero/pole in green
   const auto& rl = d.out.locus;
   std::vector<cplx> comp;
-  if (d.out.compensator) comp = {cplx(-d.out.compensator->z, 0), cplx(-d.out.compensator->p, 0)};
+  if (d.out.compensator) {
+    for (double z : d.out.compensator->zeros()) comp.emplace_back(-z, 0.0);
+    for (double p : d.out.compensator->poles()) comp.emplace_back(-p, 0.0);
+  }
   auto is_comp = [&](cplx s) {
     for (const cplx& c : comp)
       if (std::abs(c - s) <= 1e-9 * (1 + std::abs(c))) return true;

@@ -319,9 +319,15 @@ void result_section(DesignViewState& d) {
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
-    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
-    ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
-                       c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
+    if (!c.second && c.p > 0.0) {
+      ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
+      ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
+                         c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
+    } else {
+      ImGui::TextWrapped("Gc = %s [N/m]", c.text().c_str());
+      ImGui::TextColored(kDim, "%s, %s = %.5g %s", o.compensator_kind.c_str(), kname.c_str(),
+                         c.static_gain() * r.type.K0, kunit);
+    }
   }
   if (o.step.t.size() > 4) {
     // The linear step against the requirements (the zero and the extra poles move it off the
@@ -367,34 +373,49 @@ void result_section(DesignViewState& d) {
 }
 
 void compensator_section(DesignViewState& d) {
-  if (!d.out.compensator) return;
   ImGui::Separator();
+  // The type: the compensator built from the design (a drag or an edit then makes it manual).
+  int type = static_cast<int>(d.settings.compensator);  // the combo's items in CompensatorType order
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  if (ImGui::Combo("compensator", &type, "lead\0lag\0lead-lag\0PI\0PID\0")) {
+    d.settings.compensator = static_cast<control::CompensatorType>(type);
+    d.in.manual.reset();
+    d.dirty = true;
+  }
+  tip("lead: Kc (s+z)/(s+p) for the error constant reachable at s_d\n"
+      "lag: Kc (s+z)/(s+p), z > p: Kc puts a pole on the zeta line of the plant's own locus, the lag buys K\n"
+      "lead-lag: the usable-maximum lead, then a lag buying K (or 10x without a target K)\n"
+      "PI: Kc (s+z)/s at the lag's gain point\n"
+      "PID: Kc (s+z)(s+zi)/((s+p) s): the lead (p: derivative filter) and an integral section");
+  if (!d.out.compensator) return;
   control::LeadCompensator c = *d.out.compensator;
   ImGui::TextUnformatted(d.in.manual ? "Compensator: manual (dragged)" : "Compensator: from the design");
   bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
   ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
   ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
-  bool pi = c.p == 0.0;
-  if (ImGui::Checkbox("PI: p = 0 (integral action)", &pi)) c.p = pi ? 0.0 : 0.1 * c.z, ch = true;
-  tip("Kc (s + z) / s: the PI (the loops with friction then hunt where stiction allows; see DF rows)");
+  if (c.second) {
+    ch |= input_double("z2 [rad/s]", &c.second->z, 1e-4, 1e5, "%.4g", "Second section's zero at -z2 (drag its green o)", true);
+    ch |= input_double("p2 [rad/s]", &c.second->p, 0.0, 1e6, "%.4g",
+                       "Second section's pole at -p2 (drag its green x); 0: integrator", false);
+  }
   if (ch) d.in.manual = c, d.dirty = true;
-  if (c.z > c.p && d.out.report && !d.out.closed_loop_poles.empty()) {
-    const control::LagCost lc = control::lag_cost(d.out.report->type, c, d.out.closed_loop_poles);
-    const std::string kn = control::error_constant_name(d.out.report->type.n);
-    ImGui::TextColored(kDim, "lag: %s = %.4g (x%.3g over Kc alone: %.4g)\ncost: slow closed-loop pole %.4g%s, tau = %.3g s",
-                       kn.c_str(), lc.K, lc.factor, lc.K_gain_only, lc.slow_pole.real(),
-                       lc.slow_pole.imag() != 0.0 ? " (complex)" : "", lc.time_constant);
+  if (d.out.lag) {
+    const control::LagCost& lc = *d.out.lag;
+    const std::string kn = d.out.report ? control::error_constant_name(d.out.report->type.n) : "K";
+    ImGui::TextColored(kDim, "lag: %s = %.4g (x%.3g over %s: %.4g)\ncost: slow closed-loop pole %.4g%s, tau = %.3g s",
+                       kn.c_str(), lc.K, lc.factor, c.second ? "the lead alone" : "Kc alone", lc.K_gain_only,
+                       lc.slow_pole.real(), lc.slow_pole.imag() != 0.0 ? " (complex)" : "", lc.time_constant);
     tip("The lag's zero and pole (z > p) buy the error constant factor z/p; the closed-loop pole left near -z "
         "settles with time constant tau");
   }
   if (ImGui::SmallButton("copy MATLAB")) ImGui::SetClipboardText(control::compensator_matlab(c).c_str());
-  tip("C = tf([Kc, Kc z], [1, p]); to the clipboard");
+  tip("C = tf(num, den) with num = Kc prod (s + z_i), den = prod (s + p_i); to the clipboard");
   ImGui::SameLine();
   if (ImGui::SmallButton("copy python-control")) ImGui::SetClipboardText(control::compensator_python(c).c_str());
-  tip("control.tf([Kc, Kc z], [1, p]) to the clipboard");
+  tip("control.tf(num, den), the same coefficients, to the clipboard");
   if (d.in.manual) {
     if (ImGui::Button("back to the design")) d.in.manual.reset(), d.dirty = true;
-    tip("Drop the manual compensator and use the computed lead again");
+    tip("Drop the manual compensator and use the computed one again");
   }
   if (d.picked) {
     const double wn = std::abs(d.picked_s);

@@ -79,6 +79,7 @@ struct DesignViewState {
   // Root-locus canvas
   // The user's zoom of the canvas is in.locus_view (none: fit the computed locus), kept once.
   enum class Drag { None, Root, Zero, Pole, Pan } drag = Drag::None;
+  int drag_section = 0;              // which compensator section's zero / pole is dragged (0, 1)
   bool picked = false;               // a clicked point of a branch
   double picked_k = 0.0;
   control::cplx picked_s;

@@ -32,6 +32,9 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("--zeta", o.zeta, "Design view: damping ratio of the desired dominant roots, in [0.02, 0.98]");
   sub.add_option("--wn", o.wn, "Design view: natural frequency of the desired dominant roots [rad/s], > 0");
   sub.add_option("--sample-time", o.sample_time, "Design view: controller sample time [s], [0, 0.01] (0: continuous)");
+  sub.add_option("--compensator", o.compensator, "Design view: compensator type built from the design")
+      ->check(CLI::IsMember({"lead", "lag", "lead_lag", "pi", "pid"}));
+  sub.add_option("--K", o.K, "Design view: target error constant (Kp / Kv / Ka by plant type), (0, 1e7]");
   sub.add_option("--format", o.format,
                  "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
       ->check(CLI::IsMember({"png", "svg"}))

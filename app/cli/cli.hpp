@@ -26,6 +26,8 @@ struct RenderOptions {
   // designs from `drive` to `output` ("" = the first drive, its body); num / den: a typed plant.
   std::string drive, output, num, den;
   double zeta = 0.0, wn = 0.0;  // design view: desired dominant roots (0: the Design tab's defaults)
+  std::string compensator;      // design view: lead | lag | lead_lag | pi | pid ("": the tab's own)
+  double K = 0.0;               // design view: target error constant (0: none, the usable maximum)
   double sample_time = 0.0;    // Design view: controller sample time [s] (0: continuous)
 };
 

@@ -45,6 +45,7 @@ struct Opts {
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
   std::optional<double> lag_K;  // lead-lag: error constant the lag must reach
   double lag_zero_fraction = 0.1;
+  std::string compensator;  // lag | lead_lag | pi | pid: also the Design view's compensator of that type
 };
 
 Signal reference_signal(const Opts& o) {
@@ -215,6 +216,37 @@ int run_design(const Opts& o) {
                      {"slow_pole", {ll.slow_pole.real(), ll.slow_pole.imag()}},
                      {"slow_time_constant_s", ll.time_constant},
                      {"num", c.num.descending_coeffs()}, {"den", c.den.descending_coeffs()}};
+    // The two-section compensator for export (MATLAB / python-control code, sections).
+    j["lead_lag"]["compensator"] = compensator_json(LeadCompensator{ld.Kc, ld.z, ld.p, Section{ll.zl, ll.pl}});
+  }
+  if (!o.compensator.empty()) {  // the Design view's compensator of that type (compute_design)
+    DesignInputs in;
+    if (sc) in.scenario = *sc;
+    in.plant = choice;
+    in.assembly = asc;
+    in.regime = regime;
+    in.velocity = o.velocity;
+    in.root = {o.zeta, o.wn};
+    in.K = o.K;
+    in.options = {o.max_ratio, o.margin};
+    in.type = *compensator_type_from_string(o.compensator);
+    in.sample_time = o.T;
+    in.simulate = false;
+    const DesignOutputs out = compute_design(in);
+    nlohmann::json t = {{"type", o.compensator}, {"kind", out.compensator_kind}, {"error", out.error}};
+    if (out.compensator) {
+      t["compensator"] = compensator_json(*out.compensator);
+      t["closed_loop_poles"] = poles_json(out.closed_loop_poles);
+    }
+    if (out.gain_point)
+      t["gain_point"] = {{"s", {out.gain_point->s.real(), out.gain_point->s.imag()}}, {"Kc", out.gain_point->k}};
+    if (out.lag)
+      t["lag"] = {{"factor", std::isfinite(out.lag->factor) ? nlohmann::json(out.lag->factor) : nlohmann::json(nullptr)},
+                  {"K", std::isfinite(out.lag->K) ? nlohmann::json(out.lag->K) : nlohmann::json(nullptr)},
+                  {"K_without_lag", out.lag->K_gain_only},
+                  {"slow_pole", {out.lag->slow_pole.real(), out.lag->slow_pole.imag()}},
+                  {"slow_time_constant_s", out.lag->time_constant}};
+    j["typed_compensator"] = t;
   }
   if (o.simulate) {
     if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
@@ -264,6 +296,10 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--dt", o->dt, "Integration step [s] (default: the scenario's run.dt)");
   sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
   sub->add_option("--compensation", o->compensation, "none, coulomb, gms or all")->capture_default_str();
+  sub->add_option("--compensator", o->compensator,
+                  "Also the Design view's compensator of this type (key typed_compensator: sections, export, "
+                  "lag cost; K from --K, else 10x)")
+      ->check(CLI::IsMember({"lead", "lag", "lead_lag", "pi", "pid"}));
   sub->add_option("--lag-K", o->lag_K, "Lead-lag: add a lag after the lead reaching this error constant (> the lead's)");
   sub->add_option("--lag-zero", o->lag_zero_fraction, "Lead-lag: lag zero at this fraction of |Re s_d|, (0, 1]")
       ->capture_default_str();

@@ -71,8 +71,8 @@ cplx describing_function(const SteppedNonlinearity& f, double a, double w, const
 
 TransferFunction friction_loop(const Plant& pl, const LeadCompensator& c) {
   const Poly G_den({pl.spring, pl.damper, pl.mass});
-  const Poly sp({c.p, 1.0});
-  return {Poly({0.0, 1.0}) * sp, G_den * sp + Poly({c.Kc * c.z, c.Kc})};
+  const Poly sp = c.den_poly();
+  return {Poly({0.0, 1.0}) * sp, G_den * sp + c.num_poly() * c.Kc};
 }
 
 namespace {
@@ -94,8 +94,8 @@ cplx nearest_root(const TransferFunction& H, cplx n, cplx s0) {
 
 LimitCycleReport predict_limit_cycles(const SteppedNonlinearity& f, const Plant& pl, const LeadCompensator& c,
                                       double a_min, double a_max, const DfOptions& opt) {
-  if (!(pl.mass > 0.0) || !(c.Kc > 0.0) || !(c.z > 0.0) || !(c.p >= 0.0))
-    throw InputError("limit cycles: need m > 0 kg, Kc > 0, z > 0, p >= 0 rad/s");
+  if (!(pl.mass > 0.0)) throw InputError("limit cycles: need m > 0 kg");
+  check_compensator(c, "limit cycles");
   if (!(a_min > 0.0) || !(a_max > a_min)) throw InputError("limit cycles: need 0 < a_min < a_max [m/s]");
   LimitCycleReport r;
   r.H = friction_loop(pl, c);

@@ -167,14 +167,19 @@ std::string coeffs(const std::vector<double>& v) {
 }  // namespace
 
 std::string compensator_matlab(const LeadCompensator& c) {
-  return "C = tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ");";
+  const TransferFunction t = c.tf();
+  return "C = tf(" + coeffs(t.num.descending_coeffs()) + ", " + coeffs(t.den.descending_coeffs()) + ");";
 }
 std::string compensator_python(const LeadCompensator& c) {
-  return "import control\nC = control.tf(" + coeffs({c.Kc, c.Kc * c.z}) + ", " + coeffs({1.0, c.p}) + ")";
+  const TransferFunction t = c.tf();
+  return "import control\nC = control.tf(" + coeffs(t.num.descending_coeffs()) + ", " + coeffs(t.den.descending_coeffs()) + ")";
 }
 nlohmann::json compensator_json(const LeadCompensator& c) {
-  return {{"num", {c.Kc, c.Kc * c.z}}, {"den", {1.0, c.p}}, {"Kc", c.Kc}, {"z", c.z}, {"p", c.p},
-          {"matlab", compensator_matlab(c)}, {"python", compensator_python(c)}};
+  const TransferFunction t = c.tf();
+  nlohmann::json sections = nlohmann::json::array();
+  for (int i = 0; i < c.sections(); ++i) sections.push_back({{"z", c.section(i).z}, {"p", c.section(i).p}});
+  return {{"num", t.num.descending_coeffs()}, {"den", t.den.descending_coeffs()}, {"Kc", c.Kc}, {"z", c.z}, {"p", c.p},
+          {"sections", sections}, {"matlab", compensator_matlab(c)}, {"python", compensator_python(c)}};
 }
 
 nlohmann::json to_json(const LoopMetrics& m) {

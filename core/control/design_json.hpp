@@ -38,8 +38,10 @@ nlohmann::json to_json(const ZLocus& z, double Kc);
 // The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
 // stable, converged}], note.
 nlohmann::json to_json(const LimitCycleReport& r);
-// The compensator Kc (s + z) / (s + p) for export: {"num": [Kc, Kc z], "den": [1, p] (highest power
-// first), "Kc", "z", "p", "matlab": "C = tf([...], [...]);", "python": "C = control.tf([...], [...])"}.
+// The compensator Kc prod_i (s + z_i) / (s + p_i) for export: {"num": Kc prod (s + z_i), "den":
+// prod (s + p_i) (highest power first; one section: [Kc, Kc z], [1, p]), "Kc", "z", "p" (the first
+// section), "sections": [{z, p}, ...], "matlab": "C = tf([...], [...]);", "python": "C =
+// control.tf([...], [...])"}.
 // Coefficients written with 17 significant digits (round-trip exact).
 nlohmann::json compensator_json(const LeadCompensator& c);
 std::string compensator_matlab(const LeadCompensator& c);

@@ -5,39 +5,152 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <exception>
 #include <limits>
 
 namespace gmslab::control {
 
+const char* to_string(CompensatorType t) {
+  switch (t) {
+    case CompensatorType::Lead: return "lead";
+    case CompensatorType::Lag: return "lag";
+    case CompensatorType::LeadLag: return "lead_lag";
+    case CompensatorType::PI: return "pi";
+    case CompensatorType::PID: return "pid";
+  }
+  return "?";
+}
+
+std::optional<CompensatorType> compensator_type_from_string(const std::string& s) {
+  for (CompensatorType t : {CompensatorType::Lead, CompensatorType::Lag, CompensatorType::LeadLag,
+                            CompensatorType::PI, CompensatorType::PID})
+    if (s == to_string(t)) return t;
+  return std::nullopt;
+}
+
+std::optional<GainPoint> gain_on_damping_ray(const TransferFunction& g, const DominantRoot& d) {
+  check_root(d);
+  const cplx dir = d.s() / d.wn;  // unit vector at angle pi - beta
+  // arg(-G(s)) is 0 on the locus; it crosses 0 continuously there (and jumps by 2 pi elsewhere).
+  auto phase = [&](double r) { return std::arg(-g(r * dir)); };
+  const int n = 600;
+  const double l0 = std::log(1e-3 * d.wn), l1 = std::log(1e3 * d.wn);
+  std::optional<GainPoint> best;
+  double prev_r = std::exp(l0), prev = phase(prev_r);
+  for (int i = 1; i <= n; ++i) {
+    const double r = std::exp(l0 + (l1 - l0) * i / n);
+    const double cur = phase(r);
+    if (std::isfinite(prev) && std::isfinite(cur) && (prev > 0.0) != (cur > 0.0) &&
+        std::abs(prev) < 0.5 * std::numbers::pi && std::abs(cur) < 0.5 * std::numbers::pi) {
+      double lo = prev_r, hi = r, flo = prev;
+      for (int k = 0; k < 80; ++k) {
+        const double mid = std::sqrt(lo * hi);
+        const double fm = phase(mid);
+        if ((fm > 0.0) == (flo > 0.0)) lo = mid, flo = fm;
+        else hi = mid;
+      }
+      const double rr = std::sqrt(lo * hi);
+      const GainPoint gp{rr * dir, 1.0 / std::abs(g(rr * dir))};
+      if (!best || std::abs(std::log(rr / d.wn)) < std::abs(std::log(std::abs(best->s) / d.wn))) best = gp;
+    }
+    prev_r = r, prev = cur;
+  }
+  return best;
+}
+
 namespace {
+// The lead of the chosen design (requested, relocated, usable maximum) and its kind.
+std::optional<std::pair<LeadCompensator, std::string>> lead_choice(const LeadReport& r) {
+  if (r.design) return std::pair{LeadCompensator{r.design->Kc, r.design->z, r.design->p}, std::string("requested")};
+  if (const Relocation* rel = best_relocation(r))
+    return std::pair{LeadCompensator{rel->design.Kc, rel->design.z, rel->design.p}, "relocated:" + rel->path};
+  if (!r.K_des && r.usable_design)
+    return std::pair{LeadCompensator{r.usable_design->Kc, r.usable_design->z, r.usable_design->p},
+                     std::string("usable_maximum")};
+  return std::nullopt;
+}
+
 void choose(const DesignInputs& in, DesignOutputs& out) {
+  // Lag / PI: the gain point stays the view's focus (and the horizon's) while handles are dragged.
+  if (in.type == CompensatorType::Lag || in.type == CompensatorType::PI)
+    out.gain_point = gain_on_damping_ray(out.plant.g, in.root);
   if (in.manual) {
     out.compensator = in.manual;
     out.compensator_kind = "manual";
     return;
   }
   const LeadReport& r = *out.report;
-  auto use = [&](const LeadDesign& d, std::string kind) {
-    out.compensator = LeadCompensator{d.Kc, d.z, d.p};
-    out.compensator_kind = std::move(kind);
-  };
-  if (r.design) return use(*r.design, "requested");
-  if (const Relocation* rel = best_relocation(r)) return use(rel->design, "relocated:" + rel->path);
-  if (!r.K_des && r.usable_design) use(*r.usable_design, "usable_maximum");
+  const double K0 = r.type.K0;
+  switch (in.type) {
+    case CompensatorType::Lead:
+      if (auto c = lead_choice(r)) out.compensator = c->first, out.compensator_kind = c->second;
+      return;
+    case CompensatorType::LeadLag: {
+      // The lead reaches K by itself: no lag needed.
+      if (r.design && r.within_max_ratio) {
+        out.compensator = LeadCompensator{r.design->Kc, r.design->z, r.design->p};
+        out.compensator_kind = "lead_lag:requested (the lead alone reaches K)";
+        return;
+      }
+      if (!r.usable_design) throw InputError("lead-lag: no lead with p/z <= max_ratio places s_d");
+      const LeadDesign& u = *r.usable_design;
+      const LeadCompensator lead{u.Kc, u.z, u.p};
+      const double K_lead = u.Kc * u.z / u.p * K0;
+      const double target = in.K ? *in.K : in.lag_factor * K_lead;
+      const LeadLagDesign ll = design_lead_lag(out.plant.g, lead, in.root, target);
+      LeadCompensator c = lead;
+      c.second = Section{ll.zl, ll.pl};
+      out.compensator = c;
+      out.compensator_kind = "lead_lag:usable_maximum";
+      return;
+    }
+    case CompensatorType::PID: {
+      auto l = lead_choice(r);
+      if (!l) return;
+      LeadCompensator c = l->first;
+      const Relocation* rel = l->second.rfind("relocated:", 0) == 0 ? best_relocation(r) : nullptr;
+      const DominantRoot root = rel ? rel->root : in.root;  // the integral zero sits under the lead's s_d
+      c.second = Section{0.1 * std::abs(root.s().real()), 0.0};
+      out.compensator = c;
+      out.compensator_kind = "pid:" + l->second;
+      return;
+    }
+    case CompensatorType::Lag:
+    case CompensatorType::PI: {
+      const auto& gp = out.gain_point;
+      if (!gp)
+        throw InputError("lag / PI: the plant's own locus does not cross the zeta = " + std::to_string(in.root.zeta).substr(0, 5) +
+                         " line, so no gain alone gives that damping (use a lead or lead-lag)");
+      const double zl = 0.1 * std::abs(gp->s.real());
+      if (in.type == CompensatorType::PI) {
+        out.compensator = LeadCompensator{gp->k, zl, 0.0};
+        out.compensator_kind = "pi";
+        return;
+      }
+      const double K_gain = gp->k * K0;
+      double factor = in.K ? *in.K / K_gain : in.lag_factor;
+      if (!(factor > 1.0)) factor = 1.0;  // the gain alone reaches K: a unity "lag"
+      out.compensator = LeadCompensator{gp->k, zl, zl / factor};
+      out.compensator_kind = "lag";
+      return;
+    }
+  }
 }
 }  // namespace
 
 LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles) {
-  if (!(c.Kc > 0.0) || !(c.p >= 0.0) || !(c.z > c.p))
+  const Section lag = c.section(c.sections() - 1);
+  if (!(c.Kc > 0.0) || !(lag.p >= 0.0) || !(lag.z > lag.p))
     throw InputError("lag: need Kc > 0 and z > p >= 0 rad/s (a lag or a PI)");
   LagCost r;
-  r.factor = c.p > 0.0 ? c.z / c.p : std::numeric_limits<double>::infinity();
+  r.factor = lag.p > 0.0 ? lag.z / lag.p : std::numeric_limits<double>::infinity();
   r.K_gain_only = c.Kc * type.K0;
+  if (c.second) r.K_gain_only *= c.p > 0.0 ? c.z / c.p : 1.0;
   r.K = r.K_gain_only * r.factor;
   double best = std::numeric_limits<double>::infinity();
   for (const cplx& s : poles)
-    if (std::isfinite(s.real()) && std::abs(s + c.z) < best) best = std::abs(s + c.z), r.slow_pole = s;
+    if (std::isfinite(s.real()) && std::abs(s + lag.z) < best) best = std::abs(s + lag.z), r.slow_pole = s;
   r.time_constant = 1.0 / std::abs(r.slow_pole.real());
   return r;
 }
@@ -99,15 +212,17 @@ DesignOutputs compute_design(const DesignInputs& in) {
       out.report.reset();
       if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
     }
-    out.horizon = in.horizon > 0.0 ? in.horizon
-                                   : std::clamp(10.0 / (in.root.zeta * in.root.wn), 0.01, 20.0);
+    // Lag / PI: the loop's speed is the gain point's (Kc alone), not s_d's.
+    const double sigma = out.gain_point ? std::abs(out.gain_point->s.real()) : in.root.zeta * in.root.wn;
+    out.horizon = in.horizon > 0.0 ? in.horizon : std::clamp(10.0 / sigma, 0.01, 20.0);
     stage = "root locus";
     LocusOptions lo;
     TransferFunction L = out.plant.g;
     const cplx sd = in.root.s();
-    std::vector<cplx> pts = {sd, 2.0 * sd.real()};
-    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(sd); };
-    double reach = std::abs(sd);
+    const cplx focus = out.gain_point ? out.gain_point->s : sd;  // lag / PI: where Kc alone puts the pole
+    std::vector<cplx> pts = {focus, 2.0 * focus.real()};
+    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(focus); };
+    double reach = std::abs(focus);
     for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
     // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
     // shrink the region where the locus bends to a dot: left to the user's zoom.
@@ -115,18 +230,36 @@ DesignOutputs compute_design(const DesignInputs& in) {
       if (std::abs(s) <= 4.0 * reach) pts.push_back(s);
     if (out.compensator) {
       const LeadCompensator& c = *out.compensator;
-      L = {out.plant.g.num * Poly({c.z, 1.0}), out.plant.g.den * Poly({c.p, 1.0})};
+      L = {out.plant.g.num * c.num_poly(), out.plant.g.den * c.den_poly()};
       lo.extra_gains = {c.Kc};
       out.closed_loop_poles = closed_loop_poles(L, c.Kc);
       const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
-      const DominantRoot target =
-          out.compensator_kind.rfind("relocated:", 0) == 0 && rel ? rel->root : in.root;
+      DominantRoot target = out.compensator_kind.find("relocated:") != std::string::npos && rel ? rel->root : in.root;
+      if (out.gain_point) target.wn = std::abs(out.gain_point->s);
       if (out.report)
-        out.dominance = check_dominance(out.plant.g, target, c.Kc, c.z, c.p, out.closed_loop_poles);
-      pts.emplace_back(-c.z, 0.0);
-      if (near(-c.p)) pts.emplace_back(-c.p, 0.0);
+        out.dominance = check_dominance(out.plant.g, target, c, out.closed_loop_poles);
+      if (out.gain_point) {  // a lag zero sits near the origin on purpose: its cost is out.lag's slow pole
+        auto& n = out.dominance.notes;
+        n.erase(std::remove_if(n.begin(), n.end(),
+                               [](const std::string& t) { return t.rfind("the compensator zero", 0) == 0; }),
+                n.end());
+      }
+      if (out.gain_point && !in.manual) {
+        const double w = std::abs(out.gain_point->s);
+        if (w < 0.5 * in.root.wn || w > 2.0 * in.root.wn)
+          out.dominance.notes.insert(out.dominance.notes.begin(),
+                                     "the gain alone reaches zeta = " + std::to_string(in.root.zeta).substr(0, 4) +
+                                         " only at wn = " + std::to_string(w).substr(0, 7) + " rad/s (desired " +
+                                         std::to_string(in.root.wn).substr(0, 7) +
+                                         "): a lag or PI cannot move the poles there; a lead or lead-lag can");
+      }
+      for (double z : c.zeros()) pts.emplace_back(-z, 0.0);
+      for (double p : c.poles())
+        if (near(-p)) pts.emplace_back(-p, 0.0);
       for (const cplx& p : out.closed_loop_poles)
         if (near(p)) pts.push_back(p);
+      const Section last = c.section(c.sections() - 1);
+      if (last.z > last.p && out.report) out.lag = lag_cost(out.report->type, c, out.closed_loop_poles);
     }
     // Refine over a box 2.5x the shown one (the canvas widens it to its aspect), 0.5 % steps.
     const ViewBox shown = in.locus_view ? *in.locus_view : view_around(pts);
@@ -148,7 +281,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
       const TransferFunction g2 = design_plant(in.plant, other, in.velocity, &in.scenario, assembly).linear.g;
       TransferFunction L2 = g2;
       if (out.compensator)
-        L2 = {g2.num * Poly({out.compensator->z, 1.0}), g2.den * Poly({out.compensator->p, 1.0})};
+        L2 = {g2.num * out.compensator->num_poly(), g2.den * out.compensator->den_poly()};
       out.other_locus = root_locus(L2, lo);
     }
     stage = "frequency response";
@@ -159,7 +292,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     if (in.sample_time > 0.0 && out.compensator) {
       stage = "discrete frequency response";
       const LeadCompensator& c = *out.compensator;
-      const TransferFunction Lz = sampled_loop(out.plant.g, c.z, c.p, in.sample_time);
+      const TransferFunction Lz = sampled_loop(out.plant.g, c, in.sample_time);
       out.discrete = discrete_frequency_response({Lz.num * c.Kc, Lz.den}, in.sample_time);
       stage = "z-plane root locus";
       LocusOptions zo;

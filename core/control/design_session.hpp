@@ -42,7 +42,44 @@
 
 namespace gmslab::control {
 
+// Which compensator the design view builds (from the design; a drag then makes it manual):
+//   lead      Kc (s + z)/(s + p): lead_design() (requested K, relocation or the usable maximum)
+//   lag       Kc (s + zl)/(s + pl): Kc puts a closed-loop pole where the plant's own locus crosses
+//             the zeta line (gain_point); the lag zero at 0.1 |Re| of that point, pl buys K (or
+//             lag_factor x Kc's own constant without a K)
+//   lead_lag  the lead of the usable maximum (or the requested one when it reaches K: no lag), then
+//             design_lead_lag() for K (or lag_factor x the lead's constant)
+//   pi        Kc (s + zi)/s: the lag's gain point, zi = 0.1 |Re| of it
+//   pid       Kc (s + z)(s + zi)/((s + p) s): the lead (its pole p is the derivative filter), then
+//             an integral section with zi = 0.1 |Re s_d| (of the relocated s_d for a relocated lead)
+enum class CompensatorType { Lead, Lag, LeadLag, PI, PID };
+const char* to_string(CompensatorType t);  // "lead" | "lag" | "lead_lag" | "pi" | "pid"
+std::optional<CompensatorType> compensator_type_from_string(const std::string& s);
+
+// The point of G's own locus (k > 0) on the ray of damping zeta nearest |s| = wn (bisection of
+// arg(-G) on a log grid of |s| in [1e-3, 1e3] wn), and the gain k = 1/|G| that puts a closed-loop
+// pole there. nullopt when the locus does not cross the ray.
+struct GainPoint {
+  cplx s;
+  double k = 0.0;
+};
+std::optional<GainPoint> gain_on_damping_ray(const TransferFunction& g, const DominantRoot& d);
+
+// A lag (z > p > 0) or PI (p = 0): what it buys and what it costs. The error constant is Kc (z/p) K0
+// against Kc K0 for the gain Kc alone (factor z/p; infinite for the PI: the type rises by one); the
+// cost is the slow closed-loop pole the lag zero leaves behind: the closed-loop pole nearest -z
+// (its time constant 1/|Re| stretches the settling tail).
+struct LagCost {
+  double factor = 0.0;       // z / p [-] (inf for p = 0)
+  double K = 0.0;            // error constant with the lag (Kc z/p K0; inf for p = 0)
+  double K_gain_only = 0.0;  // Kc K0
+  cplx slow_pole;            // [rad/s]
+  double time_constant = 0.0;  // 1 / |Re slow_pole| [s]
+};
+
 struct DesignInputs {
+  CompensatorType type = CompensatorType::Lead;
+  double lag_factor = 10.0;  // lag / lead-lag without K: error constant bought [-], > 1
   Scenario scenario;
   PlantChoice plant;                        // where G(s) comes from
   std::optional<AssemblyScenario> assembly;  // the assembled plant (plant source "assembly")
@@ -76,7 +113,11 @@ struct DesignOutputs {
   std::string loop_note;
   std::optional<LeadReport> report;
   std::optional<LeadCompensator> compensator;  // what the loops use
-  std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"
+  std::string compensator_kind;  // "requested", "usable_maximum", "relocated:<path>", "manual"; for
+                                 // the other types "lag", "pi", "lead_lag:<lead's kind>", "pid:<...>"
+  std::optional<GainPoint> gain_point;  // lag / PI: where Kc alone puts the pole (the target root)
+  // A lag part (lag or PI alone, or the second section of a lead-lag / PID): what it buys and costs.
+  std::optional<LagCost> lag;
   std::vector<cplx> closed_loop_poles;  // with the compensator
   Dominance dominance;                  // of those poles, about the desired s_d
   TransferFunction loop;  // L(s) whose locus is drawn (gain Kc when compensated, else 1)
@@ -104,17 +145,8 @@ struct DesignOutputs {
 
 DesignOutputs compute_design(const DesignInputs& in);
 
-// A lag (z > p > 0) or PI (p = 0): what it buys and what it costs. The error constant is Kc (z/p) K0
-// against Kc K0 for the gain Kc alone (factor z/p; infinite for the PI: the type rises by one); the
-// cost is the slow closed-loop pole the lag zero leaves behind: the closed-loop pole nearest -z
-// (its time constant 1/|Re| stretches the settling tail).
-struct LagCost {
-  double factor = 0.0;       // z / p [-] (inf for p = 0)
-  double K = 0.0;            // error constant with the lag (Kc z/p K0; inf for p = 0)
-  double K_gain_only = 0.0;  // Kc K0
-  cplx slow_pole;            // [rad/s]
-  double time_constant = 0.0;  // 1 / |Re slow_pole| [s]
-};
+// Two sections: the lag is the second one (z2 > p2 >= 0), "gain only" is Kc and the first section
+// (Kc (z1/p1) K0; Kc K0 when p1 = 0), the slow pole the one nearest -z2.
 // Throws InputError unless z > p >= 0 and Kc > 0; `poles` are the loop's closed-loop poles.
 LagCost lag_cost(const PlantType& type, const LeadCompensator& c, const std::vector<cplx>& poles);
 

@@ -25,6 +25,7 @@ void set_design_inputs(const DesignSettings& s, DesignInputs& in) {
   in.root = design_root(s);
   in.K = s.use_K ? std::optional<double>(s.K) : std::nullopt;
   in.options.max_ratio = s.max_ratio;
+  in.type = s.compensator;
   in.reference = s.reference == DesignReference::Step   ? Signal::constant(s.amplitude)
                  : s.reference == DesignReference::Ramp ? Signal::ramp(0.0, s.slope)
                                                         : Signal::sine(0.0, s.amplitude, s.frequency);

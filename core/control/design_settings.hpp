@@ -28,6 +28,8 @@ struct DesignSettings {
   bool use_K = false;               // target `K` (else the usable maximum)
   double K = 1000.0;                // desired error constant (Kp / Kv / Ka by plant type), (0, 1e7]
   double max_ratio = 20.0;          // bound on the lead's p / z [-], [1.5, 100]
+  // Compensator type built from the design (saved as "lead" | "lag" | "lead_lag" | "pi" | "pid").
+  control::CompensatorType compensator = control::CompensatorType::Lead;
   DesignReference reference = DesignReference::Sine;  // loop reference
   double amplitude = 0.01;          // step height / sine amplitude [m], (0, 1]
   double slope = 0.01;              // ramp velocity [m/s], (0, 1]

@@ -119,6 +119,12 @@ TransferFunction sampled_loop(const TransferFunction& G, double z, double p, dou
   return {Cz.num * Gz.num, Cz.den * Gz.den};
 }
 
+TransferFunction sampled_loop(const TransferFunction& G, const LeadCompensator& c, double T) {
+  const TransferFunction Cz = tustin({c.num_poly(), c.den_poly()}, T);
+  const TransferFunction Gz = zoh(G, T);
+  return {Cz.num * Gz.num, Cz.den * Gz.den};
+}
+
 bool roots_inside_unit_circle(const TransferFunction& Lz, double k) {
   for (const cplx& z : closed_loop_poles(Lz, k))
     if (!(std::abs(z) < 1.0 - 1e-12)) return false;

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "core/control/frequency.hpp"
+#include "core/control/linear_response.hpp"
 #include "core/control/root_locus.hpp"
 
 namespace gmslab::control {
@@ -61,6 +62,8 @@ ZLocus z_root_locus(const TransferFunction& Lz, double T, const LocusOptions& op
 // The sampled loop per unit controller gain, Tustin((s + z)/(s + p)) ZOH(G) (the compensator
 // Kc (s + z)/(s + p); p = 0: the PI). The loop is Kc times it; its z-plane locus is in Kc.
 TransferFunction sampled_loop(const TransferFunction& G, double z, double p, double T);
+// The same for any compensator: Tustin(prod (s + z_i)/(s + p_i)) ZOH(G) (one section: as above).
+TransferFunction sampled_loop(const TransferFunction& G, const LeadCompensator& c, double T);
 // Every root of den + k num strictly inside the unit circle (|z| < 1 - 1e-12).
 bool roots_inside_unit_circle(const TransferFunction& Lz, double k);
 

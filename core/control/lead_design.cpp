@@ -70,12 +70,11 @@ LeadLimits lead_limits(const TransferFunction& g, const DominantRoot& d) {
   return L;
 }
 
-Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, double Kc, double z,
-                          double p, const std::vector<cplx>& poles) {
+namespace {
+Dominance dominance_of(const Poly& nt, const Poly& ct, const DominantRoot& d, double z, double p,
+                       const std::vector<cplx>& poles) {
   Dominance D;
   const cplx sd = d.s();
-  const Poly nt = g.num * Poly({Kc * z, Kc});
-  const Poly ct = g.den * Poly({p, 1.0}) + nt;
   const Poly dct = ct.derivative();
   const double final_value = std::abs(nt(0.0) / ct(0.0));
   // The two poles closest to s_d and its conjugate are the dominant pair.
@@ -118,6 +117,22 @@ Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, doub
     D.notes.push_back("p = " + num_text(p) + " rad/s is more than 50 wn: the lead is close to a "
                       "pure PD, noise is amplified by p/z = " + num_text(p / z));
   return D;
+}
+
+}  // namespace
+
+Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, double Kc, double z,
+                          double p, const std::vector<cplx>& poles) {
+  const Poly nt = g.num * Poly({Kc * z, Kc});
+  return dominance_of(nt, g.den * Poly({p, 1.0}) + nt, d, z, p, poles);
+}
+
+Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, const LeadCompensator& c,
+                          const std::vector<cplx>& poles) {
+  if (!c.second) return check_dominance(g, d, c.Kc, c.z, c.p, poles);
+  const TransferFunction C = c.tf();
+  const Poly nt = g.num * C.num;
+  return dominance_of(nt, g.den * C.den + nt, d, c.z, c.p, poles);
 }
 
 LeadDesign design_at_zero_angle(const TransferFunction& g, const DominantRoot& d, double theta_z) {

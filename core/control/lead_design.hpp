@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control/linear_response.hpp"
 #include "core/control/transfer_function.hpp"
 
 namespace gmslab::control {
@@ -113,6 +114,10 @@ std::vector<Relocation> relocate(const TransferFunction& g, const DominantRoot& 
                                  double margin);
 Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, double Kc, double z,
                           double p, const std::vector<cplx>& poles);
+// The same for a compensator of one or two sections (one: identical to the above; two: the notes
+// on the zero / pole are about the first section, the residues use the whole product).
+Dominance check_dominance(const TransferFunction& g, const DominantRoot& d, const LeadCompensator& c,
+                          const std::vector<cplx>& poles);
 // The relocation to use: the first found whose s_d dominates, else the first found with a stable
 // closed loop, else the first found; nullptr when no path reaches K.
 const Relocation* best_relocation(const LeadReport& r);

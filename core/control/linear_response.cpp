@@ -5,7 +5,76 @@
 
 #include "core/error.hpp"
 
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
 namespace gmslab::control {
+
+Poly LeadCompensator::num_poly() const {
+  Poly n({z, 1.0});
+  if (second) n = n * Poly({second->z, 1.0});
+  return n;
+}
+Poly LeadCompensator::den_poly() const {
+  Poly d({p, 1.0});
+  if (second) d = d * Poly({second->p, 1.0});
+  return d;
+}
+TransferFunction LeadCompensator::tf() const {
+  if (!second) return {Poly({Kc * z, Kc}), Poly({p, 1.0})};  // as before the sections
+  return {num_poly() * Kc, den_poly()};
+}
+std::vector<double> LeadCompensator::zeros() const {
+  std::vector<double> r{z};
+  if (second) r.push_back(second->z);
+  return r;
+}
+std::vector<double> LeadCompensator::poles() const {
+  std::vector<double> r{p};
+  if (second) r.push_back(second->p);
+  return r;
+}
+
+double LeadCompensator::static_gain() const {
+  double g = Kc;
+  for (int i = 0; i < sections(); ++i) {
+    const Section s = section(i);
+    g = s.p > 0.0 ? g * s.z / s.p : std::numeric_limits<double>::infinity();
+  }
+  return g;
+}
+
+std::string LeadCompensator::text() const {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.5g ", Kc);
+  std::string n = buf, d;
+  int integrators = 0;
+  for (int i = 0; i < sections(); ++i) {
+    const Section s = section(i);
+    std::snprintf(buf, sizeof buf, "(s + %.4g)", s.z);
+    n += buf;
+    if (s.p == 0.0) {
+      ++integrators;
+      continue;
+    }
+    std::snprintf(buf, sizeof buf, "(s + %.4g)", s.p);
+    d += buf;
+  }
+  for (int i = 0; i < integrators; ++i) d += d.empty() ? "s" : " s";
+  return n + " / " + (sections() == 2 && d != "s s" ? "(" + d + ")" : d);
+}
+
+void check_compensator(const LeadCompensator& c, const std::string& who) {
+  bool ok = c.Kc > 0.0 && std::isfinite(c.Kc);
+  for (int i = 0; i < c.sections(); ++i) {
+    const Section s = c.section(i);
+    ok = ok && s.z > 0.0 && s.p >= 0.0 && std::isfinite(s.z + s.p);
+  }
+  if (!ok)
+    throw InputError(who + ": compensator Kc and every zero z_i must be finite and > 0, every pole p_i finite "
+                           "and >= 0 rad/s (p_i = 0: integrator)");
+}
 
 TransferFunction closed_loop(const TransferFunction& g, const LeadCompensator& c) {
   const TransferFunction gc = c.tf();

@@ -6,6 +6,9 @@
 #include <memory>
 #include <sstream>
 
+#include <Eigen/Dense>
+#include <unsupported/Eigen/MatrixFunctions>
+
 #include "core/error.hpp"
 #include "core/friction/stribeck.hpp"
 
@@ -46,8 +49,13 @@ std::vector<std::string> config_problems(const LoopConfig& c) {
   auto need = [&](bool ok, const std::string& what) {
     if (!ok) bad.push_back(what);
   };
-  need(c.C.Kc > 0.0 && c.C.z > 0.0 && c.C.p >= 0.0 && std::isfinite(c.C.Kc + c.C.z + c.C.p),
-       "compensator: Kc, z must be finite and > 0, p finite and >= 0 (p = 0: PI)");
+  bool comp_ok = c.C.Kc > 0.0 && std::isfinite(c.C.Kc);
+  for (int i = 0; i < c.C.sections(); ++i) {
+    const Section sec = c.C.section(i);
+    comp_ok = comp_ok && sec.z > 0.0 && sec.p >= 0.0 && std::isfinite(sec.z + sec.p);
+  }
+  need(comp_ok, "compensator: Kc and every zero z_i must be finite and > 0, every pole p_i finite and >= 0 "
+                "(p_i = 0: integrator)");
   need(c.dt > 0.0 && c.dt <= 0.1, "dt must be in (0, 0.1] s");
   need(c.duration > 0.0 && c.duration / c.dt <= 1e8, "duration must be > 0 s and at most 1e8 steps of dt");
   need(c.record_every >= 1, "record_every must be >= 1");
@@ -118,38 +126,76 @@ class Feedforward {
   double fc_hat_ = 0.0;
 };
 
-// The lead Kc (s + z)/(s + p), continuous (exact over each step) or Tustin at T with hold.
+// The compensator Kc prod_i (s + z_i)/(s + p_i), continuous (exact over each step, e held) or
+// Tustin at T with hold. One section: the state w' = -p w + e, u = Kc e + Kc (z - p) w (exact:
+// w <- e^{-ph} w + (1 - e^{-ph})/p e). Two sections in series: the cascade's states
+// w1' = -p1 w1 + e, w2' = -p2 w2 + y1, y1 = e + (z1 - p1) w1, u = Kc (y1 + (z2 - p2) w2), advanced
+// by the exact zero-order-hold discretisation [Ad Bd] = exp([A B; 0 0] h). Tustin: each section
+// y[j] = a y[j-1] + b0 x[j] + b1 x[j-1] (Kc folded into the first), in series.
 class LeadController {
  public:
   LeadController(const LeadCompensator& c, double h, double T) : c_(c), T_(T) {
     decay_ = std::exp(-c.p * h);
     gain_ = c.p > 0.0 ? (1.0 - decay_) / c.p : h;  // p = 0: the PI's integrator
+    if (c.second && T == 0.0) {
+      const double p1 = c.p, p2 = c.second->p;
+      Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+      M(0, 0) = -p1;
+      M(1, 0) = c.z - p1, M(1, 1) = -p2;
+      M(0, 2) = 1.0, M(1, 2) = 1.0;  // B = [1, 1]
+      const Eigen::Matrix3d E = (M * h).exp();
+      Ad_ = E.topLeftCorner<2, 2>();
+      Bd_ = E.topRightCorner<2, 1>();
+    }
     if (T > 0.0) {
       const double w = 2.0 / T;
-      a_ = -(c.p - w) / (w + c.p);
-      b0_ = c.Kc * (w + c.z) / (w + c.p);
-      b1_ = c.Kc * (c.z - w) / (w + c.p);
+      for (int i = 0; i < c.sections(); ++i) {
+        const Section s = c.section(i);
+        const double k = i == 0 ? c.Kc : 1.0;
+        Tustin t;
+        t.a = -(s.p - w) / (w + s.p);
+        t.b0 = k * (w + s.z) / (w + s.p);
+        t.b1 = k * (s.z - w) / (w + s.p);
+        tustin_.push_back(t);
+      }
       every_ = std::max<long long>(1, std::llround(T / h));
     }
   }
   double update(long long step, double e) {
     if (T_ == 0.0) {
+      if (c_.second) {
+        const double y1 = e + (c_.z - c_.p) * x_(0);
+        const double u = c_.Kc * (y1 + (c_.second->z - c_.second->p) * x_(1));
+        x_ = Ad_ * x_ + Bd_ * e;
+        return u;
+      }
       const double u = c_.Kc * e + c_.Kc * (c_.z - c_.p) * w_;
       w_ = decay_ * w_ + gain_ * e;
       return u;
     }
     if (step % every_ == 0) {
-      u_prev_ = a_ * u_prev_ + b0_ * e + b1_ * e_prev_;
-      e_prev_ = e;
+      double x = e;
+      for (Tustin& t : tustin_) {
+        t.y = t.a * t.y + t.b0 * x + t.b1 * t.x_prev;
+        t.x_prev = x;
+        x = t.y;
+      }
+      u_prev_ = x;
     }
     return u_prev_;
   }
 
  private:
+  struct Tustin {
+    double a = 0.0, b0 = 0.0, b1 = 0.0, y = 0.0, x_prev = 0.0;
+  };
   LeadCompensator c_;
   double T_;
   double decay_ = 0.0, gain_ = 0.0, w_ = 0.0;
-  double a_ = 0.0, b0_ = 0.0, b1_ = 0.0, u_prev_ = 0.0, e_prev_ = 0.0;
+  Eigen::Matrix2d Ad_ = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d Bd_ = Eigen::Vector2d::Zero(), x_ = Eigen::Vector2d::Zero();
+  std::vector<Tustin> tustin_;
+  double u_prev_ = 0.0;
   long long every_ = 1;
 };
 }  // namespace

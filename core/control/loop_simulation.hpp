@@ -4,8 +4,9 @@
 //   m x'' = u + u_ff - k x - c v - F_f        (F_f from ANY registry model, scenario's plant)
 // Integrator: the one of core/sim/simulation.cpp (friction step with v frozen over h, then
 // v += h (f_other - F_f) / m, x += h v). The continuous lead state w' = -p w + e is advanced
-// exactly over each step (e held), u = Kc e + Kc (z - p) w.
-// Tustin at T: u[j] = a u[j-1] + b0 e[j] + b1 e[j-1], s = (2/T)(q - 1)/(q + 1).
+// exactly over each step (e held), u = Kc e + Kc (z - p) w; a second section in series: the
+// two-state cascade advanced by its exact zero-order-hold discretisation (matrix exponential).
+// Tustin at T: u[j] = a u[j-1] + b0 e[j] + b1 e[j-1], s = (2/T)(q - 1)/(q + 1), per section in series.
 // Friction compensation (feedforward u_ff [N]):
 //   none
 //   coulomb  u_ff = Fc_hat sgn(v_ref), v_ref = (x_ref(t+h) - x_ref(t))/h (chosen over
@@ -40,7 +41,7 @@ struct Mismatch {
 
 struct LoopConfig {
   Signal reference;          // x_ref(t) [m]
-  LeadCompensator C;         // Gc = Kc (s + z) / (s + p)
+  LeadCompensator C;         // Gc = Kc prod_i (s + z_i) / (s + p_i) (one or two sections)
   double sample_time = 0.0;  // controller sample time T [s]; 0 = continuous
   Compensation comp = Compensation::None;
   Mismatch mismatch;

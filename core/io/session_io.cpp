@@ -37,6 +37,7 @@ json to_json(const Session& s) {
                  {"use_K", d.use_K},
                  {"K", d.K},
                  {"max_ratio", d.max_ratio},
+                 {"compensator", control::to_string(d.compensator)},
                  {"reference", to_string(d.reference)},
                  {"amplitude", d.amplitude},
                  {"slope", d.slope},
@@ -121,6 +122,9 @@ DesignSettings design_from_json(JsonReader& r) {
   d.use_K = r.boolean("use_K");
   d.K = r.number("K", 0, 1e7, "", true);
   d.max_ratio = r.number("max_ratio", 1.5, 100);
+  if (r.has("compensator"))  // sessions before the compensator types: the lead
+    d.compensator = *control::compensator_type_from_string(
+        r.choice("compensator", {"lead", "lag", "lead_lag", "pi", "pid"}));
   d.reference = *design_reference_from_string(r.choice("reference", {"step", "ramp", "sine"}));
   d.amplitude = r.number("amplitude", 0, 1, "m", true);
   d.slope = r.number("slope", 0, 1, "m/s", true);

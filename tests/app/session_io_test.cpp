@@ -36,6 +36,7 @@ Session sample() {
   s.design.mismatch_stiffness = 0.5;
   s.design.sample_time = 1e-3;
   s.design.zero_degree = true;
+  s.design.compensator = control::CompensatorType::PID;
   s.identify.data = "/data/run 1/train.csv";
   s.identify.validate = "val.csv";
   s.identify.columns = "t=time_s,x=x_mm,F=F_N";
@@ -107,6 +108,12 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j = good;
   j["design"]["compensation"] = "none";
   EXPECT_NE(expect_rejected(j).find("design.compensation"), std::string::npos);
+  j = good;
+  j["design"]["compensator"] = "pd";
+  EXPECT_NE(expect_rejected(j).find("design.compensator"), std::string::npos);
+  j = good;  // sessions saved before the compensator types: the lead
+  j["design"].erase("compensator");
+  EXPECT_EQ(session_from_json(j, "s.json").design.compensator, control::CompensatorType::Lead);
   j = good;
   j["design"]["wn"] = 0;
   EXPECT_NE(expect_rejected(j).find("design.wn"), std::string::npos);

@@ -83,6 +83,40 @@ TEST(DesignViewInput, DraggingTheCompensatorZeroMakesAManualDesignThatTheLocusFo
     EXPECT_LT(std::abs(1.0 + out.compensator->Kc * out.loop(p)), 1e-6) << p.real() << " + j" << p.imag();
 }
 
+// Lead-lag and PID (two sections): dragging one section's zero moves exactly that zero; Kc, the
+// other zero and both poles stay bit for bit, and the drawn loop carries the moved zero.
+TEST(DesignViewInput, DraggingOneSectionsZeroChangesExactlyThatZero) {
+  for (auto type : {control::CompensatorType::LeadLag, control::CompensatorType::PID}) {
+    Harness h;
+    h.d().settings.compensator = type;
+    h.d().dirty = true;
+    for (int i = 0; i < 2; ++i) h.frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+    ASSERT_TRUE(h.d().out.compensator && h.d().out.compensator->second) << h.d().out.error;
+    const control::LeadCompensator c0 = *h.d().out.compensator;
+    const double z0 = c0.second->z, z1 = 1.6 * z0;  // the second section's zero, moved left
+    h.frame(h.px(cplx(-z0, 0)), true);
+    h.frame(h.px(cplx(-0.5 * (z0 + z1), 0)), true);
+    h.frame(h.px(cplx(-z1, 0)), true);
+    h.frame(h.px(cplx(-z1, 0)), false);
+    h.frame(ImVec2(-FLT_MAX, -FLT_MAX), false);
+    const auto& out = h.d().out;
+    ASSERT_TRUE(out.compensator && out.compensator->second);
+    EXPECT_EQ(out.compensator_kind, "manual");
+    const double tol = 1.5 * (h.d().canvas.x1 - h.d().canvas.x0) / (h.d().canvas.px1 - h.d().canvas.px0);
+    EXPECT_NEAR(out.compensator->second->z, z1, tol);
+    EXPECT_NE(out.compensator->second->z, z0);
+    EXPECT_EQ(out.compensator->second->p, c0.second->p);
+    EXPECT_EQ(out.compensator->z, c0.z);
+    EXPECT_EQ(out.compensator->p, c0.p);
+    EXPECT_EQ(out.compensator->Kc, c0.Kc);
+    bool zero_in_loop = false;
+    for (const cplx& z : out.loop.zeros()) zero_in_loop |= std::abs(z - cplx(-out.compensator->second->z, 0)) < 1e-6 * z1;
+    EXPECT_TRUE(zero_in_loop);
+    for (const cplx& p : out.closed_loop_poles)
+      EXPECT_LT(std::abs(1.0 + out.compensator->Kc * out.loop(p)), 1e-6) << p.real() << " + j" << p.imag();
+  }
+}
+
 // With a sample time the locus canvas shows the z plane; the wheel over it zooms about the mouse
 // and the z-plane locus is recomputed for the zoomed view (its resolution follows the view).
 TEST(DesignViewInput, WheelZoomsTheZPlaneLocusAndItIsRecomputedForTheView) {
