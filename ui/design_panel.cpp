@@ -164,7 +164,8 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
       drives.push_back(x.name);
       drive_items.push_back(x.name + " (" + to_string(x.kind) + " on " + a.bodies[static_cast<std::size_t>(x.body)].name + ")");
     }
-  for (const auto& b : a.bodies) outputs.push_back("x." + b.name), output_items.push_back("x." + b.name + " [m]");
+  for (const std::string& y : control::assembly_outputs(a))
+    outputs.push_back(y), output_items.push_back(y + (y[0] == 'v' ? " [m/s]" : " [m]"));
   // The names resolved as the design resolves them ("" = the first drive, its body's position).
   std::string drive_shown = p.drive.empty() ? "(first force / pull drive)" : p.drive;
   std::string output_shown = p.output.empty() ? "(the drive's body)" : p.output;
@@ -176,8 +177,9 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
   combo("drive u", p.drive, drives, drive_items, drive_shown,
         "The drive the controller acts through: a force drive (u = F [N]) or a pull drive (u = x_p [m])");
   combo("output y", p.output, outputs, output_items, output_shown,
-        "The measured position: the drive's own body is collocated control (poles and zeros interlace), "
-        "another body non-collocated (no finite zeros for an undamped chain; a damper c adds -k/c)");
+        "The measured output, a position x [m] or a velocity v [m/s]: the drive's own body's position is collocated "
+        "control (poles and zeros interlace), another body non-collocated (no finite zeros for an undamped chain; a "
+        "damper c adds -k/c)");
   const auto port_body = [&]() -> std::string {
     try {
       const auto port = control::assembly_port(a, p.drive, p.output);
@@ -319,7 +321,8 @@ void result_section(DesignViewState& d) {
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
-    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
+    ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [%s]", c.Kc, c.z, c.p,
+                control::loop_units(o.source, o.port).gain.c_str());
     ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
                        c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
   }
@@ -371,7 +374,12 @@ void compensator_section(DesignViewState& d) {
   ImGui::Separator();
   control::LeadCompensator c = *d.out.compensator;
   ImGui::TextUnformatted(d.in.manual ? "Compensator: manual (dragged)" : "Compensator: from the design");
-  bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
+  const control::LoopUnits units = control::loop_units(d.out.source, d.out.port);
+  const std::string kc_label = "Kc [" + units.gain + "]###Kc";
+  const std::string kc_tip = "Compensator gain (the locus gain), controller output u [" + units.input + "] per measured " +
+                             "output y [" + units.output + "]" +
+                             (units.input == "m" ? ": with a pull drive u is the pull point's position, a displacement" : "");
+  bool ch = input_double(kc_label.c_str(), &c.Kc, 1e-3, 1e8, "%.5g", kc_tip.c_str(), true);
   ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
   ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
   bool pi = c.p == 0.0;
@@ -398,7 +406,8 @@ void compensator_section(DesignViewState& d) {
   }
   if (d.picked) {
     const double wn = std::abs(d.picked_s);
-    ImGui::TextColored(kDim, "picked: k = %.5g N/m, zeta = %.3f, wn = %.4g rad/s\nall closed-loop poles [rad/s]:\n%s", d.picked_k,
+    ImGui::TextColored(kDim, "picked: k = %.5g %s, zeta = %.3f, wn = %.4g rad/s\nall closed-loop poles [rad/s]:\n%s", d.picked_k,
+                       units.gain.c_str(),
                        wn > 0 ? -d.picked_s.real() / wn : 0.0, wn, poles_text(d.picked_poles).c_str());
     if (ImGui::SmallButton("set Kc = k")) c.Kc = d.picked_k, d.in.manual = c, d.dirty = true;
   }

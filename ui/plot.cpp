@@ -363,7 +363,8 @@ void draw_frame_border(ImDrawList* dl, const Building& b, const Layout& L) {
 // (corners, edge middles, centre), tried in matplotlib's order of preference (upper right, upper
 // left, lower left, lower right, right, centre left, centre right, lower centre, upper centre,
 // centre); the first with the fewest wins.
-ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
+ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t,
+                   std::size_t* hidden = nullptr) {
   const float m = 0.5f * ImGui::GetFontSize();
   const float xl = L.area.Min.x + m, xr = L.area.Max.x - m - box.x, xc = L.area.GetCenter().x - 0.5f * box.x;
   const float yt = L.area.Min.y + m, yb = L.area.Max.y - m - box.y, yc = L.area.GetCenter().y - 0.5f * box.y;
@@ -384,6 +385,7 @@ ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTra
   int best = 0;
   for (int k = 1; k < kN; ++k)
     if (count[k] < count[best]) best = k;
+  if (hidden) *hidden = count[best];
   return c[best];
 }
 
@@ -412,26 +414,39 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
 }
 
 // Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
-// never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
+// never hides data. Paper figures (or when it does not fit): a box in the emptiest place.
+bool legend_in_row(const Building& b, const Layout& L) {
+  if (b.opt.paper) return false;
+  const float gap = 1.2f * ImGui::GetFontSize();
+  float total = 0.0f;
+  for (const auto& s : b.series) total += legend_entry(nullptr, s, {}, false) + gap;
+  const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * ImGui::GetFontSize();
+  return total - gap <= room;
+}
+
+// The boxed legend's size; zero when there is none (no legend, or it goes in the row above).
+ImVec2 legend_box_size(const Building& b, const Layout& L) {
+  if (!b.opt.legend || b.series.empty() || legend_in_row(b, L)) return ImVec2(0, 0);
+  const float fh = ImGui::GetFontSize();
+  float w = 0.0f;
+  for (const auto& s : b.series) w = std::max(w, legend_entry(nullptr, s, {}, false));
+  return ImVec2(w + 0.8f * fh, fh * 1.25f * static_cast<float>(b.series.size()) + 0.5f * fh);
+}
+
 void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t, View& v) {
   v.legend_box = ImRect();
   if (!b.opt.legend || b.series.empty()) return;
   const float fh = ImGui::GetFontSize();
   const float gap = 1.2f * fh;
-  if (!b.opt.paper) {
+  if (legend_in_row(b, L)) {
     float total = 0.0f;
     for (const auto& s : b.series) total += legend_entry(dl, s, {}, false) + gap;
-    const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
-    if (total - gap <= room) {
-      float x = L.area.Max.x - (total - gap);
-      for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
-      return;
-    }
+    float x = L.area.Max.x - (total - gap);
+    for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
+    return;
   }
-  float w = 0.0f;
-  for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
   const float line_h = fh * 1.25f;
-  const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
+  const ImVec2 box = legend_box_size(b, L);
   ImVec2 min = legend_best(b, L, box, t);
   if (v.legend_placed)  // where the user put it, kept inside the plot area
     min = ImVec2(std::clamp(L.area.Min.x + v.legend_fx * L.area.GetWidth(), L.area.Min.x, std::max(L.area.Min.x, L.area.Max.x - box.x)),
@@ -673,8 +688,26 @@ void EndPlot() {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   choose_prefix(b.ax, v.x0, v.x1);  // limits may have changed with the input
   choose_prefix(b.ay, v.y0, v.y1);
-  const Layout L2 = layout(b, v, L.frame);
+  Layout L2 = layout(b, v, L.frame);
   t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+  // A view that follows the data, whose boxed legend would hide some of it wherever it goes: the
+  // y range grows upwards by the legend's height, so the legend sits above the data and hides none.
+  if (v.auto_fit && !(b.has_limits && b.limits_always) && !v.legend_placed) {
+    const ImVec2 box = legend_box_size(b, L2);
+    const float band = box.y + ImGui::GetFontSize();  // the legend, its margin above and a gap below
+    const float H = L2.area.GetHeight();
+    if (box.y > 0.0f && band < 0.6f * H) {
+      for (auto& s : b.series) decimate(s, t);
+      std::size_t hidden = 0;
+      legend_best(b, L2, box, t, &hidden);
+      if (hidden > 0) {
+        v.y1 = v.y0 + (v.y1 - v.y0) * H / (H - band);
+        choose_prefix(b.ay, v.y0, v.y1);
+        L2 = layout(b, v, L.frame);
+        t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+      }
+    }
+  }
   draw_axes(dl, b, L2, t);
   dl->PushClipRect(L2.area.Min, L2.area.Max, true);
   for (auto& s : b.series) {

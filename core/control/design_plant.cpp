@@ -108,6 +108,7 @@ AssemblyPort assembly_port(const Assembly& a, const std::string& drive, const st
     throw InputError("drive '" + d.name + "': a " + std::string(to_string(d.kind)) +
                      " drive prescribes motion; the design's input is a force or pull drive (" + names + ")");
   p.drive_name = d.name;
+  p.pull = d.kind == DrivePart::Kind::Pull;
   std::string body = output.empty() ? a.bodies[static_cast<std::size_t>(d.body)].name : output;
   if (body.rfind("x.", 0) == 0) body = body.substr(2);
   else if (body.rfind("v.", 0) == 0) body = body.substr(2), p.velocity = true;
@@ -121,6 +122,24 @@ AssemblyPort assembly_port(const Assembly& a, const std::string& drive, const st
     throw InputError("output '" + output + "': expected x.BODY or v.BODY with a body of the plant (" + bodies + ")");
   p.output = (p.velocity ? "v." : "x.") + body;
   return p;
+}
+
+std::vector<std::string> assembly_outputs(const Assembly& a) {
+  std::vector<std::string> out;
+  for (const auto& b : a.bodies) out.push_back("x." + b.name), out.push_back("v." + b.name);
+  return out;
+}
+
+LoopUnits loop_units(PlantSource source, const AssemblyPort& port) {
+  LoopUnits u;
+  if (source != PlantSource::Assembly) return u;
+  u.input = port.pull ? "m" : "N";
+  u.output = port.velocity ? "m/s" : "m";
+  if (port.pull)
+    u.gain = port.velocity ? "m/(m/s)" : "m/m", u.plant = port.velocity ? "(m/s)/m" : "m/m";
+  else
+    u.gain = port.velocity ? "N s/m" : "N/m", u.plant = port.velocity ? "(m/s)/N" : "m/N";
+  return u;
 }
 
 DesignPlant design_plant(const PlantChoice& c, Regime r, double v0, const Scenario* scenario,
