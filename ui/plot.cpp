@@ -80,6 +80,7 @@ struct PlotContext {
   bool open = false;
   PlotTransform last;                       // of the last EndPlot
   ImRect last_legend;                       // its boxed legend
+  std::vector<LegendStat> legend_stats;     // boxed legends drawn since the last TakeLegendStats
 };
 
 namespace {
@@ -453,6 +454,23 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
                  std::clamp(L.area.Min.y + v.legend_fy * L.area.GetHeight(), L.area.Min.y, std::max(L.area.Min.y, L.area.Max.y - box.y)));
   const ImVec2 end(min.x + box.x, min.y + box.y);
   v.legend_box = ImRect(min, end);
+  if (g_ctx->legend_stats.size() < 256) {  // what it hides, for the tests (bounded if nobody takes them)
+    LegendStat st{b.opt.title ? b.opt.title : "", ImVec4(min.x, min.y, end.x, end.y), 0, 0};
+    for (const auto& s : b.series)
+      for (std::size_t j = 1; j < s.drawn.size(); ++j) {
+        const double ax = t.to_px_x(s.x[s.drawn[j - 1]]), ay = t.to_px_y(s.y[s.drawn[j - 1]]);
+        const double bx = t.to_px_x(s.x[s.drawn[j]]), by = t.to_px_y(s.y[s.drawn[j]]);
+        if (!std::isfinite(ax + ay + bx + by)) continue;
+        // only segments inside the plot area count (a zoomed view clips the others)
+        if (std::max(ax, bx) < L.area.Min.x || std::min(ax, bx) > L.area.Max.x || std::max(ay, by) < L.area.Min.y ||
+            std::min(ay, by) > L.area.Max.y)
+          continue;
+        ++st.segments;
+        st.hidden += std::max(ax, bx) >= min.x && std::min(ax, bx) <= end.x && std::max(ay, by) >= min.y &&
+                     std::min(ay, by) <= end.y;
+      }
+    g_ctx->legend_stats.push_back(std::move(st));
+  }
   dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
   float y = min.y + 0.25f * fh + 0.125f * fh;
@@ -738,6 +756,13 @@ void EndPlot() {
 }
 
 PlotTransform LastPlotTransform() { return g_ctx ? g_ctx->last : PlotTransform{}; }
+
+std::vector<LegendStat> TakeLegendStats() {
+  if (!g_ctx) return {};
+  std::vector<LegendStat> out = std::move(g_ctx->legend_stats);
+  g_ctx->legend_stats.clear();
+  return out;
+}
 
 ImVec4 LastLegendBox() {
   if (!g_ctx) return ImVec4(0, 0, 0, 0);
