@@ -277,7 +277,31 @@ struct Layout {
   ImRect frame, area;  // whole widget, plot area
   Ticks xt, yt;
   std::vector<std::string> xl, yl;  // tick labels
+  // Live plots: the legend's rows above the plot area, the first series of each (empty: a boxed
+  // legend, or none).
+  std::vector<std::size_t> legend_rows;
 };
+
+float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw);
+
+// Live plots' legends go in rows above the plot area, right-aligned, each row as wide as the plot
+// area less the y label: one row, or two when one does not fit (the plot gives up a line of
+// height); more would eat the plot, so then the legend is a box inside it (empty result).
+std::vector<std::size_t> legend_row_starts(const Building& b, float area_w) {
+  if (b.opt.paper || !b.opt.legend || b.series.empty()) return {};
+  const float fh = ImGui::GetFontSize(), gap = 1.2f * fh;
+  const float room = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
+  std::vector<std::size_t> starts = {0};
+  float used = 0.0f;
+  for (std::size_t i = 0; i < b.series.size(); ++i) {
+    const float w = legend_entry(nullptr, b.series[i], {}, false);
+    if (w > room) return {};
+    if (used > 0.0f && used + gap + w > room) starts.push_back(i), used = 0.0f;
+    used += (used > 0.0f ? gap : 0.0f) + w;
+  }
+  if (starts.size() > 2) return {};
+  return starts;
+}
 
 std::vector<std::string> labels(const Ticks& t) {
   double mag = 0.0;
@@ -287,11 +311,20 @@ std::vector<std::string> labels(const Ticks& t) {
   return out;
 }
 
-Layout layout(const Building& b, const View& v, ImRect frame) {
+Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -1) {
+  if (extra_rows < 0) {  // as many rows as the legend takes at the plot's width
+    Layout one = layout(b, v, frame, 0);
+    one.legend_rows = legend_row_starts(b, one.area.GetWidth());
+    if (one.legend_rows.size() <= 1) return one;
+    Layout two = layout(b, v, frame, static_cast<int>(one.legend_rows.size()) - 1);
+    two.legend_rows = one.legend_rows;
+    return two;
+  }
   Layout L;
   L.frame = frame;
   const float fh = ImGui::GetFontSize();
-  const float top = fh * (b.opt.title || b.opt.letter ? 2.6f : 1.5f);  // title + y label line
+  // title + y label line (+ the legend's extra rows)
+  const float top = fh * (b.opt.title || b.opt.letter ? 2.6f : 1.5f) + 1.3f * fh * static_cast<float>(extra_rows);
   const float bottom = fh * (b.ax.shown.empty() ? 1.6f : 2.9f);
   const float plot_h = std::max(10.0f, frame.GetHeight() - top - bottom);
   const double sy = b.ay.scale, sx = b.ax.scale;
@@ -414,16 +447,9 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   return width;
 }
 
-// Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
-// never hides data. Paper figures (or when it does not fit): a box in the emptiest place.
-bool legend_in_row(const Building& b, const Layout& L) {
-  if (b.opt.paper) return false;
-  const float gap = 1.2f * ImGui::GetFontSize();
-  float total = 0.0f;
-  for (const auto& s : b.series) total += legend_entry(nullptr, s, {}, false) + gap;
-  const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * ImGui::GetFontSize();
-  return total - gap <= room;
-}
+// Live plots: the legend goes in rows above the plot area (Layout::legend_rows), so it never
+// hides data. Paper figures (or when it does not fit): a box in the emptiest place.
+bool legend_in_row(const Building&, const Layout& L) { return !L.legend_rows.empty(); }
 
 // The boxed legend's size; zero when there is none (no legend, or it goes in the row above).
 ImVec2 legend_box_size(const Building& b, const Layout& L) {
@@ -440,10 +466,15 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
   const float fh = ImGui::GetFontSize();
   const float gap = 1.2f * fh;
   if (legend_in_row(b, L)) {
-    float total = 0.0f;
-    for (const auto& s : b.series) total += legend_entry(dl, s, {}, false) + gap;
-    float x = L.area.Max.x - (total - gap);
-    for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
+    const std::size_t rows = L.legend_rows.size();
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::size_t i0 = L.legend_rows[r], i1 = r + 1 < rows ? L.legend_rows[r + 1] : b.series.size();
+      float total = 0.0f;
+      for (std::size_t i = i0; i < i1; ++i) total += legend_entry(dl, b.series[i], {}, false) + gap;
+      float x = L.area.Max.x - (total - gap);
+      const float y = L.area.Min.y - 1.3f * fh * static_cast<float>(rows - r);
+      for (std::size_t i = i0; i < i1; ++i) x += legend_entry(dl, b.series[i], ImVec2(x, y), true) + gap;
+    }
     return;
   }
   const float line_h = fh * 1.25f;
