@@ -284,23 +284,27 @@ struct Layout {
 
 float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw);
 
-// Live plots' legends go in rows above the plot area, right-aligned, each row as wide as the plot
-// area less the y label: one row, or two when one does not fit (the plot gives up a line of
-// height); more would eat the plot, so then the legend is a box inside it (empty result).
+// Live plots' legends go in rows above the plot area, right-aligned: one row beside the y label
+// when it fits there, else two, the upper as wide as the plot area, the lower beside the y label
+// (the plot gives up a line of height); more would eat the plot, so then the legend is a box
+// inside it (empty result).
 std::vector<std::size_t> legend_row_starts(const Building& b, float area_w) {
   if (b.opt.paper || !b.opt.legend || b.series.empty()) return {};
   const float fh = ImGui::GetFontSize(), gap = 1.2f * fh;
-  const float room = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
-  std::vector<std::size_t> starts = {0};
-  float used = 0.0f;
-  for (std::size_t i = 0; i < b.series.size(); ++i) {
-    const float w = legend_entry(nullptr, b.series[i], {}, false);
-    if (w > room) return {};
-    if (used > 0.0f && used + gap + w > room) starts.push_back(i), used = 0.0f;
-    used += (used > 0.0f ? gap : 0.0f) + w;
+  const float beside = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;  // the y label's row
+  std::vector<float> w;
+  float total = 0.0f;
+  for (const auto& s : b.series) w.push_back(legend_entry(nullptr, s, {}, false)), total += w.back() + gap;
+  if (total - gap <= beside) return {0};
+  // Two rows: the fewest entries in the lower row that let the upper one fit.
+  for (std::size_t split = w.size() - 1; split >= 1; --split) {
+    float upper = 0.0f, lower = 0.0f;
+    for (std::size_t i = 0; i < w.size(); ++i) (i < split ? upper : lower) += w[i] + gap;
+    if (upper - gap > area_w - fh) continue;
+    if (lower - gap <= beside) return {0, split};
+    return {};
   }
-  if (starts.size() > 2) return {};
-  return starts;
+  return {};
 }
 
 std::vector<std::string> labels(const Ticks& t) {
