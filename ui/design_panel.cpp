@@ -16,6 +16,7 @@
 #include "core/control/design_json.hpp"
 #include "core/error.hpp"
 #include "ui/design_view.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -297,7 +298,7 @@ void result_section(DesignViewState& d) {
   const auto& o = d.out;
   if (!o.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-    ImGui::TextWrapped("%s", o.error.c_str());
+    TextWrappedAtSpaces(o.error);
     ImGui::PopStyleColor();
   }
   if (!o.report) return;
@@ -306,7 +307,7 @@ void result_section(DesignViewState& d) {
   const std::string kname = control::error_constant_name(r.type.n);
   ImGui::TextColored(L.applicable ? kOk : kErr, "single lead %s", L.applicable ? "applicable" : "NOT applicable");
   tip("A single lead places s_d iff 0 < phi < 180 deg - beta");
-  if (!L.applicable) ImGui::TextWrapped("%s", L.reason.c_str());
+  if (!L.applicable) TextWrappedAtSpaces(L.reason);
   ImGui::Text("phi = %.2f deg (limit %.2f deg)", L.phi * 180 / std::numbers::pi, 180 - L.beta * 180 / std::numbers::pi);
   // Units: the plant is force -> position [m/N], the compensator [N/m]; the loop is dimensionless,
   // so the type-n error constant is in s^-n and K0 = lim s^n G(s) in m/(N s^n).
@@ -347,7 +348,7 @@ void result_section(DesignViewState& d) {
   if (o.compensator)
     for (const auto& n : o.dominance.notes) {
       ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-      ImGui::TextWrapped("! %s", n.c_str());
+      TextWrappedAtSpaces("! " + n);
       ImGui::PopStyleColor();
     }
   for (const auto& rel : r.relocations) {
