@@ -745,6 +745,7 @@ void EndPlot() {
   t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
   // A view that follows the data, whose boxed legend would hide some of it wherever it goes: the
   // y range grows upwards by the legend's height, so the legend sits above the data and hides none.
+  // Panels sharing a y range (SetupFitRangeY) always grow, so their scales stay the same.
   if (v.auto_fit && !(b.has_limits && b.limits_always) && !v.legend_placed) {
     const ImVec2 box = legend_box_size(b, L2);
     const float band = box.y + ImGui::GetFontSize();  // the legend, its margin above and a gap below
@@ -753,7 +754,7 @@ void EndPlot() {
       for (auto& s : b.series) decimate(s, t);
       std::size_t hidden = 0;
       legend_best(b, L2, box, t, &hidden);
-      if (hidden > 0) {
+      if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
         v.y1 = v.y0 + (v.y1 - v.y0) * H / (H - band);
         choose_prefix(b.ay, v.y0, v.y1);
         L2 = layout(b, v, L.frame);
