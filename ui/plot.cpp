@@ -410,14 +410,15 @@ ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTra
                       ImVec2(xl, yc), ImVec2(xc, yb), ImVec2(xc, yt), ImVec2(xc, yc)};
   constexpr int kN = sizeof c / sizeof c[0];
   std::size_t count[kN] = {};
-  for (const auto& s : b.series)  // segments whose bounding box meets the legend box
+  const float e = 0.3f * ImGui::GetFontSize();  // a line's width and a little air around the box
+  for (const auto& s : b.series)  // segments whose bounding box meets the legend box (grown by e)
     for (std::size_t j = 1; j < s.drawn.size(); ++j) {
       const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
       const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
       const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
       for (int k = 0; k < kN; ++k)
-        if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
-            std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
+        if (std::max(ax, bx) >= c[k].x - e && std::min(ax, bx) <= c[k].x + box.x + e &&
+            std::max(ay, by) >= c[k].y - e && std::min(ay, by) <= c[k].y + box.y + e)
           ++count[k];
     }
   int best = 0;
@@ -754,7 +755,7 @@ void EndPlot() {
       for (auto& s : b.series) decimate(s, t);
       std::size_t hidden = 0;
       legend_best(b, L2, box, t, &hidden);
-      if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
+          if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
         v.y1 = v.y0 + (v.y1 - v.y0) * H / (H - band);
         choose_prefix(b.ay, v.y0, v.y1);
         L2 = layout(b, v, L.frame);
