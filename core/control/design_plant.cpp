@@ -159,6 +159,17 @@ DesignPlant design_plant(const PlantChoice& c, Regime r, double v0, const Scenar
                          "e.g. presets/two_mass_drive.json, in the Plant tab or give it as --preset)");
       out.port = assembly_port(*assembly, c.drive, c.output);
       out.linear.g = assembly_transfer_function(*assembly, out.port.drive, out.port.output, r, v0);
+      // v = s x: a velocity output of a plant with a free rigid-body mode (a pole at s = 0) has the
+      // factor s above and below; it cancels (the design refuses a zero at s = 0). A pull drive's
+      // spring holds the chain, so its v output keeps the zero and the design says why.
+      while (out.linear.g.num.degree() > 0 && out.linear.g.num.coeff(0) == 0.0 && out.linear.g.den.coeff(0) == 0.0) {
+        auto shift = [](const Poly& p) {
+          std::vector<double> c;
+          for (int i = 1; i <= p.degree(); ++i) c.push_back(p.coeff(i));
+          return Poly(c);
+        };
+        out.linear.g = {shift(out.linear.g.num), shift(out.linear.g.den)};
+      }
       out.linear.velocity = r == Regime::Sliding ? v0 : 0.0;
       const DrivePart& d = assembly->drives[out.port.drive];
       out.label = d.name + (d.kind == DrivePart::Kind::Pull ? " (pull: x_p [m])" : " (force [N])") + " -> " +
