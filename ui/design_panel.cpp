@@ -312,8 +312,10 @@ void result_section(DesignViewState& d) {
   // Units: the plant is force -> position [m/N], the compensator [N/m]; the loop is dimensionless,
   // so the type-n error constant is in s^-n and K0 = lim s^n G(s) in m/(N s^n).
   const char* kunit = r.type.n == 0 ? "-" : r.type.n == 1 ? "1/s" : r.type.n == 2 ? "1/s^2" : "s^-n";
-  const char* k0unit = r.type.n == 0 ? "m/N" : r.type.n == 1 ? "m/(N s)" : r.type.n == 2 ? "m/(N s^2)" : "m/(N s^n)";
-  ImGui::Text("type %d, K0 = %.4g %s", r.type.n, r.type.K0, k0unit);
+  const std::string gunit = control::loop_units(o.source, o.port).plant;  // m/N; m/m for a pull drive
+  const std::string k0unit = gunit == "m/N" ? (r.type.n == 0 ? "m/N" : r.type.n == 1 ? "m/(N s)" : r.type.n == 2 ? "m/(N s^2)" : "m/(N s^n)")
+                             : r.type.n == 0 ? gunit : "(" + gunit + ")/s" + (r.type.n == 1 ? "" : "^" + std::to_string(r.type.n));
+  ImGui::Text("type %d, K0 = %.4g %s", r.type.n, r.type.K0, k0unit.c_str());
   tip("K0 = lim s^n G(s): the plant's own gain at the type's order");
   if (L.applicable) {
     ImGui::Text("%s_max = %.5g %s (PD limit)", kname.c_str(), L.K_max, kunit);
