@@ -247,7 +247,9 @@ void rounds_table(const ident::IdentReport& r) {
   ImGui::TableSetupColumn("RMS validation [N]");
   ImGui::TableSetupColumn("validation change");
   ImGui::TableSetupColumn("effect parameters");
-  ImGui::TableSetupColumn("candidates (share of the residual variance each explains; hover: evidence)");
+  // The last column takes the rest of the width and wraps (at spaces), so no candidate is clipped.
+  ImGui::TableSetupColumn("candidates (share of the residual variance each explains; hover: evidence)",
+                          ImGuiTableColumnFlags_WidthStretch);
   ImGui::TableHeadersRow();
   ImGui::TableNextRow();
   ImGui::TableNextColumn();
@@ -285,7 +287,7 @@ void rounds_table(const ident::IdentReport& r) {
     if (params.size() > 60) params = params.substr(0, 57) + "...";
     ImGui::TextUnformatted(params.c_str());
     ImGui::TableNextColumn();
-    ImGui::TextUnformatted(candidates_line(rd, 4).c_str());
+    TextWrappedAtSpaces(candidates_line(rd, 4));
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", evidence_text(rd).c_str());
   }
   ImGui::EndTable();
