@@ -169,7 +169,7 @@ void draw_plane(const PlaneView& v, ImVec2 size, const char* title, bool title_o
     const ImVec2 m = P(-1.0);
     dl->AddLine(ImVec2(m.x - 6, m.y - 6), ImVec2(m.x + 6, m.y + 6), kCritical, 2.5f);
     dl->AddLine(ImVec2(m.x - 6, m.y + 6), ImVec2(m.x + 6, m.y - 6), kCritical, 2.5f);
-    dl->AddText(ImVec2(m.x + 6, m.y + 2), kCritical, "-1");
+    dl->AddText(ImVec2(m.x + 10, m.y + 5), kCritical, "-1");
   }
   dl->PopClipRect();
   dl->AddText(ImVec2(p0.x + 4, p0.y + 2), title_ok ? kText : kCritical, title);

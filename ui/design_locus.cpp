@@ -147,6 +147,20 @@ void draw_other_locus(ImDrawList* dl, const PlotTransform& t, const control::Roo
   }
 }
 
+// The axis caption, in the frame's bottom-right corner above the x tick labels, on a white backing:
+// the long form when it takes at most 3/4 of the frame's width, else the short one (so it never
+// runs past the frame's left edge into the y tick labels at projector sizes).
+void axis_caption(ImDrawList* dl, ImVec2 p0, ImVec2 p1, const char* long_form, const char* short_form) {
+  const float fh = ImGui::GetFontSize();
+  const char* label = ImGui::CalcTextSize(long_form).x <= 0.75f * (p1.x - p0.x) ? long_form : short_form;
+  const ImVec2 sz = ImGui::CalcTextSize(label);
+  const ImVec2 at(std::max(p0.x + 4.0f * fh, p1.x - sz.x - 8), p1.y - 2 * fh - 6);
+  dl->PushClipRect(p0, p1, true);
+  dl->AddRectFilled(ImVec2(at.x - 3, at.y - 1), ImVec2(at.x + sz.x + 3, at.y + sz.y + 1), IM_COL32(255, 255, 255, 225));
+  dl->AddText(at, kText, label);
+  dl->PopClipRect();
+}
+
 void draw_locus(ImDrawList* dl, const PlotTransform& t, const control::RootLocus& rl) {
   // asymptotes
   for (double a : rl.asymptote_angles) {
@@ -278,17 +292,19 @@ void draw_z_locus(DesignViewState& d, ImVec2 size) {
   const double T = zl.T;
   char buf[200];
   const double Kc = d.out.compensator ? d.out.compensator->Kc : 1.0;
+  const std::string ku_s = control::loop_units(d.out.source, d.out.port).gain;
+  const char* ku = ku_s.c_str();
   bool stable = false;
   double k_hi = 0.0;
   for (const auto& [lo, hi] : zl.stable_gains)
     if (Kc > lo && Kc < hi) stable = true, k_hi = hi;
   if (stable && std::isfinite(k_hi))
-    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g N/m, up to %.4g N/m (x%.3g)", T, Kc, k_hi,
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g %s, up to %.4g %s (x%.3g)", T, Kc, ku, k_hi, ku,
                   k_hi / Kc);
   else if (stable)
-    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g N/m (no upper limit)", T, Kc);
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: stable at Kc = %.4g %s (no upper limit)", T, Kc, ku);
   else
-    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: UNSTABLE at Kc = %.4g N/m (a pole outside |z| = 1)", T, Kc);
+    std::snprintf(buf, sizeof buf, "z plane, T = %.3g s: UNSTABLE at Kc = %.4g %s (a pole outside |z| = 1)", T, Kc, ku);
   ImGui::TextColored(stable ? ImVec4(0.0f, 0.5f, 0.3f, 1.0f) : ImVec4(0.75f, 0.1f, 0.1f, 1.0f), "%s", buf);
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   size.y -= ImGui::GetTextLineHeightWithSpacing();
@@ -366,8 +382,7 @@ void draw_z_locus(DesignViewState& d, ImVec2 size) {
   }
   dl->PopClipRect();
   dl->AddRect(p0, p1, kAxis);
-  const char* label = "Re z (horizontal), Im z (vertical); unit circle: stability boundary";
-  dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
+  axis_caption(dl, p0, p1, "Re z (horizontal), Im z (vertical); unit circle: stability boundary", "Re z ->, Im z ^");
   // Wheel zooms about the mouse, drag pans, double-click fits; the locus is recomputed for the
   // new view (its resolution is relative to the view).
   ImGuiIO& io = ImGui::GetIO();
@@ -486,14 +501,13 @@ void draw_design_locus(DesignViewState& d, ImVec2 size) {
   if (d.picked) {
     for (const cplx& p : d.picked_poles) dl->AddCircle(px(t, p), 7.0f, IM_COL32(86, 180, 233, 255), 16, 2.0f);
     char buf[64];
-    std::snprintf(buf, sizeof buf, "k = %.4g N/m", d.picked_k);
+    std::snprintf(buf, sizeof buf, "k = %.4g %s", d.picked_k, control::loop_units(d.out.source, d.out.port).gain.c_str());
     const ImVec2 q = px(t, d.picked_s);
     dl->AddText(ImVec2(q.x + 9, q.y - 18), kText, buf);
   }
   dl->PopClipRect();
   dl->AddRect(p0, p1, kAxis);
-  const char* label = "Re s [rad/s] (horizontal), Im s [rad/s] (vertical)";
-  dl->AddText(ImVec2(p1.x - ImGui::CalcTextSize(label).x - 8, p1.y - 2 * ImGui::GetFontSize() - 4), kText, label);
+  axis_caption(dl, p0, p1, "Re s [rad/s] (horizontal), Im s [rad/s] (vertical)", "Re s ->, Im s ^ [rad/s]");
   handle_input(d, t, hovered);
   ImGui::EndGroup();
 }

@@ -16,6 +16,7 @@
 #include "core/control/design_json.hpp"
 #include "core/error.hpp"
 #include "ui/design_view.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -164,7 +165,8 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
       drives.push_back(x.name);
       drive_items.push_back(x.name + " (" + to_string(x.kind) + " on " + a.bodies[static_cast<std::size_t>(x.body)].name + ")");
     }
-  for (const auto& b : a.bodies) outputs.push_back("x." + b.name), output_items.push_back("x." + b.name + " [m]");
+  for (const std::string& y : control::assembly_outputs(a))
+    outputs.push_back(y), output_items.push_back(y + (y[0] == 'v' ? " [m/s]" : " [m]"));
   // The names resolved as the design resolves them ("" = the first drive, its body's position).
   std::string drive_shown = p.drive.empty() ? "(first force / pull drive)" : p.drive;
   std::string output_shown = p.output.empty() ? "(the drive's body)" : p.output;
@@ -176,8 +178,9 @@ void plant_source_section(DesignViewState& d, const AssemblyScenario* assembly) 
   combo("drive u", p.drive, drives, drive_items, drive_shown,
         "The drive the controller acts through: a force drive (u = F [N]) or a pull drive (u = x_p [m])");
   combo("output y", p.output, outputs, output_items, output_shown,
-        "The measured position: the drive's own body is collocated control (poles and zeros interlace), "
-        "another body non-collocated (no finite zeros for an undamped chain; a damper c adds -k/c)");
+        "The measured output, a position x [m] or a velocity v [m/s]: the drive's own body's position is collocated "
+        "control (poles and zeros interlace), another body non-collocated (no finite zeros for an undamped chain; a "
+        "damper c adds -k/c)");
   const auto port_body = [&]() -> std::string {
     try {
       const auto port = control::assembly_port(a, p.drive, p.output);
@@ -295,7 +298,7 @@ void result_section(DesignViewState& d) {
   const auto& o = d.out;
   if (!o.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-    ImGui::TextWrapped("%s", o.error.c_str());
+    TextWrappedAtSpaces(o.error);
     ImGui::PopStyleColor();
   }
   if (!o.report) return;
@@ -304,13 +307,15 @@ void result_section(DesignViewState& d) {
   const std::string kname = control::error_constant_name(r.type.n);
   ImGui::TextColored(L.applicable ? kOk : kErr, "single lead %s", L.applicable ? "applicable" : "NOT applicable");
   tip("A single lead places s_d iff 0 < phi < 180 deg - beta");
-  if (!L.applicable) ImGui::TextWrapped("%s", L.reason.c_str());
+  if (!L.applicable) TextWrappedAtSpaces(L.reason);
   ImGui::Text("phi = %.2f deg (limit %.2f deg)", L.phi * 180 / std::numbers::pi, 180 - L.beta * 180 / std::numbers::pi);
   // Units: the plant is force -> position [m/N], the compensator [N/m]; the loop is dimensionless,
   // so the type-n error constant is in s^-n and K0 = lim s^n G(s) in m/(N s^n).
   const char* kunit = r.type.n == 0 ? "-" : r.type.n == 1 ? "1/s" : r.type.n == 2 ? "1/s^2" : "s^-n";
-  const char* k0unit = r.type.n == 0 ? "m/N" : r.type.n == 1 ? "m/(N s)" : r.type.n == 2 ? "m/(N s^2)" : "m/(N s^n)";
-  ImGui::Text("type %d, K0 = %.4g %s", r.type.n, r.type.K0, k0unit);
+  const std::string gunit = control::loop_units(o.source, o.port).plant;  // m/N; m/m for a pull drive
+  const std::string k0unit = gunit == "m/N" ? (r.type.n == 0 ? "m/N" : r.type.n == 1 ? "m/(N s)" : r.type.n == 2 ? "m/(N s^2)" : "m/(N s^n)")
+                             : r.type.n == 0 ? gunit : "(" + gunit + ")/s" + (r.type.n == 1 ? "" : "^" + std::to_string(r.type.n));
+  ImGui::Text("type %d, K0 = %.4g %s", r.type.n, r.type.K0, k0unit.c_str());
   tip("K0 = lim s^n G(s): the plant's own gain at the type's order");
   if (L.applicable) {
     ImGui::Text("%s_max = %.5g %s (PD limit)", kname.c_str(), L.K_max, kunit);
@@ -319,12 +324,13 @@ void result_section(DesignViewState& d) {
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
+    const std::string gunit = control::loop_units(o.source, o.port).gain;
     if (!c.second && c.p > 0.0) {
-      ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [N/m]", c.Kc, c.z, c.p);
+      ImGui::Text("Gc = %.5g (s + %.4g) / (s + %.4g) [%s]", c.Kc, c.z, c.p, gunit.c_str());
       ImGui::TextColored(kDim, "%s, %s = %.5g %s, p/z = %.3g", o.compensator_kind.c_str(), kname.c_str(),
                          c.Kc * c.z / c.p * r.type.K0, kunit, c.p / c.z);
     } else {
-      ImGui::TextWrapped("Gc = %s [N/m]", c.text().c_str());
+      ImGui::TextWrapped("Gc = %s [%s]", c.text().c_str(), gunit.c_str());
       ImGui::TextColored(kDim, "%s, %s = %.5g %s", o.compensator_kind.c_str(), kname.c_str(),
                          c.static_gain() * r.type.K0, kunit);
     }
@@ -350,7 +356,7 @@ void result_section(DesignViewState& d) {
   if (o.compensator)
     for (const auto& n : o.dominance.notes) {
       ImGui::PushStyleColor(ImGuiCol_Text, kErr);
-      ImGui::TextWrapped("! %s", n.c_str());
+      TextWrappedAtSpaces("! " + n);
       ImGui::PopStyleColor();
     }
   for (const auto& rel : r.relocations) {
@@ -390,7 +396,12 @@ void compensator_section(DesignViewState& d) {
   if (!d.out.compensator) return;
   control::LeadCompensator c = *d.out.compensator;
   ImGui::TextUnformatted(d.in.manual ? "Compensator: manual (dragged)" : "Compensator: from the design");
-  bool ch = input_double("Kc [N/m]", &c.Kc, 1e-3, 1e8, "%.5g", "Compensator gain (the locus gain)", true);
+  const control::LoopUnits units = control::loop_units(d.out.source, d.out.port);
+  const std::string kc_label = "Kc [" + units.gain + "]###Kc";
+  const std::string kc_tip = "Compensator gain (the locus gain), controller output u [" + units.input + "] per measured " +
+                             "output y [" + units.output + "]" +
+                             (units.input == "m" ? ": with a pull drive u is the pull point's position, a displacement" : "");
+  bool ch = input_double(kc_label.c_str(), &c.Kc, 1e-3, 1e8, "%.5g", kc_tip.c_str(), true);
   ch |= input_double("z [rad/s]", &c.z, 1e-4, 1e5, "%.4g", "Compensator zero at -z (drag the green o)", true);
   ch |= input_double("p [rad/s]", &c.p, 1e-4, 1e6, "%.4g", "Compensator pole at -p (drag the green x)", true);
   if (c.second) {
@@ -419,7 +430,8 @@ void compensator_section(DesignViewState& d) {
   }
   if (d.picked) {
     const double wn = std::abs(d.picked_s);
-    ImGui::TextColored(kDim, "picked: k = %.5g N/m, zeta = %.3f, wn = %.4g rad/s\nall closed-loop poles [rad/s]:\n%s", d.picked_k,
+    ImGui::TextColored(kDim, "picked: k = %.5g %s, zeta = %.3f, wn = %.4g rad/s\nall closed-loop poles [rad/s]:\n%s", d.picked_k,
+                       units.gain.c_str(),
                        wn > 0 ? -d.picked_s.real() / wn : 0.0, wn, poles_text(d.picked_poles).c_str());
     if (ImGui::SmallButton("set Kc = k")) c.Kc = d.picked_k, d.in.manual = c, d.dirty = true;
   }

@@ -124,6 +124,7 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
                   d.in.scenario.friction.model.c_str());
   PlotOptions nl;
   nl.title = title;
+  const control::LoopUnits units = control::loop_units(o.source, o.port);
   const float gap = ImGui::GetStyle().ItemSpacing.y;
   const float h_pos = std::floor(0.55f * (size.y - gap));
   const auto& a = o.loop_plain;
@@ -131,7 +132,7 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
   ImGui::BeginGroup();
   if (BeginPlot("##design_nonlinear", ImVec2(w, h_pos), nl)) {
-    SetupAxesSI("t", "s", "x", "m");
+    SetupAxesSI("t", "s", units.output == "m/s" ? "v" : "x", units.output.c_str());
     PlotLine("reference", a.t.data(), a.r.data(), a.t.size(), {.color = 6, .line = LineStyle::Dashed, .x_sorted = true});
     PlotLine("no compensation", a.t.data(), a.x.data(), a.t.size(), {.color = 1, .x_sorted = true});
     PlotLine(comp.c_str(), b.t.data(), b.x.data(), b.t.size(), {.color = 2, .x_sorted = true});
@@ -142,7 +143,7 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   ne.title = "Tracking error e = r - x";
   ne.legend = false;
   if (BeginPlot("##design_error", ImVec2(w, size.y - h_pos - gap), ne)) {
-    SetupAxesSI("t", "s", "e", "m");
+    SetupAxesSI("t", "s", "e", units.output.c_str());
     PlotLine("no compensation", a.t.data(), o.error_plain.data(), a.t.size(), {.color = 1, .x_sorted = true});
     PlotLine(comp.c_str(), b.t.data(), o.error_compensated.data(), b.t.size(), {.color = 2, .x_sorted = true});
     EndPlot();

@@ -17,6 +17,7 @@
 #include "core/ident/loop.hpp"
 #include "ui/figure_view.hpp"
 #include "ui/plot.hpp"
+#include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {
 
@@ -246,7 +247,9 @@ void rounds_table(const ident::IdentReport& r) {
   ImGui::TableSetupColumn("RMS validation [N]");
   ImGui::TableSetupColumn("validation change");
   ImGui::TableSetupColumn("effect parameters");
-  ImGui::TableSetupColumn("candidates (share of the residual variance each explains; hover: evidence)");
+  // The last column takes the rest of the width and wraps (at spaces), so no candidate is clipped.
+  ImGui::TableSetupColumn("candidates (share of the residual variance each explains; hover: evidence)",
+                          ImGuiTableColumnFlags_WidthStretch);
   ImGui::TableHeadersRow();
   ImGui::TableNextRow();
   ImGui::TableNextColumn();
@@ -284,7 +287,7 @@ void rounds_table(const ident::IdentReport& r) {
     if (params.size() > 60) params = params.substr(0, 57) + "...";
     ImGui::TextUnformatted(params.c_str());
     ImGui::TableNextColumn();
-    ImGui::TextUnformatted(candidates_line(rd, 4).c_str());
+    TextWrappedAtSpaces(candidates_line(rd, 4));
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", evidence_text(rd).c_str());
   }
   ImGui::EndTable();
@@ -458,7 +461,7 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
   if (!st.data.empty() && st.validate.empty() && st.preview.error.empty())
     ImGui::TextColored(grey, "validation: every 4th of 8 time blocks of the training record is held out");
   ImGui::PushStyleColor(ImGuiCol_Text, grey);
-  for (const auto& n : st.preview.notes) ImGui::TextWrapped("%s", n.c_str());
+  for (const auto& n : st.preview.notes) TextWrappedAtSpaces(n);
   ImGui::PopStyleColor();
   if (!st.error.empty()) ImGui::TextColored(red, "%s", st.error.c_str());
   if (st.result) {
@@ -470,7 +473,7 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
                 added.empty() ? "none" : added.c_str());
     ImGui::Text("Base model: %s, %zu elements found", r.model.c_str(), r.final_fit().spec.elements);
     if (!r.remaining.summary.empty()) {
-      ImGui::TextWrapped("What remains: %s", r.remaining.summary.c_str());
+      TextWrappedAtSpaces("What remains: " + r.remaining.summary);
       tooltip("The final validation residual tested for structure by velocity, position, time, after "
               "reversals and in the position spectrum, each against the noise floor estimated from the data");
     }

@@ -80,6 +80,7 @@ struct PlotContext {
   bool open = false;
   PlotTransform last;                       // of the last EndPlot
   ImRect last_legend;                       // its boxed legend
+  std::vector<LegendStat> legend_stats;     // boxed legends drawn since the last TakeLegendStats
 };
 
 namespace {
@@ -276,7 +277,35 @@ struct Layout {
   ImRect frame, area;  // whole widget, plot area
   Ticks xt, yt;
   std::vector<std::string> xl, yl;  // tick labels
+  // Live plots: the legend's rows above the plot area, the first series of each (empty: a boxed
+  // legend, or none).
+  std::vector<std::size_t> legend_rows;
 };
+
+float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw);
+
+// Live plots' legends go in rows above the plot area, right-aligned: one row beside the y label
+// when it fits there, else two, the upper as wide as the plot area, the lower beside the y label
+// (the plot gives up a line of height); more would eat the plot, so then the legend is a box
+// inside it (empty result).
+std::vector<std::size_t> legend_row_starts(const Building& b, float area_w) {
+  if (b.opt.paper || !b.opt.legend || b.series.empty()) return {};
+  const float fh = ImGui::GetFontSize(), gap = 1.2f * fh;
+  const float beside = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;  // the y label's row
+  std::vector<float> w;
+  float total = 0.0f;
+  for (const auto& s : b.series) w.push_back(legend_entry(nullptr, s, {}, false)), total += w.back() + gap;
+  if (total - gap <= beside) return {0};
+  // Two rows: the fewest entries in the lower row that let the upper one fit.
+  for (std::size_t split = w.size() - 1; split >= 1; --split) {
+    float upper = 0.0f, lower = 0.0f;
+    for (std::size_t i = 0; i < w.size(); ++i) (i < split ? upper : lower) += w[i] + gap;
+    if (upper - gap > area_w - fh) continue;
+    if (lower - gap <= beside) return {0, split};
+    return {};
+  }
+  return {};
+}
 
 std::vector<std::string> labels(const Ticks& t) {
   double mag = 0.0;
@@ -286,11 +315,20 @@ std::vector<std::string> labels(const Ticks& t) {
   return out;
 }
 
-Layout layout(const Building& b, const View& v, ImRect frame) {
+Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -1) {
+  if (extra_rows < 0) {  // as many rows as the legend takes at the plot's width
+    Layout one = layout(b, v, frame, 0);
+    one.legend_rows = legend_row_starts(b, one.area.GetWidth());
+    if (one.legend_rows.size() <= 1) return one;
+    Layout two = layout(b, v, frame, static_cast<int>(one.legend_rows.size()) - 1);
+    two.legend_rows = one.legend_rows;
+    return two;
+  }
   Layout L;
   L.frame = frame;
   const float fh = ImGui::GetFontSize();
-  const float top = fh * (b.opt.title || b.opt.letter ? 2.6f : 1.5f);  // title + y label line
+  // title + y label line (+ the legend's extra rows)
+  const float top = fh * (b.opt.title || b.opt.letter ? 2.6f : 1.5f) + 1.3f * fh * static_cast<float>(extra_rows);
   const float bottom = fh * (b.ax.shown.empty() ? 1.6f : 2.9f);
   const float plot_h = std::max(10.0f, frame.GetHeight() - top - bottom);
   const double sy = b.ay.scale, sx = b.ax.scale;
@@ -363,7 +401,8 @@ void draw_frame_border(ImDrawList* dl, const Building& b, const Layout& L) {
 // (corners, edge middles, centre), tried in matplotlib's order of preference (upper right, upper
 // left, lower left, lower right, right, centre left, centre right, lower centre, upper centre,
 // centre); the first with the fewest wins.
-ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t) {
+ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTransform& t,
+                   std::size_t* hidden = nullptr) {
   const float m = 0.5f * ImGui::GetFontSize();
   const float xl = L.area.Min.x + m, xr = L.area.Max.x - m - box.x, xc = L.area.GetCenter().x - 0.5f * box.x;
   const float yt = L.area.Min.y + m, yb = L.area.Max.y - m - box.y, yc = L.area.GetCenter().y - 0.5f * box.y;
@@ -371,19 +410,21 @@ ImVec2 legend_best(const Building& b, const Layout& L, ImVec2 box, const PlotTra
                       ImVec2(xl, yc), ImVec2(xc, yb), ImVec2(xc, yt), ImVec2(xc, yc)};
   constexpr int kN = sizeof c / sizeof c[0];
   std::size_t count[kN] = {};
-  for (const auto& s : b.series)  // segments whose bounding box meets the legend box
+  const float e = 0.3f * ImGui::GetFontSize();  // a line's width and a little air around the box
+  for (const auto& s : b.series)  // segments whose bounding box meets the legend box (grown by e)
     for (std::size_t j = 1; j < s.drawn.size(); ++j) {
       const std::size_t i0 = s.drawn[j - 1], i1 = s.drawn[j];
       const double ax = t.to_px_x(s.x[i0]), ay = t.to_px_y(s.y[i0]);
       const double bx = t.to_px_x(s.x[i1]), by = t.to_px_y(s.y[i1]);
       for (int k = 0; k < kN; ++k)
-        if (std::max(ax, bx) >= c[k].x && std::min(ax, bx) <= c[k].x + box.x &&
-            std::max(ay, by) >= c[k].y && std::min(ay, by) <= c[k].y + box.y)
+        if (std::max(ax, bx) >= c[k].x - e && std::min(ax, bx) <= c[k].x + box.x + e &&
+            std::max(ay, by) >= c[k].y - e && std::min(ay, by) <= c[k].y + box.y + e)
           ++count[k];
     }
   int best = 0;
   for (int k = 1; k < kN; ++k)
     if (count[k] < count[best]) best = k;
+  if (hidden) *hidden = count[best];
   return c[best];
 }
 
@@ -411,33 +452,61 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
   return width;
 }
 
-// Live plots: the legend goes in one row above the plot area, right-aligned, when it fits, so it
-// never hides data. Paper figures (or when it does not fit): a box in the emptiest corner.
+// Live plots: the legend goes in rows above the plot area (Layout::legend_rows), so it never
+// hides data. Paper figures (or when it does not fit): a box in the emptiest place.
+bool legend_in_row(const Building&, const Layout& L) { return !L.legend_rows.empty(); }
+
+// The boxed legend's size; zero when there is none (no legend, or it goes in the row above).
+ImVec2 legend_box_size(const Building& b, const Layout& L) {
+  if (!b.opt.legend || b.series.empty() || legend_in_row(b, L)) return ImVec2(0, 0);
+  const float fh = ImGui::GetFontSize();
+  float w = 0.0f;
+  for (const auto& s : b.series) w = std::max(w, legend_entry(nullptr, s, {}, false));
+  return ImVec2(w + 0.8f * fh, fh * 1.25f * static_cast<float>(b.series.size()) + 0.5f * fh);
+}
+
 void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t, View& v) {
   v.legend_box = ImRect();
   if (!b.opt.legend || b.series.empty()) return;
   const float fh = ImGui::GetFontSize();
   const float gap = 1.2f * fh;
-  if (!b.opt.paper) {
-    float total = 0.0f;
-    for (const auto& s : b.series) total += legend_entry(dl, s, {}, false) + gap;
-    const float room = L.area.GetWidth() - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
-    if (total - gap <= room) {
+  if (legend_in_row(b, L)) {
+    const std::size_t rows = L.legend_rows.size();
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::size_t i0 = L.legend_rows[r], i1 = r + 1 < rows ? L.legend_rows[r + 1] : b.series.size();
+      float total = 0.0f;
+      for (std::size_t i = i0; i < i1; ++i) total += legend_entry(dl, b.series[i], {}, false) + gap;
       float x = L.area.Max.x - (total - gap);
-      for (const auto& s : b.series) x += legend_entry(dl, s, ImVec2(x, L.area.Min.y - 1.3f * fh), true) + gap;
-      return;
+      const float y = L.area.Min.y - 1.3f * fh * static_cast<float>(rows - r);
+      for (std::size_t i = i0; i < i1; ++i) x += legend_entry(dl, b.series[i], ImVec2(x, y), true) + gap;
     }
+    return;
   }
-  float w = 0.0f;
-  for (const auto& s : b.series) w = std::max(w, legend_entry(dl, s, {}, false));
   const float line_h = fh * 1.25f;
-  const ImVec2 box(w + 0.8f * fh, line_h * static_cast<float>(b.series.size()) + 0.5f * fh);
+  const ImVec2 box = legend_box_size(b, L);
   ImVec2 min = legend_best(b, L, box, t);
   if (v.legend_placed)  // where the user put it, kept inside the plot area
     min = ImVec2(std::clamp(L.area.Min.x + v.legend_fx * L.area.GetWidth(), L.area.Min.x, std::max(L.area.Min.x, L.area.Max.x - box.x)),
                  std::clamp(L.area.Min.y + v.legend_fy * L.area.GetHeight(), L.area.Min.y, std::max(L.area.Min.y, L.area.Max.y - box.y)));
   const ImVec2 end(min.x + box.x, min.y + box.y);
   v.legend_box = ImRect(min, end);
+  if (g_ctx->legend_stats.size() < 256) {  // what it hides, for the tests (bounded if nobody takes them)
+    LegendStat st{b.opt.title ? b.opt.title : "", ImVec4(min.x, min.y, end.x, end.y), 0, 0};
+    for (const auto& s : b.series)
+      for (std::size_t j = 1; j < s.drawn.size(); ++j) {
+        const double ax = t.to_px_x(s.x[s.drawn[j - 1]]), ay = t.to_px_y(s.y[s.drawn[j - 1]]);
+        const double bx = t.to_px_x(s.x[s.drawn[j]]), by = t.to_px_y(s.y[s.drawn[j]]);
+        if (!std::isfinite(ax + ay + bx + by)) continue;
+        // only segments inside the plot area count (a zoomed view clips the others)
+        if (std::max(ax, bx) < L.area.Min.x || std::min(ax, bx) > L.area.Max.x || std::max(ay, by) < L.area.Min.y ||
+            std::min(ay, by) > L.area.Max.y)
+          continue;
+        ++st.segments;
+        st.hidden += std::max(ax, bx) >= min.x && std::min(ax, bx) <= end.x && std::max(ay, by) >= min.y &&
+                     std::min(ay, by) <= end.y;
+      }
+    g_ctx->legend_stats.push_back(std::move(st));
+  }
   dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
   float y = min.y + 0.25f * fh + 0.125f * fh;
@@ -673,8 +742,27 @@ void EndPlot() {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   choose_prefix(b.ax, v.x0, v.x1);  // limits may have changed with the input
   choose_prefix(b.ay, v.y0, v.y1);
-  const Layout L2 = layout(b, v, L.frame);
+  Layout L2 = layout(b, v, L.frame);
   t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+  // A view that follows the data, whose boxed legend would hide some of it wherever it goes: the
+  // y range grows upwards by the legend's height, so the legend sits above the data and hides none.
+  // Panels sharing a y range (SetupFitRangeY) always grow, so their scales stay the same.
+  if (v.auto_fit && !(b.has_limits && b.limits_always) && !v.legend_placed) {
+    const ImVec2 box = legend_box_size(b, L2);
+    const float band = box.y + ImGui::GetFontSize();  // the legend, its margin above and a gap below
+    const float H = L2.area.GetHeight();
+    if (box.y > 0.0f && band < 0.6f * H) {
+      for (auto& s : b.series) decimate(s, t);
+      std::size_t hidden = 0;
+      legend_best(b, L2, box, t, &hidden);
+          if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
+        v.y1 = v.y0 + (v.y1 - v.y0) * H / (H - band);
+        choose_prefix(b.ay, v.y0, v.y1);
+        L2 = layout(b, v, L.frame);
+        t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+      }
+    }
+  }
   draw_axes(dl, b, L2, t);
   dl->PushClipRect(L2.area.Min, L2.area.Max, true);
   for (auto& s : b.series) {
@@ -705,6 +793,13 @@ void EndPlot() {
 }
 
 PlotTransform LastPlotTransform() { return g_ctx ? g_ctx->last : PlotTransform{}; }
+
+std::vector<LegendStat> TakeLegendStats() {
+  if (!g_ctx) return {};
+  std::vector<LegendStat> out = std::move(g_ctx->legend_stats);
+  g_ctx->legend_stats.clear();
+  return out;
+}
 
 ImVec4 LastLegendBox() {
   if (!g_ctx) return ImVec4(0, 0, 0, 0);

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "ui/figure_export.hpp"
 #include "ui/plot_transform.hpp"
@@ -98,6 +99,14 @@ PlotTransform LastPlotTransform();
 // the fewest drawn segments (nine places, as matplotlib's "best"); drag it to move it (kept per
 // plot, as a fraction of the plot area), double-click it to return to the automatic place.
 ImVec4 LastLegendBox();
+// Every boxed legend drawn since the last call (taken once; for tests): the plot's title, the box,
+// and how many of the drawn (decimated) segments inside the plot area meet it.
+struct LegendStat {
+  std::string plot;
+  ImVec4 box;
+  std::size_t hidden = 0, segments = 0;
+};
+std::vector<LegendStat> TakeLegendStats();
 
 // Export (right-click on an interactive plot: PNG, SVG, CSV of its series). The plot becomes a
 // one-panel Figure in the units shown (ui/figure_export.hpp writes it into export_dir()). The

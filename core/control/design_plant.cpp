@@ -108,6 +108,7 @@ AssemblyPort assembly_port(const Assembly& a, const std::string& drive, const st
     throw InputError("drive '" + d.name + "': a " + std::string(to_string(d.kind)) +
                      " drive prescribes motion; the design's input is a force or pull drive (" + names + ")");
   p.drive_name = d.name;
+  p.pull = d.kind == DrivePart::Kind::Pull;
   std::string body = output.empty() ? a.bodies[static_cast<std::size_t>(d.body)].name : output;
   if (body.rfind("x.", 0) == 0) body = body.substr(2);
   else if (body.rfind("v.", 0) == 0) body = body.substr(2), p.velocity = true;
@@ -121,6 +122,24 @@ AssemblyPort assembly_port(const Assembly& a, const std::string& drive, const st
     throw InputError("output '" + output + "': expected x.BODY or v.BODY with a body of the plant (" + bodies + ")");
   p.output = (p.velocity ? "v." : "x.") + body;
   return p;
+}
+
+std::vector<std::string> assembly_outputs(const Assembly& a) {
+  std::vector<std::string> out;
+  for (const auto& b : a.bodies) out.push_back("x." + b.name), out.push_back("v." + b.name);
+  return out;
+}
+
+LoopUnits loop_units(PlantSource source, const AssemblyPort& port) {
+  LoopUnits u;
+  if (source != PlantSource::Assembly) return u;
+  u.input = port.pull ? "m" : "N";
+  u.output = port.velocity ? "m/s" : "m";
+  if (port.pull)
+    u.gain = port.velocity ? "m/(m/s)" : "m/m", u.plant = port.velocity ? "(m/s)/m" : "m/m";
+  else
+    u.gain = port.velocity ? "N s/m" : "N/m", u.plant = port.velocity ? "(m/s)/N" : "m/N";
+  return u;
 }
 
 DesignPlant design_plant(const PlantChoice& c, Regime r, double v0, const Scenario* scenario,
@@ -140,6 +159,17 @@ DesignPlant design_plant(const PlantChoice& c, Regime r, double v0, const Scenar
                          "e.g. presets/two_mass_drive.json, in the Plant tab or give it as --preset)");
       out.port = assembly_port(*assembly, c.drive, c.output);
       out.linear.g = assembly_transfer_function(*assembly, out.port.drive, out.port.output, r, v0);
+      // v = s x: a velocity output of a plant with a free rigid-body mode (a pole at s = 0) has the
+      // factor s above and below; it cancels (the design refuses a zero at s = 0). A pull drive's
+      // spring holds the chain, so its v output keeps the zero and the design says why.
+      while (out.linear.g.num.degree() > 0 && out.linear.g.num.coeff(0) == 0.0 && out.linear.g.den.coeff(0) == 0.0) {
+        auto shift = [](const Poly& p) {
+          std::vector<double> c;
+          for (int i = 1; i <= p.degree(); ++i) c.push_back(p.coeff(i));
+          return Poly(c);
+        };
+        out.linear.g = {shift(out.linear.g.num), shift(out.linear.g.den)};
+      }
       out.linear.velocity = r == Regime::Sliding ? v0 : 0.0;
       const DrivePart& d = assembly->drives[out.port.drive];
       out.label = d.name + (d.kind == DrivePart::Kind::Pull ? " (pull: x_p [m])" : " (force [N])") + " -> " +

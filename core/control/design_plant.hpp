@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/control/scenario_plant.hpp"
 #include "core/control/transfer_function.hpp"
@@ -54,9 +55,21 @@ struct AssemblyPort {
   std::string drive_name;
   int body = 0;           // output body index
   bool velocity = false;  // output v.BODY (else x.BODY)
+  bool pull = false;      // the drive is a pull drive: u is its point's position x_p [m] (else a force [N])
   std::string output;     // "x.BODY" | "v.BODY"
 };
 AssemblyPort assembly_port(const Assembly& a, const std::string& drive, const std::string& output);
+// The outputs a design can measure, as assembly_port() accepts them: x.BODY then v.BODY, per body.
+std::vector<std::string> assembly_outputs(const Assembly& a);
+
+// Units of the designed loop, for every label of the Design view: the controller output u (a force
+// [N]; a pull drive's point position [m]), the measured output y (a position [m]; v.BODY [m/s]),
+// the compensator gain Kc = u / y (N/m; m/m for a pull drive and a position; N s/m; m/(m/s)) and
+// the plant G = y / u. The scenario and a typed G(s) are force -> position (N/m).
+struct LoopUnits {
+  std::string input = "N", output = "m", gain = "N/m", plant = "m/N";
+};
+LoopUnits loop_units(PlantSource source, const AssemblyPort& port);
 
 struct DesignPlant {
   PlantSource source = PlantSource::Scenario;

@@ -263,6 +263,60 @@ TEST(PlantSource, CollocatedTwoMassPolesAndZerosInterlaceNonCollocatedHasNoZeros
             std::string::npos);
 }
 
+// The Design tab's outputs and units (issue 11): every output the tab offers (assembly_outputs:
+// x.BODY and v.BODY) is accepted by assembly_port, as `gmslab design --output` takes it; a v output
+// is s times the x output; a pull drive's input is a displacement, so its plant y/u is m/m (at DC a
+// pull spring alone holding a free chain moves it with the point: G(0) = 1) and Kc is labelled m/m;
+// a force drive keeps N/m. Random chains of 1 to 3 bodies (fixed seed).
+TEST(PlantSource, OutputsOfferedIncludeVelocityAndUnitsFollowTheDrive) {
+  std::mt19937 rng(1511);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 30; ++trial) {
+    Assembly a;
+    const int n = 1 + static_cast<int>(rng() % 3);
+    for (int i = 0; i < n; ++i) a.bodies.push_back({"b" + std::to_string(i), 0.1 + 3 * u(rng)});
+    for (int i = 1; i < n; ++i) {
+      a.springs.push_back({"k" + std::to_string(i), i - 1, i, 100 + 3000 * u(rng)});
+      a.dampers.push_back({"c" + std::to_string(i), i - 1, i, 0.5 + 5 * u(rng)});
+    }
+    const int fb = static_cast<int>(rng() % n), pb = static_cast<int>(rng() % n);
+    DrivePart pull{"pull", DrivePart::Kind::Pull, pb, Signal::constant(0.0)};
+    pull.pull_spring = 200 + 2000 * u(rng), pull.pull_damper = 1 + 5 * u(rng);
+    a.drives = {{"force", DrivePart::Kind::Force, fb, Signal::constant(0.0)}, pull};
+    const std::vector<std::string> outs = assembly_outputs(a);
+    ASSERT_EQ(outs.size(), 2u * n);
+    for (const std::string drive : {"force", "pull"}) {
+      const bool is_pull = drive == "pull";
+      for (const std::string& y : outs) {
+        SCOPED_TRACE(drive + " -> " + y);
+        const AssemblyPort port = assembly_port(a, drive, y);
+        EXPECT_EQ(port.output, y);
+        EXPECT_EQ(port.pull, is_pull);
+        EXPECT_EQ(port.velocity, y[0] == 'v');
+        const LoopUnits lu = loop_units(PlantSource::Assembly, port);
+        EXPECT_EQ(lu.input, is_pull ? "m" : "N");
+        EXPECT_EQ(lu.output, port.velocity ? "m/s" : "m");
+        EXPECT_EQ(lu.gain, is_pull ? (port.velocity ? "m/(m/s)" : "m/m") : (port.velocity ? "N s/m" : "N/m"));
+        // The same plant as the CLI's `--drive D --output Y` (design_plant is its one function).
+        const PlantChoice choice{PlantSource::Assembly, "1", "1 2 0", drive, y};
+        const DesignPlant dp = design_plant(choice, Regime::Sliding, 0.0, nullptr, &a);
+        EXPECT_EQ(dp.port.output, y);
+        if (!port.velocity) {
+          const DesignPlant dv = design_plant({PlantSource::Assembly, "1", "1 2 0", drive, "v" + y.substr(1)},
+                                              Regime::Sliding, 0.0, nullptr, &a);
+          const cplx s(-0.3 + u(rng), 0.5 + 20 * u(rng));
+          EXPECT_LT(std::abs(dv.linear.g(s) - s * dp.linear.g(s)), 1e-8 * std::abs(s * dp.linear.g(s)));
+          if (is_pull)  // at DC the free chain follows the pull point: a dimensionless 1 (m/m)
+            EXPECT_NEAR(std::abs(dp.linear.g(cplx(1e-7, 0))), 1.0, 1e-4);
+        }
+      }
+    }
+  }
+  // The scenario and a typed G(s) are force -> position.
+  EXPECT_EQ(loop_units(PlantSource::Scenario, {}).gain, "N/m");
+  EXPECT_EQ(loop_units(PlantSource::Typed, {}).gain, "N/m");
+}
+
 // A random damped chain without contacts (no friction): the loop simulated on the assembled plant
 // follows the linear closed loop's step response (ZOH-exact, linear_response.hpp) with a first-order
 // integration error: below 5e-4 of the step (measured 1e-5 to 1.6e-4 at dt = 1e-5 s) and halved with half the step.

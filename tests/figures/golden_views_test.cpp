@@ -1,5 +1,7 @@
 // Golden renders of the app's views (issue 15: nothing clipped or wrapped mid-number at projector
-// and desktop sizes; issue 11: the Plant schematic). `gmslab-headless render PRESET --view VIEW
+// and desktop sizes; issue 11: the Plant schematic). Plant, Simulation, Design and Figures; not
+// Identify (its render runs an identification of the EMPS data, ~20 s, and needs the data set).
+// `gmslab-headless render PRESET --view VIEW
 // --size WxH` is run from the source directory (so the title's preset path is the same in every
 // checkout) and compared with tests/golden/views/VIEW_WxH.png. The goldens are stored at half
 // resolution (2x2 means, to keep them small); the render is halved the same way and compared with
@@ -54,6 +56,7 @@ const ViewCase kCases[] = {
     {"plant", "presets/two_mass_drive.json", 1280, 720},  {"plant", "presets/two_mass_drive.json", 1600, 1000},
     {"simulation", "presets/fig4_stick_slip.json", 1280, 720}, {"simulation", "presets/fig4_stick_slip.json", 1600, 1000},
     {"design", "presets/fig4_stick_slip.json", 1280, 720},  {"design", "presets/fig4_stick_slip.json", 1600, 1000},
+    {"figures", "presets/fig4_stick_slip.json", 1280, 720}, {"figures", "presets/fig4_stick_slip.json", 1600, 1000},
 };
 
 // Renders one case (whole run) into the temp dir; returns the PNG's path.

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 
@@ -76,5 +77,55 @@ TEST(DesignPlantSource, AssembledPlantOfThePlantTabIsDesignedFor) {
   EXPECT_EQ(h.d().out.port.output, "x.load");
   EXPECT_EQ(h.d().out.plant.g.zeros().size(), 1u);  // the shaft damper's real zero only
   EXPECT_FALSE(h.d().out.loop_plain.t.empty());
+}
+
+// Issue 11: the Design tab on an assembled plant with a pull drive (presets/fig3_stick_slip_scheme.json)
+// designs with the pull point's position as u, so its gain units are m/m (Kc's label and tooltip
+// take them from loop_units of the design's port); its v output keeps a zero at s = 0 and the view
+// says so; a force drive's v.BODY outputs (the combo's) are designed for, the free train's pole at
+// 0 cancelled by v = s x (N s/m).
+TEST(DesignPlantSource, PullDriveGainIsInMetresPerMetreAndVelocityOutputIsDesignedFor) {
+  const std::string path = std::string(GMSLAB_SOURCE_DIR) + "/presets/fig3_stick_slip_scheme.json";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << path;
+  Harness h;
+  const AssemblyScenario sc = load_assembly_scenario(path);
+  ui::load_plant(h.s.plant, sc, path);
+  DesignSettings ds = ui::design_settings(h.d());
+  ds.plant.source = control::PlantSource::Assembly;
+  ds.wn = 5.0;
+  ui::apply_design_settings(h.d(), ds);
+  for (int i = 0; i < 2; ++i) h.frame(uitest::kNoMouse, false);
+  ASSERT_TRUE(h.d().out.error.empty()) << h.d().out.error;
+  EXPECT_TRUE(h.d().out.port.pull);
+  EXPECT_EQ(control::loop_units(h.d().out.source, h.d().out.port).gain, "m/m");
+  // Its velocity output has a zero at s = 0 (the pull spring holds the block): the design says so
+  // in the view instead of designing.
+  ds.plant.output = "v." + sc.plant.bodies[0].name;
+  ui::apply_design_settings(h.d(), ds);
+  for (int i = 0; i < 2; ++i) h.frame(uitest::kNoMouse, false);
+  EXPECT_NE(h.d().out.error.find("zero at s = 0"), std::string::npos) << h.d().out.error;
+  // A force drive's velocity output (two-mass train, v of each body, as offered by the combo).
+  const std::string two = std::string(GMSLAB_SOURCE_DIR) + "/presets/two_mass_drive.json";
+  const AssemblyScenario tm = load_assembly_scenario(two);
+  ui::load_plant(h.s.plant, tm, two);
+  int designed = 0;
+  for (const std::string& y : control::assembly_outputs(tm.plant)) {
+    if (y[0] != 'v') continue;
+    SCOPED_TRACE(y);
+    ds.plant.drive = "";
+    ds.plant.output = y;
+    ui::apply_design_settings(h.d(), ds);
+    for (int i = 0; i < 2; ++i) h.frame(uitest::kNoMouse, false);
+    ASSERT_TRUE(h.d().out.error.empty()) << h.d().out.error;
+    EXPECT_EQ(h.d().out.port.output, y);
+    EXPECT_TRUE(h.d().out.port.velocity);
+    EXPECT_FALSE(h.d().out.port.pull);
+    EXPECT_EQ(control::loop_units(h.d().out.source, h.d().out.port).gain, "N s/m");
+    // v = s x cancels the free train's pole at 0: a type-0 plant (position output: type 1).
+    ASSERT_TRUE(h.d().out.report.has_value());
+    EXPECT_EQ(h.d().out.report->type.n, 0);
+    ++designed;
+  }
+  EXPECT_EQ(designed, 2);
 }
 #endif

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -20,6 +21,7 @@ struct Harness {
   std::vector<std::vector<double>> xs, ys;  // one series each
   ImVec4 box;
   ui::PlotTransform t;
+  bool fixed = true;  // limits [0, 1]^2 always (else the view follows the data)
   Harness() {
     uitest::make_headless_imgui(ImVec2(900, 800));
   }
@@ -37,7 +39,7 @@ struct Harness {
     o.paper = true;  // boxed legend
     if (ui::BeginPlot("##p", ImVec2(-1, -1), o)) {
       ui::SetupAxes("x [-]", "y [-]");
-      ui::SetupAxisLimits(0, 1, 0, 1, true);
+      if (fixed) ui::SetupAxisLimits(0, 1, 0, 1, true);
       for (std::size_t k = 0; k < xs.size(); ++k)
         if (!xs[k].empty()) ui::PlotLine(k == 0 ? "a long series label" : "s", xs[k].data(), ys[k].data(), xs[k].size());
       ui::EndPlot();
@@ -115,5 +117,70 @@ TEST(PlotLegend, DraggingMovesTheLegendNotTheViewAndDoubleClickPutsItBack) {
   h.frame();
   EXPECT_NEAR(h.box.x, b0.x, 1.0);
   EXPECT_NEAR(h.box.y, b0.y, 1.0);
+}
+
+// Every cell of a 3x3 grid holds data; the four corner cells hold far fewer samples than the
+// others, in a random order of density: the legend goes into the emptiest corner (the corner cell
+// with the fewest samples), through the same EndPlot the window draws with.
+TEST(PlotLegend, GoesIntoTheEmptiestCorner) {
+  std::mt19937 rng(1515);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 16; ++trial) {
+    Harness h;
+    int dens[4] = {6, 60, 150, 260};
+    std::shuffle(dens, dens + 4, rng);
+    const int corner_i[4] = {0, 2, 0, 2}, corner_j[4] = {0, 0, 2, 2};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        int n = 500;
+        for (int c = 0; c < 4; ++c)
+          if (i == corner_i[c] && j == corner_j[c]) n = dens[c];
+        auto& sx = h.xs.emplace_back();
+        auto& sy = h.ys.emplace_back();
+        for (int k = 0; k < n; ++k) {
+          sx.push_back((i + 0.02 + 0.96 * u(rng)) / 3.0);
+          sy.push_back((j + 0.02 + 0.96 * (k % 2 ? u(rng) * 0.5 + 0.5 : u(rng) * 0.5)) / 3.0);
+        }
+      }
+    h.frame();
+    h.frame();
+    ASSERT_GT(h.box.z - h.box.x, 10.0f);
+    const int emptiest = static_cast<int>(std::min_element(dens, dens + 4) - dens);
+    // The box's centre in data units lies in that corner's cell.
+    const double cx = (0.5 * (h.box.x + h.box.z) - h.t.px0) / (h.t.px1 - h.t.px0);
+    const double cy = 1.0 - (0.5 * (h.box.y + h.box.w) - h.t.py0) / (h.t.py1 - h.t.py0);
+    EXPECT_EQ(static_cast<int>(cx * 3), corner_i[emptiest]) << "trial " << trial;
+    EXPECT_EQ(static_cast<int>(cy * 3), corner_j[emptiest]) << "trial " << trial;
+  }
+}
+
+// A view that follows the data, with data everywhere (no empty place for the box): the y range
+// grows above the data by the legend's height, so the legend hides no segment and lies above every
+// sample. Random offsets and scales (fixed seed).
+TEST(PlotLegend, AutoFittedViewMakesRoomAboveTheDataForTheLegend) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 10; ++trial) {
+    Harness h;
+    h.fixed = false;
+    const double x0 = -5 + 10 * u(rng), sx = std::pow(10.0, -3 + 6 * u(rng));
+    const double y0 = -5 + 10 * u(rng), sy = std::pow(10.0, -3 + 6 * u(rng));
+    for (int s = 0; s < 1 + trial % 4; ++s) {
+      auto& xs = h.xs.emplace_back();
+      auto& ys = h.ys.emplace_back();
+      for (int k = 0; k < 3000; ++k) xs.push_back(x0 + sx * u(rng)), ys.push_back(y0 + sy * u(rng));
+    }
+    h.frame();
+    h.frame();
+    ASSERT_GT(h.box.z - h.box.x, 10.0f);
+    const std::vector<ui::LegendStat> stats = ui::TakeLegendStats();
+    ASSERT_FALSE(stats.empty());
+    EXPECT_EQ(stats.back().hidden, 0u) << "trial " << trial;
+    EXPECT_GT(stats.back().segments, 1000u);
+    double top = INFINITY;  // the highest sample, in pixels
+    for (const auto& ys : h.ys)
+      for (double y : ys) top = std::min(top, h.t.to_px_y(y));
+    EXPECT_LT(h.box.w, top) << "trial " << trial;
+  }
 }
 #endif

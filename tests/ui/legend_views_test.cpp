@@ -1,0 +1,82 @@
+// Legends in the app's views hide (almost) no data (issue 15): the views of the golden renders
+// (Simulation and Design on presets/fig4_stick_slip.json, the Figures tab, the Plant tab on
+// presets/two_mass_drive.json), drawn by ui::draw_frame as the window and the headless renderer
+// draw them, at 1280x720 and 1600x1000 with the renderer's font size: every boxed legend meets at
+// most 2 % of the drawn segments of its plot (ui::TakeLegendStats counts them). Built only with the
+// app (ImGui).
+#if __has_include(<imgui.h>)
+#include <gtest/gtest.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "core/io/assembly_io.hpp"
+#include "core/io/scenario_io.hpp"
+#include "tests/ui/app_frame.hpp"
+#include "ui/plant_view.hpp"
+#include "ui/style.hpp"
+
+using namespace gmslab;
+
+namespace {
+
+struct ViewCase {
+  const char* tab;
+  const char* preset;
+  bool plant;  // an assembled preset, in the Plant tab
+};
+
+// Draws the tab as `gmslab render PRESET --view TAB --size WxH` does and returns its legends.
+std::vector<ui::LegendStat> legends_of(const ViewCase& c, int w, int h) {
+  ImGuiContext* ctx = ImGui::CreateContext();
+  ui::ScopedPlotContext plots;
+  ui::setup_style(std::clamp(17.0f * static_cast<float>(h) / 1000.0f, 12.0f, 26.0f));  // as Offscreen
+  ImGuiIO& io = ImGui::GetIO();
+  io.DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
+  io.IniFilename = nullptr;
+  unsigned char* px = nullptr;
+  int tw = 0, th = 0;
+  io.Fonts->GetTexDataAsRGBA32(&px, &tw, &th);
+  ui::AppState s;
+  const std::string src = GMSLAB_SOURCE_DIR;
+  ui::load_scenario_into(s, load_scenario(src + "/presets/fig4_stick_slip.json"), "");
+  if (c.plant) {
+    ui::load_plant(s.plant, load_assembly_scenario(src + "/" + c.preset), c.preset);
+    ui::plant_run_until(s.plant, 1e9);
+  } else {
+    ui::load_scenario_into(s, load_scenario(src + "/" + c.preset), "");
+  }
+  s.view.tab = c.tab;
+  if (!c.plant) ui::run_until(s, 1e9);
+  for (int i = 0; i < 3; ++i) uitest::draw_app_frame(s, uitest::kNoMouse, false);
+  ui::TakeLegendStats();
+  uitest::draw_app_frame(s, uitest::kNoMouse, false);
+  std::vector<ui::LegendStat> out = ui::TakeLegendStats();
+  ImGui::DestroyContext(ctx);
+  return out;
+}
+
+}  // namespace
+
+TEST(LegendViews, BoxedLegendsHideAtMostTwoPercentOfTheirPlot) {
+  const std::string src = GMSLAB_SOURCE_DIR;
+  if (!std::filesystem::exists(src + "/presets/two_mass_drive.json")) GTEST_SKIP() << "presets not found";
+  const ViewCase cases[] = {{"Simulation", "presets/fig4_stick_slip.json", false},
+                            {"Design", "presets/fig4_stick_slip.json", false},
+                            {"Figures", "presets/fig4_stick_slip.json", false},
+                            {"Plant", "presets/two_mass_drive.json", true}};
+  int boxed = 0;
+  for (const auto& c : cases)
+    for (const auto& [w, h] : {std::pair{1280, 720}, std::pair{1600, 1000}}) {
+      for (const ui::LegendStat& st : legends_of(c, w, h)) {
+        SCOPED_TRACE(std::string(c.tab) + " " + std::to_string(w) + "x" + std::to_string(h) + ": '" + st.plot + "'");
+        ++boxed;
+        EXPECT_LE(static_cast<double>(st.hidden), 0.02 * static_cast<double>(st.segments))
+            << st.hidden << " of " << st.segments << " segments under the legend";
+      }
+    }
+  EXPECT_GT(boxed, 0) << "no boxed legend was drawn: the test checks nothing";
+}
+#endif
