@@ -306,8 +306,9 @@ TEST(PlantSource, OutputsOfferedIncludeVelocityAndUnitsFollowTheDrive) {
                                               Regime::Sliding, 0.0, nullptr, &a);
           const cplx s(-0.3 + u(rng), 0.5 + 20 * u(rng));
           EXPECT_LT(std::abs(dv.linear.g(s) - s * dp.linear.g(s)), 1e-8 * std::abs(s * dp.linear.g(s)));
-          if (is_pull)  // at DC the free chain follows the pull point: a dimensionless 1 (m/m)
+          if (is_pull) {  // at DC the free chain follows the pull point: a dimensionless 1 (m/m)
             EXPECT_NEAR(std::abs(dp.linear.g(cplx(1e-7, 0))), 1.0, 1e-4);
+          }
         }
       }
     }
