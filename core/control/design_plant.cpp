@@ -28,40 +28,10 @@ std::optional<PlantSource> plant_source_from_string(std::string_view s) {
 namespace {
 // The coefficients of `text` (highest power first), or why not (`why` set, result empty).
 std::vector<double> coefficients(const std::string& text, bool denominator, std::string& why) {
-  std::string t = text;
-  std::replace(t.begin(), t.end(), ',', ' ');
-  std::istringstream in(t);
-  std::vector<double> v;
-  std::string tok;
-  while (in >> tok) {
-    std::size_t used = 0;
-    double x = 0.0;
-    try {
-      x = std::stod(tok, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != tok.size() || !std::isfinite(x)) {
-      why = "'" + tok + "' is not a finite number; expected coefficients highest power of s first, "
-            "separated by spaces or commas, e.g. \"1 2 0\" for s^2 + 2 s";
-      return {};
-    }
-    v.push_back(x);
-  }
-  if (v.empty()) {
-    why = "empty; expected coefficients highest power of s first, e.g. \"1 2 0\" for s^2 + 2 s";
-    return {};
-  }
-  if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0; })) {
-    why = "all coefficients are zero";
-    return {};
-  }
+  const std::vector<double> v = parse_coefficients(text, why);
+  if (!why.empty()) return {};
   if (denominator && v.front() == 0.0) {
     why = "the leading coefficient (of s^" + std::to_string(v.size() - 1) + ") must be non-zero";
-    return {};
-  }
-  if (Poly::descending(v).degree() > 40) {
-    why = "degree " + std::to_string(Poly::descending(v).degree()) + " is above the limit 40";
     return {};
   }
   return v;

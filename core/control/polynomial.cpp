@@ -185,7 +185,8 @@ Poly Poly::shift_down(int n) const {
   return Poly(std::vector<double>(c_.begin() + n, c_.end()));
 }
 
-Poly parse_polynomial(const std::string& text, const std::string& what) {
+std::vector<double> parse_coefficients(const std::string& text, std::string& why) {
+  why.clear();
   std::string t = text;
   std::replace(t.begin(), t.end(), ',', ' ');
   std::istringstream in(t);
@@ -199,19 +200,33 @@ Poly parse_polynomial(const std::string& text, const std::string& what) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != tok.size() || !std::isfinite(x))
-      throw InputError(what + " '" + text + "': '" + tok +
-                       "' is not a finite number; expected coefficients highest power first, "
-                       "separated by spaces or commas, e.g. \"1 2 0\" for s^2 + 2 s");
+    if (used != tok.size() || !std::isfinite(x)) {
+      why = "'" + tok + "' is not a finite number; expected coefficients highest power of s first, "
+            "separated by spaces or commas, e.g. \"1 2 0\" for s^2 + 2 s";
+      return {};
+    }
     v.push_back(x);
   }
-  if (v.empty())
-    throw InputError(what + " is empty; expected coefficients highest power first, e.g. \"1 2 0\"");
-  Poly p = Poly::descending(v);
-  if (p.is_zero()) throw InputError(what + " '" + text + "': all coefficients are zero");
-  if (p.degree() > 40)
-    throw InputError(what + ": degree " + std::to_string(p.degree()) + " is above the limit 40");
-  return p;
+  if (v.empty()) {
+    why = "empty; expected coefficients highest power of s first, e.g. \"1 2 0\" for s^2 + 2 s";
+    return {};
+  }
+  if (std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0; })) {
+    why = "all coefficients are zero";
+    return {};
+  }
+  if (const auto d = Poly::descending(v).degree(); d > 40) {
+    why = "degree " + std::to_string(d) + " is above the limit 40";
+    return {};
+  }
+  return v;
+}
+
+Poly parse_polynomial(const std::string& text, const std::string& what) {
+  std::string why;
+  const auto v = parse_coefficients(text, why);
+  if (!why.empty()) throw InputError(what + " '" + text + "': " + why);
+  return Poly::descending(v);
 }
 
 std::string to_string(const Poly& p) {

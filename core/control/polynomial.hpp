@@ -52,6 +52,9 @@ class Poly {
 
 // Parses a coefficient list "1 2 0" or "1, 2, 0" (highest power first). Throws InputError naming
 // `what` (e.g. "--den") when a token is not a finite number or the list is empty / all zero.
+// The coefficients of `text` (highest power first, separated by spaces or commas), or empty with
+// `why` saying what is wrong (not a finite number, empty, all zero, degree above 40).
+std::vector<double> parse_coefficients(const std::string& text, std::string& why);
 Poly parse_polynomial(const std::string& text, const std::string& what);
 std::string to_string(const Poly& p);  // "s^2 + 2 s" style
 

@@ -416,13 +416,8 @@ void AssemblySimulation::compact_trace() {
   // As Simulation::compact_trace: the current width first (the samples since the last compaction
   // are raw), then doubled until half the room is free. One bucket keeps at most 2 + 2 nc samples
   // and max_samples_ >= 8 (2 + 2 nc), so this ends.
-  std::uint64_t w = bucket_steps_ ? bucket_steps_ : static_cast<std::uint64_t>(sc_.run.record_every);
-  if (bucket_steps_) compact_minmax(trace_, sc_.run.dt, w);
-  while (trace_.size() > max_samples_ / 2) {
-    w *= 2;
-    compact_minmax(trace_, sc_.run.dt, w);
-  }
-  bucket_steps_ = w;
+  bucket_steps_ = compact_to_half(trace_, sc_.run.dt, bucket_steps_,
+                                  static_cast<std::uint64_t>(sc_.run.record_every), max_samples_);
 }
 
 std::size_t AssemblyTrace::sample_bytes() const {

@@ -162,13 +162,8 @@ void Simulation::compact_trace() {
   // The current width first (the samples since the last compaction are still raw), then doubled
   // until half the room is free: the width grows with the run's length, the buckets stay nested.
   // A single bucket keeps at most 10 samples and max_samples_ >= 64, so this ends.
-  std::uint64_t w = bucket_steps_ ? bucket_steps_ : static_cast<std::uint64_t>(sc_.run.record_every);
-  if (bucket_steps_) compact_minmax(trace_, sc_.run.dt, w);
-  while (trace_.size() > max_samples_ / 2) {
-    w *= 2;
-    compact_minmax(trace_, sc_.run.dt, w);
-  }
-  bucket_steps_ = w;
+  bucket_steps_ = compact_to_half(trace_, sc_.run.dt, bucket_steps_,
+                                  static_cast<std::uint64_t>(sc_.run.record_every), max_samples_);
 }
 
 void Simulation::clear_trace() { trace_.clear(); }

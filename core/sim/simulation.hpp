@@ -57,6 +57,22 @@ constexpr std::size_t trace_sample_bytes(std::size_t n_elements) { return 5 * si
 // x, v, friction and applied force (at most 10 samples). Buckets of nested widths (multiples of
 // each other) compose: compacting twice keeps every bucket extreme of the original trace.
 void compact_minmax(Trace& tr, double dt, std::uint64_t bucket_steps);
+// Compacts tr (a Trace or an AssemblyTrace: compact_minmax of its own kind) to at most half of
+// max_samples: the current bucket width first (`bucket_steps`, 0 = none yet: the samples since the
+// last compaction are raw, taken every `record_every` steps), then doubled until half the room is
+// free, so the buckets stay nested. Returns the new width. Ends when one bucket keeps fewer
+// samples than max_samples / 2.
+template <class T>
+std::uint64_t compact_to_half(T& tr, double dt, std::uint64_t bucket_steps, std::uint64_t record_every,
+                              std::size_t max_samples) {
+  std::uint64_t w = bucket_steps ? bucket_steps : record_every;
+  if (bucket_steps) compact_minmax(tr, dt, w);
+  while (tr.size() > max_samples / 2) {
+    w *= 2;
+    compact_minmax(tr, dt, w);
+  }
+  return w;
+}
 
 class Simulation {
  public:
