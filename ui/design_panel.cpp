@@ -320,7 +320,13 @@ void result_section(DesignViewState& d) {
   if (L.applicable) {
     ImGui::Text("%s_max = %.5g %s (PD limit)", kname.c_str(), L.K_max, kunit);
     tip("Supremum of the error constant at s_d: reached only as p -> infinity");
-    ImGui::Text("usable %s (p/z <= %.3g) = %.5g %s", kname.c_str(), d.settings.max_ratio, r.K_max_usable, kunit);
+    if (std::isfinite(r.K_max_usable)) {
+      ImGui::Text("usable %s (p/z <= %.3g) = %.5g %s", kname.c_str(), d.settings.max_ratio, r.K_max_usable, kunit);
+    } else {
+      ImGui::TextColored(kErr, "no lead with p/z <= %.3g reaches s_d", d.settings.max_ratio);
+      tip("Every lead that places the closed-loop poles at s_d needs a larger pole/zero ratio: raise max p/z, "
+          "or choose a slower s_d (lower wn) or more damping");
+    }
   }
   if (o.compensator) {
     const auto& c = *o.compensator;
