@@ -289,12 +289,15 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
 // spec with the additive effects a shape or a soft element could stand in for (offset, inertia,
 // time drift, a force along the stroke; those whose columns do not depend on the friction) added
 // as linear columns: probes for comparing shapes and element ranges fairly.
+// Whether one of e's columns multiplies the friction (needs g, the unit model output).
+bool multiplies_friction(Effect e) {
+  const auto cols = effect_columns(e);
+  return std::any_of(cols.begin(), cols.end(), [](const Column& col) { return col.uses_g; });
+}
+
 FitSpec with_additive_probes(FitSpec spec) {
-  for (Effect e : {Effect::Offset, Effect::Inertia, Effect::TimeDrift, Effect::PositionDependent}) {
-    bool uses_g = false;
-    for (const auto& col : effect_columns(e)) uses_g = uses_g || col.uses_g;
-    if (!uses_g && !contains(spec.effects, e)) spec.effects.push_back(e);
-  }
+  for (Effect e : {Effect::Offset, Effect::Inertia, Effect::TimeDrift, Effect::PositionDependent})
+    if (!multiplies_friction(e) && !contains(spec.effects, e)) spec.effects.push_back(e);
   return spec;
 }
 
@@ -325,8 +328,16 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   // the straight step's mean speed is half a step late. When the base fit's friction along the
   // fine path differs from it by more than a quarter of the noise, everything runs on the fine
   // path (the base fit too: the element table found on the adaptive path bends to its error).
+  // Only a fast attraction makes the path within a step matter (a slipping element relaxes at
+  // C / S(v); at least a tenth of the way within the median step): on slow-relaxing records the
+  // difference is the base fit's own roughness, and the fine path costs 4x the time for nothing
+  // (path_difference stays 0: not measured).
   Dataset train_fine, val_fine;
-  {
+  double relax = 1.0;  // relaxation per median step; models without C: only the difference decides
+  const ModelInfo& fi = model_info(cur.friction.model);
+  if (fi.scalar_index("C") >= 0 && fi.scalar_index("Fs") >= 0 && cur.friction.scalar("Fs") > 0)
+    relax = cur.friction.scalar("C") / cur.friction.scalar("Fs") * c.h_med;
+  if (relax >= 0.1) {
     train_fine = train_in;
     set_path(train_fine, kFinePath);
     const auto g0 = unit_friction(cur, train_in, c), g1 = unit_friction(cur, train_fine, c);
@@ -335,14 +346,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     for (std::size_t k = 0; k < train_in.size(); ++k)
       if (train_in.use[k]) s += std::pow(fc * (g1[k] - g0[k]), 2), n += 1;
     rep.path_difference = n > 0 ? std::sqrt(s / n) : 0.0;
-    // Only a fast attraction makes the path within a step matter (a slipping element relaxes at
-    // C / S(v); at least a tenth of the way within the median step): on slow-relaxing records the
-    // difference is the base fit's own roughness, and the fine path costs 4x the time for nothing.
-    double relax = 1.0;  // relaxation per median step; models without C: only the difference decides
-    const ModelInfo& fi = model_info(cur.friction.model);
-    if (fi.scalar_index("C") >= 0 && fi.scalar_index("Fs") >= 0 && cur.friction.scalar("Fs") > 0)
-      relax = cur.friction.scalar("C") / cur.friction.scalar("Fs") * c.h_med;
-    rep.fine_path = rep.path_difference > 0.25 * rep.noise.sigma && relax >= 0.1;
+    rep.fine_path = rep.path_difference > 0.25 * rep.noise.sigma;
     if (rep.fine_path) {
       val_fine = val_in;
       set_path(val_fine, kFinePath);
@@ -588,9 +592,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   // a force along the stroke, inertia) solved alongside, the element table is chosen again on the
   // wider grid; kept when it lowers both the training and the validation RMS.
   if (has_linear_elements(base.model) && !cur.u.empty()) {
-    bool g_columns = false;
-    for (Effect e : cur.spec.effects)
-      for (const auto& col : effect_columns(e)) g_columns = g_columns || col.uses_g;
+    const bool g_columns = std::any_of(cur.spec.effects.begin(), cur.spec.effects.end(), multiplies_friction);
     EffectContext wide = c;
     wide.x_hi_factor = std::min(c.x_hi_factor * std::pow(10.0, 1.5), c.x_half / std::max(c.x_ba, 1e-12));
     if (!g_columns && wide.x_hi_factor > 1.5 * c.x_hi_factor) {

@@ -132,11 +132,12 @@ struct IdentReport {
                                             // remaining.summary is one line for CLI and panel
   std::vector<std::string> notes;           // undecided choices, said in words
   // The path between samples: the base fit's friction along the fine path (every interval along
-  // the cubic, kFinePath) minus along the adaptive one, RMS over the training record [N]. Above a
+  // the cubic, kFinePath) minus along the adaptive one, RMS over the training record [N];
+  // measured only where the attraction is fast (C / Fs x median step >= 0.1), else 0. Above a
   // quarter of the noise the whole identification runs on the fine path (fine_path = true).
   double path_difference = 0;
   bool fine_path = false;
-  // The base fit was retried from other starts (its training RMS was > 1.3x the floor).
+  // The base fit was retried from other starts (its probe grid cost was 1.3-5x the floor).
   bool base_retried = false;
   // The element range was widened beyond 20 x the swing estimate (softer elements in the data).
   bool range_widened = false;
