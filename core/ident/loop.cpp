@@ -460,14 +460,10 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     int tries = 0;
     bool control_done = false;
     std::optional<std::pair<FitResult, Attempt>> best;
-    for (const auto& k : rd.candidates) {
-      if (tries >= o.tries_per_round) break;
-      if (k.explained < o.min_explained) continue;
-      if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
-      // Far behind an effect already kept: a refit lowers the screening RMS, but not by half.
-      if (best && k.screen_rms_validation > 1.5 * best->second.rms_validation) continue;
-      // A close second is tried too once one is kept; otherwise the first kept ends the round.
-      ++tries;
+    // Refits one candidate with its effect and judges it; returns false when a guard said the
+    // effect cannot be what the refit found (too small, a negative mass, within the sampling):
+    // such an attempt does not use up one of the round's tries.
+    auto attempt = [&](const Candidate& k) -> bool {
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));
       FitResult f = fit_model(with(cur.spec, k.effect), train, c, fo, shape_of(k.effect));
@@ -496,15 +492,18 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       // BIC on the validation record: n ln(SSR / n) + p ln n with the effect's columns.
       a.bic_change = n_val * std::log(std::pow(a.rms_validation / std::max(cur_val, 1e-300), 2)) +
                      static_cast<double>(k.columns) * std::log(n_val);
-      const bool big = floor <= 0 || a.size >= o.min_size * floor;
+      // The floor is an estimate; a model that predicts the held-out record better than it shows
+      // it lower (e.g. a sampling share taken from a base fit that bent to the missing effect).
+      const double fl = std::min(floor, a.rms_validation);
+      const bool big = fl <= 0 || a.size >= o.min_size * fl;
       const bool signature = k.p_value * static_cast<double>(screened) <= o.max_p;
       if (!a.kept) a.verdict = "validation RMS not lowered by " + std::to_string(o.min_gain * 100).substr(0, 4) + " %";
       else if (!signature) a.kept = false, a.verdict = "no signature in the training residual (F-test)";
       else if (a.bic_change >= 0) a.kept = false, a.verdict = "validation BIC not lowered";
       else if (!big) a.kept = false, a.verdict = "contribution below " + std::to_string(o.min_size).substr(0, 4) + " x the noise floor";
-      else if (floor > 0 && a.size < o.sure_size * floor) {
+      else if (fl > 0 && a.size < o.sure_size * fl) {
         // A small contribution must explain a good share of what lies above the floor.
-        const double e0 = cur_val * cur_val - floor * floor, e1 = a.rms_validation * a.rms_validation - floor * floor;
+        const double e0 = cur_val * cur_val - fl * fl, e1 = a.rms_validation * a.rms_validation - fl * fl;
         if (!(e0 > 0) || (e0 - e1) / e0 < o.min_excess)
           a.kept = false, a.verdict = "small (below " + std::to_string(o.sure_size).substr(0, 3) +
                                       " x the floor) and explains less than " + std::to_string(o.min_excess).substr(0, 4) +
@@ -528,9 +527,43 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
                     "changes (" + std::to_string(rep.noise.sampling) + " N): cannot be told from the sampling";
       }
       if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
+      const bool guarded = !a.kept && a.verdict.rfind("validation", 0) != 0 && a.verdict.rfind("no signature", 0) != 0;
       rd.attempts.push_back(a);
       if (a.kept && (!best || a.rms_validation < best->second.rms_validation)) {
         best.emplace(std::move(f), a);
+      }
+      return !guarded;
+    };
+    auto attempted = [&](Effect e) {
+      return std::any_of(rd.attempts.begin(), rd.attempts.end(), [e](const Attempt& a) { return a.effect == e; });
+    };
+    const int max_attempts = 2 * o.tries_per_round;
+    for (const auto& k : rd.candidates) {
+      if (tries >= o.tries_per_round || static_cast<int>(rd.attempts.size()) >= max_attempts) break;
+      if (k.explained < o.min_explained) continue;
+      if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
+      // Far behind an effect already kept: a refit lowers the screening RMS, but not by half.
+      if (best && k.screen_rms_validation > 1.5 * best->second.rms_validation) continue;
+      // A close second is tried too once one is kept; otherwise the first kept ends the round.
+      if (attempt(k)) ++tries;
+    }
+    // Nothing kept while the model stays well above the floor: the current shape may have bent
+    // to the missing effect, so that its screening at that shape shows no validation gain (a
+    // quadratic drag taken up by the Stribeck curve, a level asymmetry by the elements). The
+    // candidates that explain most of the *training* residual get a refit too (shape included).
+    if (!best && floor > 0 && cur_val > o.refit_above_floor * floor) {
+      std::vector<const Candidate*> by_train;
+      for (const auto& k : rd.candidates)
+        if (!attempted(k.effect) && k.explained >= o.min_explained &&
+            k.p_value * static_cast<double>(screened) <= o.max_p && k.screen_rms_train < rd.rms_train_before)
+          by_train.push_back(&k);
+      std::stable_sort(by_train.begin(), by_train.end(), [](const Candidate* a, const Candidate* b) {
+        return a->screen_rms_train < b->screen_rms_train;
+      });
+      int more = 0;
+      for (const Candidate* k : by_train) {
+        if (more >= o.train_tries || static_cast<int>(rd.attempts.size()) >= max_attempts + o.train_tries) break;
+        if (attempt(*k)) ++more;
       }
     }
     if (best) {

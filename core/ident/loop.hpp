@@ -25,8 +25,13 @@
 //      effect, e.g. an offset taken up by a soft element, so the screening order alone does not
 //      decide; a candidate whose screening RMS is above 1.5x a kept refit's is not refitted) and
 //      the kept one with the lowest validation RMS is added; when another fits the
-//      validation record alike the report says the data cannot tell them apart (notes). No
-//      candidate kept: stop.
+//      validation record alike the report says the data cannot tell them apart (notes). An
+//      attempt that a guard refused (too small, a negative mass, within what the sampling
+//      changes) does not use up a try (at most 2 x tries_per_round attempts). When none is kept
+//      and the validation RMS stays above refit_above_floor x the floor, up to train_tries more
+//      candidates are refitted in order of their screening training RMS (the current shape may
+//      have bent to the missing effect and hide it from the validation screening). No candidate
+//      kept: stop.
 //   4. The final model gets one more refit (as the control), the standard errors of its linear
 //      terms and effect scalars (linearised least squares at the fitted shape), and the final
 //      validation residual is tested for remaining structure (by velocity, position, time, after
@@ -57,6 +62,11 @@ struct LoopOptions {
   double sure_size = 1.5;       // below this contribution / floor, an effect must also explain
   double min_excess = 0.4;      // this share of the validation MSE above the floor [-]
   int tries_per_round = 3;
+  // When no candidate is kept and the validation RMS stays above refit_above_floor x the floor,
+  // up to train_tries more candidates (in order of their screening *training* RMS, signature
+  // required) are refitted: the shape may have bent to the missing effect.
+  double refit_above_floor = 1.3;
+  int train_tries = 2;
   int max_rounds = 9;
   std::vector<Effect> candidates;  // empty = the whole catalog
   LoopOptions();

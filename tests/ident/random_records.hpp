@@ -85,6 +85,10 @@ struct Truth {
   bool jitter = false;     // non-uniform sampling
   double v_ref = 0.01;     // speed scale of the motion [m/s]
   std::vector<EffectSpec> effects;
+  // Position span the position-dependent effect is normalised over [m] (x_span_lo < x_span_hi;
+  // else each record's own span). A friction that depends on where the slide is must be the same
+  // function of x in every record of the axis: synthesize_pair sets the training record's span.
+  double x_span_lo = 0.0, x_span_hi = 0.0;
 
   std::size_t elements() const { return alpha.size(); }
   double x_break(std::size_t i) const { return alpha[i] * Fs / k[i]; }  // [m]
@@ -454,6 +458,7 @@ inline Generated synthesize(const Truth& tr, unsigned seed, std::size_t samples 
     m.at(t, x, v, a);
     xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   }
+  if (tr.x_span_lo < tr.x_span_hi) xlo = tr.x_span_lo, xhi = tr.x_span_hi;
   const detail::Scales sc{xlo, xhi, ts.back()};
   Generated g;
   std::vector<double> Fn;
@@ -545,6 +550,7 @@ inline std::pair<Generated, Generated> synthesize_pair(Truth& tr, unsigned seed,
   const Generated base = synthesize(tr, seed, samples);
   double xlo = 1e9, xhi = -1e9;
   for (double x : base.record.x) xlo = std::min(xlo, x), xhi = std::max(xhi, x);
+  if (!(tr.x_span_lo < tr.x_span_hi)) tr.x_span_lo = xlo, tr.x_span_hi = xhi;  // validation alike
   for (auto e : wanted) {
     if (e.kind == GenEffect::PositionRipple) {
       e.wavelength = std::min((xhi - xlo) / 3, 0.3e-3 * std::pow(10.0, U(rng)));
