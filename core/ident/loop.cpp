@@ -295,10 +295,27 @@ bool multiplies_friction(Effect e) {
   return std::any_of(cols.begin(), cols.end(), [](const Column& col) { return col.uses_g; });
 }
 
-FitSpec with_additive_probes(FitSpec spec) {
+// The inertia probe only where the fit's residual holds a positive mass: a model lagging along
+// the sampled path leaves -M a in its residual, and a probe column that takes that up would make a
+// base fit in a local minimum look as good as the floor.
+FitSpec with_additive_probes(FitSpec spec, bool inertia = true) {
   for (Effect e : {Effect::Offset, Effect::Inertia, Effect::TimeDrift, Effect::PositionDependent})
-    if (!multiplies_friction(e) && !contains(spec.effects, e)) spec.effects.push_back(e);
+    if (!multiplies_friction(e) && !contains(spec.effects, e) && (inertia || e != Effect::Inertia))
+      spec.effects.push_back(e);
   return spec;
+}
+
+// Whether f's training residual correlates positively with the acceleration (sign of the least
+// squares mass M = sum r a / sum a^2).
+bool residual_mass_positive(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  const auto r = residual(f, d, c);
+  double ra = 0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) ra += r[k] * d.a[k];
+  return ra > 0;
+}
+FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  return with_additive_probes(f.spec, residual_mass_positive(f, d, c));
 }
 
 }  // namespace
@@ -385,7 +402,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   // a force along the stroke, inertia) solved alongside: an effect the data holds makes any base
   // fit miss the floor, and a shape that only mimics it is no better.
   if (has_linear_elements(base.model) && !cur.u.empty()) {
-    const double p0 = grid_cost_at(with_additive_probes(cur.spec), train, c, cur.u);
+    const double p0 = grid_cost_at(additive_probes_for(cur, train, c), train, c, cur.u);
     // Far above the floor (5x) the misfit is an effect the probes lack, not the shape: the loop
     // deals with it, and a retry would only cost time (EMPS: 6 s for nothing).
     if (p0 > 1.3 * rep.noise.floor() && p0 < 5.0 * rep.noise.floor()) {
@@ -394,7 +411,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       ro.stage = "base fit, retry from other starts";
       FitResult again = fit_base(base, train, val, c, ro);
       rep.base_retried = true;
-      if (!again.u.empty() && grid_cost_at(with_additive_probes(again.spec), train, c, again.u) < 0.98 * p0) {
+      if (!again.u.empty() && grid_cost_at(additive_probes_for(again, train, c), train, c, again.u) < 0.98 * p0) {
         cur = std::move(again);
         rep.elements = cur.spec.elements;
         add_shares();
@@ -629,7 +646,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     EffectContext wide = c;
     wide.x_hi_factor = std::min(c.x_hi_factor * std::pow(10.0, 1.5), c.x_half / std::max(c.x_ba, 1e-12));
     if (!g_columns && wide.x_hi_factor > 1.5 * c.x_hi_factor) {
-      const FitSpec probe = with_additive_probes(cur.spec);
+      const FitSpec probe = additive_probes_for(cur, train, c);
       const double c0 = grid_cost_at(probe, train, c, cur.u), c1 = grid_cost_at(probe, train, wide, cur.u);
       if (c1 < 0.98 * c0) {
         FitOptions wo = o.base;
