@@ -234,9 +234,11 @@ int render_command(const cli::RenderOptions& o) {
   ui::AppState s;
   const bool design_view = std::string(panel->name) == "Design";
   if ((!o.drive.empty() || !o.output.empty() || !o.num.empty() || !o.den.empty() || o.zeta != 0.0 || o.wn != 0.0 ||
-       !o.compensator.empty() || o.K != 0.0) &&
+       !o.compensator.empty() || o.K != 0.0 || !o.design_reference.empty() || !o.compensation.empty() ||
+       !o.feedforward.empty()) &&
       !design_view)
-    throw InputError("--drive, --output, --num, --den, --zeta, --wn, --compensator, --K: only the design view takes them (use --view design)");
+    throw InputError("--drive, --output, --num, --den, --zeta, --wn, --compensator, --K, --reference, --compensation, "
+                     "--feedforward: only the design view takes them (use --view design)");
   if (o.zeta != 0.0 && !(o.zeta >= 0.02 && o.zeta <= 0.98)) throw InputError("--zeta: must be in [0.02, 0.98]");
   if (o.wn != 0.0 && !(o.wn > 0.0 && o.wn <= 1e5)) throw InputError("--wn: must be in (0, 1e5] rad/s");
   if (o.num.empty() != o.den.empty()) throw InputError("--num and --den go together (a typed plant)");
@@ -297,6 +299,9 @@ int render_command(const cli::RenderOptions& o) {
       if (!(o.K > 0.0 && o.K <= 1e7)) throw InputError("--K: must be in (0, 1e7]");
       ds.use_K = true, ds.K = o.K;
     }
+    if (!o.design_reference.empty()) ds.reference = *design_reference_from_string(o.design_reference);
+    if (!o.compensation.empty()) ds.compensation = o.compensation;
+    if (!o.feedforward.empty()) ds.feedforward_source = *control::feedforward_source_from_string(o.feedforward);
     ui::apply_design_settings(s.design, ds);
   }
   if (!o.data.empty()) {
