@@ -72,11 +72,16 @@ void metrics_table(const DesignViewState& d) {
   row("DF ampl.", pc ? pc->amplitude : NAN, pk ? pk->amplitude : NAN, 1e3, "mm", help);
   row("DF period", pc ? pc->period : NAN, pk ? pk->period : NAN, 1e3, "ms", help);
   ImGui::EndTable();
+  ImGui::PushTextWrapPos(0.0f);  // the column is narrow: wrap, never clip
   if (pc)
     ImGui::TextDisabled("DF: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
-                        pc->stable ? "" : ":\nlarger motions grow");
+                        pc->stable ? "" : ": larger motions grow");
   else if (d.out.limit_cycles)
     ImGui::TextDisabled("DF: no cycle predicted");
+  if (d.in.feedforward_source == control::FeedforwardSource::Measured && d.out.limit_cycles_compensated)
+    ImGui::TextDisabled("DF with %s driven by the measured v (F - F_hat): %s", control::to_string(d.in.compensation),
+                        !pk ? "no cycle predicted" : pk->stable ? "stable cycle" : "unstable (threshold) cycle");
+  ImGui::PopTextWrapPos();
   if (d.out.source == control::PlantSource::Assembly && !d.out.loop_note.empty()) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("%s", d.out.loop_note.c_str());
@@ -137,7 +142,8 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   const float h_pos = std::floor(0.55f * (size.y - gap));
   const auto& a = o.loop_plain;
   const auto& b = o.loop_compensated;
-  const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
+  const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward" +
+                           (d.in.feedforward_source == control::FeedforwardSource::Measured ? " (measured v)" : "");
   ImGui::BeginGroup();
   if (BeginPlot("##design_nonlinear", ImVec2(w, h_pos), nl)) {
     SetupAxesSI("t", "s", units.output == "m/s" ? "v" : "x", units.output.c_str());

@@ -42,6 +42,9 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("--feedforward", o.feedforward,
                  "Design view: the compensation driven by the reference or the measured velocity")
       ->check(CLI::IsMember({"reference", "measured"}));
+  sub.add_option("--manual", o.manual,
+                 "Design view: a manual compensator \"Kc z p [z2 p2]\" (Kc [N/m], zeros and poles [rad/s], p = 0: "
+                 "an integrator), as if dragged");
   sub.add_option("--format", o.format,
                  "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
       ->check(CLI::IsMember({"png", "svg"}))

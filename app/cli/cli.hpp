@@ -32,6 +32,7 @@ struct RenderOptions {
   // Design view: loop reference (step | ramp | sine), compensation (coulomb | gms) and what drives it
   // (reference | measured velocity); "": the tab's own.
   std::string design_reference, compensation, feedforward;
+  std::string manual;  // design view: a manual compensator "Kc z p [z2 p2]" (as if dragged); "": the design's
 };
 
 struct FiguresOptions {
