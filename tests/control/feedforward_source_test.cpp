@@ -8,12 +8,14 @@
 #include <numbers>
 #include <random>
 
+#include "core/control/design_plant.hpp"
 #include "core/control/design_session.hpp"
 #include "core/control/describing_function.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
 #include "core/error.hpp"
 #include "core/friction/model.hpp"
+#include "core/sim/assembly.hpp"
 
 using namespace gmslab;
 using namespace gmslab::control;
@@ -198,5 +200,50 @@ TEST(FeedforwardSource, DesignSessionPredictsTheCompensatedLoopWithTheCompensate
     ASSERT_EQ(ref.limit_cycles_compensated->cycles.size(), ref.limit_cycles->cycles.size());
     for (std::size_t k = 0; k < ref.limit_cycles->cycles.size(); ++k)
       EXPECT_EQ(ref.limit_cycles_compensated->cycles[k].amplitude, ref.limit_cycles->cycles[k].amplitude);
+  }
+}
+
+// On an assembled plant the measured source drives the feedforward with the drive's body velocity:
+// a one-body assembly (assembly_from_scenario) gives the one-body loop's trace with it too (GMS
+// and Coulomb compensation, random plants and mismatch), and it differs from the reference-driven
+// run (the source is used).
+TEST(FeedforwardSource, OneBodyAssemblyWithMeasuredFeedforwardMatchesTheOneBodyLoop) {
+  std::mt19937 rng(1233);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    Scenario s;
+    s.name = "one body";
+    s.friction = model_info("gms").defaults();
+    s.plant = {0.5 + 2 * u(rng), 100 * u(rng), 2 * u(rng)};
+    s.drive.kind = Drive::Kind::Force;
+    s.drive.signal = Signal::constant(0.0);
+    const AssemblyScenario as = assembly_from_scenario(s);
+    const AssemblyPort port = assembly_port(as.plant, "", "");
+    LoopConfig cfg;
+    cfg.reference = Signal::constant(2e-3 * (1 + u(rng)));
+    cfg.C = {200 + 2000 * u(rng), 5 + 20 * u(rng), 0.0};
+    cfg.C.p = cfg.C.z * (2 + 10 * u(rng));
+    cfg.comp = trial % 2 ? Compensation::Coulomb : Compensation::Gms;
+    cfg.feedforward_source = FeedforwardSource::Measured;
+    cfg.mismatch.force = 0.6 + 0.3 * u(rng);
+    cfg.dt = 2e-5;
+    cfg.duration = 0.4;
+    cfg.record_every = 7;
+    const LoopTrace a = simulate_loop(s, cfg);
+    const LoopTrace b = simulate_loop(as, port, cfg);
+    ASSERT_EQ(a.t.size(), b.t.size());
+    double scale_x = 1e-12, scale_f = 1e-12;
+    for (std::size_t i = 0; i < a.t.size(); ++i)
+      scale_x = std::max(scale_x, std::abs(a.x[i])), scale_f = std::max(scale_f, std::abs(a.u[i]) + std::abs(a.ff[i]));
+    for (std::size_t i = 0; i < a.t.size(); ++i) {
+      EXPECT_NEAR(a.x[i], b.x[i], 1e-9 * scale_x) << trial << " at " << a.t[i];
+      EXPECT_NEAR(a.ff[i], b.ff[i], 1e-9 * scale_f) << trial << " at " << a.t[i];
+    }
+    LoopConfig by_reference = cfg;
+    by_reference.feedforward_source = FeedforwardSource::Reference;
+    const LoopTrace c = simulate_loop(as, port, by_reference);
+    double d = 0.0;
+    for (std::size_t i = 0; i < c.t.size(); ++i) d = std::max(d, std::abs(c.ff[i] - b.ff[i]));
+    EXPECT_GT(d, 0.1 * s.friction.scalar("Fc")) << trial;
   }
 }
