@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "core/control/design_plant.hpp"
+#include "core/control/linear_response.hpp"
 #include "core/error.hpp"
 #include "core/figures/figure_set.hpp"
 #include "core/ident/dataset.hpp"
@@ -234,9 +235,11 @@ int render_command(const cli::RenderOptions& o) {
   ui::AppState s;
   const bool design_view = std::string(panel->name) == "Design";
   if ((!o.drive.empty() || !o.output.empty() || !o.num.empty() || !o.den.empty() || o.zeta != 0.0 || o.wn != 0.0 ||
-       !o.compensator.empty() || o.K != 0.0) &&
+       !o.compensator.empty() || o.K != 0.0 || !o.design_reference.empty() || !o.compensation.empty() ||
+       !o.feedforward.empty() || !o.manual.empty()) &&
       !design_view)
-    throw InputError("--drive, --output, --num, --den, --zeta, --wn, --compensator, --K: only the design view takes them (use --view design)");
+    throw InputError("--drive, --output, --num, --den, --zeta, --wn, --compensator, --K, --reference, --compensation, "
+                     "--feedforward, --manual: only the design view takes them (use --view design)");
   if (o.zeta != 0.0 && !(o.zeta >= 0.02 && o.zeta <= 0.98)) throw InputError("--zeta: must be in [0.02, 0.98]");
   if (o.wn != 0.0 && !(o.wn > 0.0 && o.wn <= 1e5)) throw InputError("--wn: must be in (0, 1e5] rad/s");
   if (o.num.empty() != o.den.empty()) throw InputError("--num and --den go together (a typed plant)");
@@ -297,7 +300,21 @@ int render_command(const cli::RenderOptions& o) {
       if (!(o.K > 0.0 && o.K <= 1e7)) throw InputError("--K: must be in (0, 1e7]");
       ds.use_K = true, ds.K = o.K;
     }
+    if (!o.design_reference.empty()) ds.reference = *design_reference_from_string(o.design_reference);
+    if (!o.compensation.empty()) ds.compensation = o.compensation;
+    if (!o.feedforward.empty()) ds.feedforward_source = *control::feedforward_source_from_string(o.feedforward);
     ui::apply_design_settings(s.design, ds);
+    if (!o.manual.empty()) {  // "Kc z p [z2 p2]": the compensator as if dragged
+      std::istringstream in(o.manual);
+      std::vector<double> v;
+      for (double x; in >> x;) v.push_back(x);
+      if (!in.eof() || (v.size() != 3 && v.size() != 5))
+        throw InputError("--manual '" + o.manual + "': expected 3 or 5 numbers \"Kc z p [z2 p2]\"");
+      control::LeadCompensator c{v[0], v[1], v[2]};
+      if (v.size() == 5) c.second = control::Section{v[3], v[4]};
+      control::check_compensator(c, "--manual");
+      s.design.in.manual = c;
+    }
   }
   if (!o.data.empty()) {
     // Bad records are an error of this command (file, line, column), not only a red line in the view.

@@ -464,7 +464,18 @@ void simulation_section(DesignViewState& d) {
   ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
   if (ImGui::Combo("compensation", &comp, "Coulomb feedforward\0GMS feedforward\0"))
     s.compensation = comp == 0 ? "coulomb" : "gms", d.dirty = true;
-  tip("Coulomb: Fc sgn(v_ref). GMS: a GMS model driven by the reference inside the controller");
+  tip("Coulomb: Fc sgn(v). GMS: a GMS model inside the controller, with its own state, driven by v (the "
+      "velocity chosen below)");
+  int source = s.feedforward_source == control::FeedforwardSource::Measured ? 1 : 0;
+  ImGui::SetNextItemWidth(ImGui::GetFontSize() * 9.0f);
+  if (ImGui::Combo("driven by", &source, "reference velocity\0measured velocity\0")) {
+    s.feedforward_source = source == 1 ? control::FeedforwardSource::Measured : control::FeedforwardSource::Reference;
+    d.dirty = true;
+  }
+  tip("What drives the compensation's feedforward. Reference: v_ref = dx_ref/dt; it cannot chatter but is 0 "
+      "at a constant set point, so there it does nothing (the DF prediction is the uncompensated one). "
+      "Measured: the plant's velocity v; the loop then sees F(v) - F_hat(v), and the DF row of the "
+      "compensated loop is predicted with that compensated nonlinearity");
   d.dirty |= input_double("model force x [-]", &s.mismatch_force, 0.2, 2.0, "%.2f", "Compensator's Fs, Fc / plant's");
   d.dirty |= input_double("model stiffness x [-]", &s.mismatch_stiffness, 0.1, 10.0, "%.2f", "Compensator's k_i / plant's", true);
   d.dirty |= input_double("sample time [s]", &s.sample_time, 0.0, 0.01, "%.2g", "0: continuous; else Tustin at T with hold");

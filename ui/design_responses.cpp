@@ -54,21 +54,34 @@ void metrics_table(const DesignViewState& d) {
       "limit cycle (hunting) half peak-to-peak; '-': the loop does not hunt");
   row("cycle period", if_hunting(a, a.cycle_period), if_hunting(b, b.cycle_period), 1e3, "ms",
       "limit cycle period; '-': the loop does not hunt");
-  // Describing-function prediction (loop without compensation) beside the simulated cycle.
-  const control::LimitCycle* pc = nullptr;
-  if (d.out.limit_cycles)
-    for (const auto& c : d.out.limit_cycles->cycles)
-      if (!pc || (c.stable && !pc->stable)) pc = &c;
+  // Describing-function prediction of each loop beside its simulated cycle (the compensated loop's
+  // with F - F_hat when the feedforward is driven by the measured velocity).
+  const auto predicted = [](const std::optional<control::LimitCycleReport>& r) {
+    const control::LimitCycle* p = nullptr;
+    if (r)
+      for (const auto& c : r->cycles)
+        if (!p || (c.stable && !p->stable)) p = &c;
+    return p;
+  };
+  const control::LimitCycle* pc = predicted(d.out.limit_cycles);
+  const control::LimitCycle* pk = predicted(d.out.limit_cycles_compensated);
   const char* help = "describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
-                     "H = s G / (1 + Gc G) (loop without compensation); '-': no cycle predicted";
-  row("DF ampl.", pc ? pc->amplitude : NAN, NAN, 1e3, "mm", help);
-  row("DF period", pc ? pc->period : NAN, NAN, 1e3, "ms", help);
+                     "H = s G / (1 + Gc G); with compensation driven by the measured velocity N is that of "
+                     "F - F_hat (by the reference velocity: the friction's, the feedforward being 0 at a "
+                     "constant set point); '-': no cycle predicted";
+  row("DF ampl.", pc ? pc->amplitude : NAN, pk ? pk->amplitude : NAN, 1e3, "mm", help);
+  row("DF period", pc ? pc->period : NAN, pk ? pk->period : NAN, 1e3, "ms", help);
   ImGui::EndTable();
+  ImGui::PushTextWrapPos(0.0f);  // the column is narrow: wrap, never clip
   if (pc)
     ImGui::TextDisabled("DF: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
-                        pc->stable ? "" : ":\nlarger motions grow");
+                        pc->stable ? "" : ": larger motions grow");
   else if (d.out.limit_cycles)
     ImGui::TextDisabled("DF: no cycle predicted");
+  if (d.in.feedforward_source == control::FeedforwardSource::Measured && d.out.limit_cycles_compensated)
+    ImGui::TextDisabled("DF with %s driven by the measured v (F - F_hat): %s", control::to_string(d.in.compensation),
+                        !pk ? "no cycle predicted" : pk->stable ? "stable cycle" : "unstable (threshold) cycle");
+  ImGui::PopTextWrapPos();
   if (d.out.source == control::PlantSource::Assembly && !d.out.loop_note.empty()) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("%s", d.out.loop_note.c_str());
@@ -129,7 +142,8 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   const float h_pos = std::floor(0.55f * (size.y - gap));
   const auto& a = o.loop_plain;
   const auto& b = o.loop_compensated;
-  const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward";
+  const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward" +
+                           (d.in.feedforward_source == control::FeedforwardSource::Measured ? " (measured v)" : "");
   ImGui::BeginGroup();
   if (BeginPlot("##design_nonlinear", ImVec2(w, h_pos), nl)) {
     SetupAxesSI("t", "s", units.output == "m/s" ? "v" : "x", units.output.c_str());

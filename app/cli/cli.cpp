@@ -35,6 +35,16 @@ void add_render_options(CLI::App& sub, RenderOptions& o) {
   sub.add_option("--compensator", o.compensator, "Design view: compensator type built from the design")
       ->check(CLI::IsMember({"lead", "lag", "lead_lag", "pi", "pid"}));
   sub.add_option("--K", o.K, "Design view: target error constant (Kp / Kv / Ka by plant type), (0, 1e7]");
+  sub.add_option("--reference", o.design_reference, "Design view: the loop's reference (the tab's amplitude)")
+      ->check(CLI::IsMember({"step", "ramp", "sine"}));
+  sub.add_option("--compensation", o.compensation, "Design view: friction compensation of the second loop")
+      ->check(CLI::IsMember({"coulomb", "gms"}));
+  sub.add_option("--feedforward", o.feedforward,
+                 "Design view: the compensation driven by the reference or the measured velocity")
+      ->check(CLI::IsMember({"reference", "measured"}));
+  sub.add_option("--manual", o.manual,
+                 "Design view: a manual compensator \"Kc z p [z2 p2]\" (Kc [N/m], zeros and poles [rad/s], p = 0: "
+                 "an integrator), as if dragged");
   sub.add_option("--format", o.format,
                  "png: the app's view; svg: the simulation's plots (forces, position, friction, velocity) as vectors")
       ->check(CLI::IsMember({"png", "svg"}))

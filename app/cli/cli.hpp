@@ -29,6 +29,10 @@ struct RenderOptions {
   std::string compensator;      // design view: lead | lag | lead_lag | pi | pid ("": the tab's own)
   double K = 0.0;               // design view: target error constant (0: none, the usable maximum)
   double sample_time = 0.0;    // Design view: controller sample time [s] (0: continuous)
+  // Design view: loop reference (step | ramp | sine), compensation (coulomb | gms) and what drives it
+  // (reference | measured velocity); "": the tab's own.
+  std::string design_reference, compensation, feedforward;
+  std::string manual;  // design view: a manual compensator "Kc z p [z2 p2]" (as if dragged); "": the design's
 };
 
 struct FiguresOptions {

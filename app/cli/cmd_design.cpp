@@ -20,6 +20,7 @@
 #include "core/control/design_plant_json.hpp"
 #include "core/control/design_session.hpp"
 #include "core/control/scenario_plant.hpp"
+#include "core/control/typed_compensator.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
@@ -41,6 +42,7 @@ struct Opts {
   double max_ratio = 20.0, margin = 0.1;
   bool simulate = false;
   std::string reference = "step", compensation = "all";
+  std::string feedforward = "reference";  // what drives the compensation: reference | measured velocity
   double amplitude = 0.01, slope = 0.01, frequency = 1.0, duration = 2.0, dt = 0.0, T = 0.0;
   double mm_force = 1.0, mm_stiffness = 1.0, mm_velocity = 1.0;
   std::optional<double> lag_K;  // lead-lag: error constant the lag must reach
@@ -67,7 +69,7 @@ struct LoopPlant {
   LoopTrace run(const LoopConfig& c) const { return assembly ? simulate_loop(*assembly, port, c) : simulate_loop(*scenario, c); }
 };
 
-nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadDesign& d) {
+nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadCompensator& C) {
   std::vector<Compensation> comps;
   if (o.compensation == "all") comps = {Compensation::None, Compensation::Coulomb, Compensation::Gms};
   else comps = {compensation_from_string(o.compensation)};
@@ -75,14 +77,16 @@ nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadDesign& d)
   for (Compensation c : comps) {
     LoopConfig cfg;
     cfg.reference = reference_signal(o);
-    cfg.C = {d.Kc, d.z, d.p};
+    cfg.C = C;
     cfg.sample_time = o.T;
     cfg.comp = c;
+    cfg.feedforward_source = *feedforward_source_from_string(o.feedforward);
     cfg.mismatch = {o.mm_force, o.mm_stiffness, o.mm_velocity};
     cfg.dt = o.dt > 0.0 ? o.dt : sc.dt();
     cfg.duration = o.duration;
     nlohmann::json j = to_json(loop_metrics(sc.run(cfg)));
     j["compensation"] = to_string(c);
+    if (c != Compensation::None) j["feedforward_source"] = o.feedforward;
     out.push_back(j);
   }
   return out;
@@ -219,38 +223,24 @@ int run_design(const Opts& o) {
     // The two-section compensator for export (MATLAB / python-control code, sections).
     j["lead_lag"]["compensator"] = compensator_json(LeadCompensator{ld.Kc, ld.z, ld.p, Section{ll.zl, ll.pl}});
   }
+  std::optional<TypedCompensator> typed;
   if (!o.compensator.empty()) {  // the Design view's compensator of that type (compute_design)
-    DesignInputs in;
-    if (sc) in.scenario = *sc;
-    in.plant = choice;
-    in.assembly = asc;
-    in.regime = regime;
-    in.velocity = o.velocity;
-    in.root = {o.zeta, o.wn};
-    in.K = o.K;
-    in.options = {o.max_ratio, o.margin};
-    in.type = *compensator_type_from_string(o.compensator);
-    in.sample_time = o.T;
-    in.simulate = false;
-    const DesignOutputs out = compute_design(in);
-    nlohmann::json t = {{"type", o.compensator}, {"kind", out.compensator_kind}, {"error", out.error}};
-    if (out.compensator) {
-      t["compensator"] = compensator_json(*out.compensator);
-      t["closed_loop_poles"] = poles_json(out.closed_loop_poles);
-    }
-    if (out.gain_point)
-      t["gain_point"] = {{"s", {out.gain_point->s.real(), out.gain_point->s.imag()}}, {"Kc", out.gain_point->k}};
-    if (out.lag)
-      t["lag"] = {{"factor", std::isfinite(out.lag->factor) ? nlohmann::json(out.lag->factor) : nlohmann::json(nullptr)},
-                  {"K", std::isfinite(out.lag->K) ? nlohmann::json(out.lag->K) : nlohmann::json(nullptr)},
-                  {"K_without_lag", out.lag->K_gain_only},
-                  {"slow_pole", {out.lag->slow_pole.real(), out.lag->slow_pole.imag()}},
-                  {"slow_time_constant_s", out.lag->time_constant}};
-    j["typed_compensator"] = t;
+    typed = typed_compensator(typed_design_inputs(choice, regime, o.velocity, sc ? &*sc : nullptr, asc ? &*asc : nullptr,
+                                                  {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin},
+                                                  *compensator_type_from_string(o.compensator), o.T));
+    j["typed_compensator"] = typed->json;
   }
-  if (o.simulate) {
-    if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
-    j["simulation"] = simulate(LoopPlant{sc ? &*sc : nullptr, asc ? &*asc : nullptr, dp.port}, o, chosen->second);
+  if (o.simulate) {  // the --compensator's compensator, else the lead
+    std::optional<LeadCompensator> C;
+    if (typed) {
+      if (!typed->outputs.compensator)
+        throw InputError("--simulate: no " + o.compensator + " compensator to simulate (" + typed->outputs.error + ")");
+      C = typed->outputs.compensator;
+    } else {
+      if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
+      C = LeadCompensator{chosen->second.Kc, chosen->second.z, chosen->second.p};
+    }
+    j["simulation"] = simulate(LoopPlant{sc ? &*sc : nullptr, asc ? &*asc : nullptr, dp.port}, o, *C);
   }
   const std::string text = j.dump(2) + "\n";
   if (o.json == "-") {
@@ -296,9 +286,14 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--dt", o->dt, "Integration step [s] (default: the scenario's run.dt)");
   sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
   sub->add_option("--compensation", o->compensation, "none, coulomb, gms or all")->capture_default_str();
+  sub->add_option("--feedforward", o->feedforward,
+                  "What drives the compensation's feedforward: the reference velocity, or the measured one "
+                  "(the loop then sees F(v) - F_hat(v))")
+      ->check(CLI::IsMember({"reference", "measured"}))
+      ->capture_default_str();
   sub->add_option("--compensator", o->compensator,
                   "Also the Design view's compensator of this type (key typed_compensator: sections, export, "
-                  "lag cost; K from --K, else 10x)")
+                  "lag cost; K from --K, else 10x); --simulate then simulates it (else the lead)")
       ->check(CLI::IsMember({"lead", "lag", "lead_lag", "pi", "pid"}));
   sub->add_option("--lag-K", o->lag_K, "Lead-lag: add a lag after the lead reaching this error constant (> the lead's)");
   sub->add_option("--lag-zero", o->lag_zero_fraction, "Lead-lag: lag zero at this fraction of |Re s_d|, (0, 1]")

@@ -20,6 +20,7 @@
 #include "core/io/json_reader.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/control/design_plant_json.hpp"
+#include "core/control/typed_compensator.hpp"
 #include "core/control/polynomial.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/control/scenario_plant.hpp"
@@ -265,7 +266,14 @@ PYBIND11_MODULE(_gmslab, m) {
   m.def("design", [](double zeta, double wn, std::optional<std::vector<double>> num,
                      std::optional<std::vector<double>> den, py::object scenario, const std::string& regime,
                      double velocity, std::optional<double> K, double max_ratio, double margin,
-                     const std::string& drive, const std::string& output) {
+                     const std::string& drive, const std::string& output, std::optional<std::string> compensator,
+                     double sample_time) {
+    // The compensator type checked first, as the CLI's option check does.
+    std::optional<control::CompensatorType> type;
+    if (compensator) {
+      type = control::compensator_type_from_string(*compensator);
+      if (!type) throw InputError("compensator '" + *compensator + "': expected lead, lag, lead_lag, pi or pid");
+    }
     // The plant as `gmslab design` builds it (control::design_plant, control::plant_json).
     control::PlantChoice choice;
     std::optional<Scenario> sc;
@@ -301,17 +309,38 @@ PYBIND11_MODULE(_gmslab, m) {
                                                           sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
     const control::TransferFunction g = dp.linear.g;
     const nlohmann::json plant = control::plant_json(dp, source, velocity);
-    auto d = control::design_report(g, {zeta, wn}, K, {max_ratio, margin});
+    auto d = control::design_report(g, {zeta, wn}, K, {max_ratio, margin}, sample_time);
     d.json["plant"] = plant;
+    if (sc) {  // as `gmslab design --preset`: the lead loop's describing-function limit cycles
+      if (d.chosen) {
+        const auto fm = build_model(sc->friction);
+        const control::LeadDesign& ld = d.chosen->second;
+        d.json["limit_cycles"] = control::to_json(
+            control::predict_limit_cycles(control::stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
+      }
+    }
+    if (type) {  // the Design view's compensator of that type (`gmslab design --compensator`)
+      py::gil_scoped_release release;
+      d.json["typed_compensator"] =
+          control::typed_compensator(control::typed_design_inputs(choice, control::regime_from_string(regime), velocity,
+                                                                  sc ? &*sc : nullptr, asc ? &*asc : nullptr, {zeta, wn},
+                                                                  K, {max_ratio, margin}, *type, sample_time))
+              .json;
+    }
     return to_py(d.json);
   }, py::arg("zeta"), py::arg("wn"), py::arg("num") = py::none(), py::arg("den") = py::none(),
         py::arg("scenario") = py::none(), py::arg("regime") = "presliding", py::arg("velocity") = 0.0,
         py::arg("K") = py::none(), py::arg("max_ratio") = 20.0, py::arg("margin") = 0.1,
-        py::arg("drive") = "", py::arg("output") = "",
+        py::arg("drive") = "", py::arg("output") = "", py::arg("compensator") = py::none(),
+        py::arg("sample_time") = 0.0,
         "Phase-lead design (as `gmslab design --json`): desired roots zeta [-], wn [rad/s]; plant as "
         "num/den coefficients (highest power first, G(s) in m/N) or a scenario (path or Scenario) "
         "linearised in `regime` at `velocity` [m/s]; an assembled preset (schema 2) or drive / output "
         "names: from the force / pull `drive` to the `output` x.BODY; K: desired error constant (None: usable maximum). "
+        "compensator: 'lead' | 'lag' | 'lead_lag' | 'pi' | 'pid' adds key typed_compensator (the Design view's "
+        "compensator of that type, as `gmslab design --compensator`: type, kind, error, compensator {num, den, Kc, "
+        "sections, matlab, python}, closed_loop_poles, gain_point, lag {factor, K, K_without_lag, slow_pole, "
+        "slow_time_constant_s}, limit_cycles); sample_time [s]: controller sample time (0: continuous). "
         "Returns the report dict (phi_deg, K_max, z, p, Kc, closed_loop_poles, ...)");
 
   m.def("root_locus", [](const std::vector<double>& num, const std::vector<double>& den, bool negative,

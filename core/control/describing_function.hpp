@@ -49,8 +49,9 @@ SteppedNonlinearity coulomb_law(double Fc_hat);
 // none: the friction; coulomb: F - Fc_hat sgn(v), Fc_hat = mismatch.force x the plant's Fc (its
 // break-away force when the model has no Fc); gms: F - F_hat(v), F_hat the compensator's GMS model
 // (feedforward_model(friction, mismatch)). Owns its models. Throws InputError for a bad model.
-// (The loop simulation's feedforward is driven by the reference velocity instead, which is 0
-// around a constant set point: there the loop's nonlinearity is the friction alone.)
+// (The loop simulation gives exactly this loop with LoopConfig::feedforward_source = Measured; with
+// the default, Reference, the feedforward is 0 around a constant set point and the loop's
+// nonlinearity is the friction alone.)
 SteppedNonlinearity compensated_friction(const ModelParams& friction, Compensation comp, const Mismatch& m);
 
 struct DfOptions {

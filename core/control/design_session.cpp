@@ -312,6 +312,11 @@ DesignOutputs compute_design(const DesignInputs& in) {
       const auto fm = build_model(in.scenario.friction);
       out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
                                               DfOptions{400, 2});
+      out.limit_cycles_compensated =
+          in.feedforward_source == FeedforwardSource::Measured
+              ? predict_limit_cycles(compensated_friction(in.scenario.friction, in.compensation, in.mismatch),
+                                     in.scenario.plant, *out.compensator, 1e-6, 10.0, DfOptions{400, 2})
+              : out.limit_cycles;
     }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";
@@ -320,6 +325,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
     cfg.C = *out.compensator;
     cfg.sample_time = in.sample_time;
     cfg.mismatch = in.mismatch;
+    cfg.feedforward_source = in.feedforward_source;
     // A view-rate step: 20000 steps over the run, never coarser than 5 % of the stability limit
     // of the stiffest mode (stuck elements + springs + Kc), never finer than the scenario's dt.
     double limit = 0.0, dt0 = 0.0;

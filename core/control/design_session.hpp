@@ -91,6 +91,9 @@ struct DesignInputs {
   std::optional<LeadCompensator> manual;  // dragged compensator overrides the design
   Signal reference = Signal::constant(0.01);  // nonlinear loop reference [m]
   Compensation compensation = Compensation::Gms;  // for the "with compensation" run
+  // What drives that run's feedforward: the reference velocity (default) or the measured one (then
+  // limit_cycles_compensated is predicted with the compensated nonlinearity F - F_hat).
+  FeedforwardSource feedforward_source = FeedforwardSource::Reference;
   Mismatch mismatch;
   double sample_time = 0.0;  // controller sample time [s] (0: continuous)
   double horizon = 0.0;      // [s]; 0: automatic
@@ -137,6 +140,11 @@ struct DesignOutputs {
   // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
   // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.
   std::optional<LimitCycleReport> limit_cycles;
+  // The same for the loop with compensation: with the measured-velocity feedforward, predicted on
+  // compensated_friction(friction, compensation, mismatch) = F - F_hat; with the reference-velocity
+  // one the feedforward is 0 around a constant set point, so the loop's nonlinearity is the friction
+  // and this is limit_cycles again.
+  std::optional<LimitCycleReport> limit_cycles_compensated;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;

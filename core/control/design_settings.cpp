@@ -30,6 +30,7 @@ void set_design_inputs(const DesignSettings& s, DesignInputs& in) {
                  : s.reference == DesignReference::Ramp ? Signal::ramp(0.0, s.slope)
                                                         : Signal::sine(0.0, s.amplitude, s.frequency);
   in.compensation = compensation_from_string(s.compensation);
+  in.feedforward_source = s.feedforward_source;
   in.mismatch.force = s.mismatch_force;
   in.mismatch.stiffness = s.mismatch_stiffness;
   in.sample_time = s.sample_time;

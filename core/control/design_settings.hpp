@@ -35,6 +35,9 @@ struct DesignSettings {
   double slope = 0.01;              // ramp velocity [m/s], (0, 1]
   double frequency = 2.0;           // sine frequency [Hz], (0, 100]
   std::string compensation = "gms";  // friction compensation of the second loop: "coulomb" | "gms"
+  // What drives that compensation (saved as "reference" | "measured"): the reference velocity, or the
+  // measured one (the DF prediction of that loop then uses the compensated nonlinearity F - F_hat).
+  control::FeedforwardSource feedforward_source = control::FeedforwardSource::Reference;
   double mismatch_force = 1.0;      // compensator's Fs, Fc / plant's [-], [0.2, 2]
   double mismatch_stiffness = 1.0;  // compensator's k_i / plant's [-], [0.1, 10]
   double sample_time = 0.0;         // controller sample time [s], [0, 0.01]; 0: continuous

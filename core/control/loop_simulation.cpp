@@ -30,6 +30,16 @@ Compensation compensation_from_string(const std::string& s) {
   throw InputError("--compensation '" + s + "': expected none, coulomb or gms");
 }
 
+const char* to_string(FeedforwardSource f) {
+  return f == FeedforwardSource::Measured ? "measured" : "reference";
+}
+
+std::optional<FeedforwardSource> feedforward_source_from_string(const std::string& s) {
+  if (s == "reference") return FeedforwardSource::Reference;
+  if (s == "measured") return FeedforwardSource::Measured;
+  return std::nullopt;
+}
+
 namespace {
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -97,11 +107,12 @@ void check_config(const Scenario& s, const LoopConfig& c) {
 }
 
 // The friction compensation's feedforward u_ff [N] for the given friction contacts (each driven by
-// the reference velocity): none, Coulomb Fc_hat sgn(v_ref) with Fc_hat the sum of the contacts' Fc
+// the reference velocity, or the measured one: LoopConfig::feedforward_source): none, Coulomb Fc_hat sgn(v_ref) with Fc_hat the sum of the contacts' Fc
 // (their break-away without Fc), or each contact's GMS model (feedforward_model) stepped along.
 class Feedforward {
  public:
-  Feedforward(const std::vector<ModelParams>& frictions, const LoopConfig& c) : comp_(c.comp) {
+  Feedforward(const std::vector<ModelParams>& frictions, const LoopConfig& c)
+      : comp_(c.comp), measured_(c.feedforward_source == FeedforwardSource::Measured) {
     for (const auto& fr : frictions) {
       if (comp_ == Compensation::Gms) {
         models_.push_back(build_model(feedforward_model(fr, c.mismatch)));
@@ -112,15 +123,18 @@ class Feedforward {
       }
     }
   }
-  double step(double v_ref, double h) {
-    if (comp_ == Compensation::Coulomb) return fc_hat_ * sgn(v_ref);
+  // v_ref: the reference velocity over the step; v: the measured one (the source chooses).
+  double step(double v_ref, double v, double h) {
+    const double vf = measured_ ? v : v_ref;
+    if (comp_ == Compensation::Coulomb) return fc_hat_ * sgn(vf);
     double ff = 0.0;
-    for (std::size_t j = 0; j < models_.size(); ++j) ff += models_[j]->step(states_[j], {v_ref, h, 0.0, 0.0});
+    for (std::size_t j = 0; j < models_.size(); ++j) ff += models_[j]->step(states_[j], {vf, h, 0.0, 0.0});
     return ff;
   }
 
  private:
   Compensation comp_;
+  bool measured_ = false;
   std::vector<std::unique_ptr<FrictionModel>> models_;
   std::vector<std::vector<double>> states_;
   double fc_hat_ = 0.0;
@@ -241,7 +255,7 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
     const double r = c.reference(t);
     const double u = ctrl.update(k, r - x);
     const double v_ref = (c.reference(t + h) - r) / h;  // reference velocity over the step
-    const double ff = feedforward.step(v_ref, h);
+    const double ff = feedforward.step(v_ref, v, h);
     const double f_other = u + ff - pl.spring * x - pl.damper * v;
     const double f = plant_f->step(st, {v, h, f_other, pl.mass});
     v += h * (f_other - f) / pl.mass;
@@ -298,6 +312,7 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
   const double h = c.dt;
   const long long steps = std::llround(c.duration / h);
   const auto body = static_cast<std::size_t>(port.body);
+  const auto drive_body = static_cast<std::size_t>(d.body);
   auto output = [&] { return port.velocity ? sim.velocities()[body] : sim.positions()[body]; };
   LoopTrace tr;
   auto record = [&](double t, double r, double u, double ff, double f) {
@@ -312,7 +327,8 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
     const double r = c.reference(t);
     const double u = ctrl.update(k, r - output());
     const double v_ref = (c.reference(t + h) - r) / h;
-    const double ff = feedforward.step(v_ref, h);
+    // Measured: the drive's body velocity (the compensation treats the train as rigid, as with v_ref).
+    const double ff = feedforward.step(v_ref, sim.velocities()[drive_body], h);
     // A pull drive's input is its point's position: the feedforward force acts through its spring.
     sim.set_drive_input(port.drive, pull_k > 0.0 ? u + ff / pull_k : u + ff);
     try {

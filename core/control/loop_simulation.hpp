@@ -7,11 +7,16 @@
 // exactly over each step (e held), u = Kc e + Kc (z - p) w; a second section in series: the
 // two-state cascade advanced by its exact zero-order-hold discretisation (matrix exponential).
 // Tustin at T: u[j] = a u[j-1] + b0 e[j] + b1 e[j-1], s = (2/T)(q - 1)/(q + 1), per section in series.
-// Friction compensation (feedforward u_ff [N]):
+// Friction compensation (feedforward u_ff [N]), driven by the velocity of `feedforward_source`:
+//   reference (default) v_ref = (x_ref(t+h) - x_ref(t))/h (it cannot chatter; it does nothing
+//            at standstill, so around a constant set point the loop sees the friction alone)
+//   measured the plant's velocity v at the start of the step (the one the friction is stepped
+//            with): the loop then sees F(v) - F_hat(v), the describing function's
+//            compensated(F, F_hat) (core/control/describing_function.hpp)
 //   none
-//   coulomb  u_ff = Fc_hat sgn(v_ref), v_ref = (x_ref(t+h) - x_ref(t))/h (chosen over
-//            sgn(v) or sgn(e) because it cannot chatter; it does nothing at standstill)
-//   gms      u_ff = F of a GMS model driven by v_ref inside the controller (prescribed motion)
+//   coulomb  u_ff = Fc_hat sgn(v_ff)
+//   gms      u_ff = F of a GMS model (its own state) driven by v_ff inside the controller
+//            (prescribed motion)
 // Mismatch: the compensator's model = the plant's friction with its force levels (Fs, Fc) times
 // `force`, element stiffnesses and micro-damping times `stiffness`, Vs times `velocity`. When the
 // plant's model is not GMS, the GMS compensator takes the reference set's elements with the
@@ -20,6 +25,7 @@
 // divergence.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +39,11 @@ enum class Compensation { None, Coulomb, Gms };
 const char* to_string(Compensation c);
 Compensation compensation_from_string(const std::string& s);  // none | coulomb | gms
 
+// The velocity the feedforward compensation is driven by; saved as "reference" | "measured".
+enum class FeedforwardSource { Reference, Measured };
+const char* to_string(FeedforwardSource f);
+std::optional<FeedforwardSource> feedforward_source_from_string(const std::string& s);
+
 struct Mismatch {
   double force = 1.0;      // compensator's Fs, Fc / plant's [-]
   double stiffness = 1.0;  // compensator's k_i, sigma_i / plant's [-]
@@ -44,6 +55,7 @@ struct LoopConfig {
   LeadCompensator C;         // Gc = Kc prod_i (s + z_i) / (s + p_i) (one or two sections)
   double sample_time = 0.0;  // controller sample time T [s]; 0 = continuous
   Compensation comp = Compensation::None;
+  FeedforwardSource feedforward_source = FeedforwardSource::Reference;  // what drives u_ff
   Mismatch mismatch;
   double dt = 1e-5;          // integration step [s]
   double duration = 1.0;     // [s]
@@ -79,7 +91,8 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 // the point's position x_p [m] and the feedforward adds u_ff / k_p), measuring port's output (x.BODY
 // [m], or v.BODY [m/s]: a velocity loop). Every other drive keeps its signal (a disturbance). The
 // compensation feeds forward the friction of every contact to ground, each driven by v_ref (a rigid
-// train moves at v_ref, where contacts between two bodies do not slip). Trace: x = the output, v =
+// train moves at v_ref, where contacts between two bodies do not slip), or with the measured source
+// by the drive's body velocity. Trace: x = the output, v =
 // the output body's velocity, friction = the sum of the contacts' forces to ground on their bodies.
 // The assembly's run settings are replaced by c.dt and c.duration. Throws as the one-body loop; the
 // dt limit is assembly_loop_dt_limit. For a one-body assembly of a force-driven scenario

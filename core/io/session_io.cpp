@@ -43,6 +43,7 @@ json to_json(const Session& s) {
                  {"slope", d.slope},
                  {"frequency", d.frequency},
                  {"compensation", d.compensation},
+                 {"feedforward_source", control::to_string(d.feedforward_source)},
                  {"mismatch_force", d.mismatch_force},
                  {"mismatch_stiffness", d.mismatch_stiffness},
                  {"sample_time", d.sample_time},
@@ -130,6 +131,9 @@ DesignSettings design_from_json(JsonReader& r) {
   d.slope = r.number("slope", 0, 1, "m/s", true);
   d.frequency = r.number("frequency", 0, 100, "Hz", true);
   d.compensation = r.choice("compensation", {"coulomb", "gms"});
+  if (r.has("feedforward_source"))  // sessions before the measured-velocity feedforward: the reference
+    d.feedforward_source =
+        *control::feedforward_source_from_string(r.choice("feedforward_source", {"reference", "measured"}));
   d.mismatch_force = r.number("mismatch_force", 0.2, 2);
   d.mismatch_stiffness = r.number("mismatch_stiffness", 0.1, 10);
   d.sample_time = r.number("sample_time", 0, 0.01, "s");

@@ -108,7 +108,17 @@ TEST(RenderCommand, BadSizeAndUnknownViewAreRejectedWithExitCode2) {
   const std::string out = tmp("bad.png");
   EXPECT_EQ(run(std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --out " + out + " --size 10x10"), 2);
   EXPECT_EQ(run(std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --out " + out + " --view nope"), 2);
+  // Design-view options: a manual compensator needs 3 or 5 numbers with Kc, z > 0 and p >= 0; the
+  // feedforward source is reference or measured; none of them outside the design view.
+  const std::string design = std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --out " + out + " --view design";
+  EXPECT_EQ(run(design + " --manual '1000 5'"), 2);
+  EXPECT_EQ(run(design + " --manual '1000 5 0 x 1'"), 2);
+  EXPECT_EQ(run(design + " --manual '1000 -5 0'"), 2);
+  EXPECT_EQ(run(design + " --feedforward velocity"), 2);
+  EXPECT_EQ(run(std::string(GMSLAB_HEADLESS_EXE) + " render " + kPreset + " --out " + out + " --view simulation --feedforward measured"), 2);
   EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(run(design + " --manual '1000 5 0' --reference step --compensation coulomb --feedforward measured --size 640x400"), 0);
+  EXPECT_TRUE(fs::exists(out));
 }
 
 TEST(FiguresCommand, WritesPngAndCsvForEachRequestedFigure) {

@@ -37,6 +37,7 @@ Session sample() {
   s.design.sample_time = 1e-3;
   s.design.zero_degree = true;
   s.design.compensator = control::CompensatorType::PID;
+  s.design.feedforward_source = control::FeedforwardSource::Measured;
   s.identify.data = "/data/run 1/train.csv";
   s.identify.validate = "val.csv";
   s.identify.columns = "t=time_s,x=x_mm,F=F_N";
@@ -114,6 +115,15 @@ TEST(SessionIo, MalformedSessionsAreRejectedNamingTheKey) {
   j = good;  // sessions saved before the compensator types: the lead
   j["design"].erase("compensator");
   EXPECT_EQ(session_from_json(j, "s.json").design.compensator, control::CompensatorType::Lead);
+  j = good;
+  j["design"]["feedforward_source"] = "velocity";
+  EXPECT_NE(expect_rejected(j).find("design.feedforward_source"), std::string::npos);
+  j = good;
+  j["design"]["feedforward_source"] = 1;
+  EXPECT_NE(expect_rejected(j).find("design.feedforward_source"), std::string::npos);
+  j = good;  // sessions saved before the measured-velocity feedforward: the reference
+  j["design"].erase("feedforward_source");
+  EXPECT_EQ(session_from_json(j, "s.json").design.feedforward_source, control::FeedforwardSource::Reference);
   j = good;
   j["design"]["wn"] = 0;
   EXPECT_NE(expect_rejected(j).find("design.wn"), std::string::npos);

@@ -85,6 +85,70 @@ def test_design_matches_cli(cli, seed):
     assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
 
 
+@pytest.mark.parametrize("seed", [21, 22, 23, 24, 25])
+@pytest.mark.parametrize("compensator", ["lead", "lag", "lead_lag", "pi", "pid"])
+def test_design_of_each_compensator_type(cli, compensator, seed):
+    """gmslab.design(compensator=...) is the Design view's compensator of that type: its closed-loop
+    poles are the roots of den_G den_C + num_G num_C (numpy.roots on the exported polynomials, an
+    independent method), and the whole dict equals `gmslab design --compensator` for the same
+    arguments. Random type-1 plants b/(s (s + a)) (the lag and PI need the plant's own locus to cross
+    the zeta line, at wn = a / (2 zeta)), K random or none."""
+    rng = np.random.default_rng(seed)
+    a, b = float(rng.uniform(1, 6)), float(rng.uniform(0.5, 10))
+    num, den = [b], [1.0, a, 0.0]
+    zeta = float(rng.uniform(0.4, 0.8))
+    wn = float(rng.uniform(1.5, 4)) * a / (2 * zeta)
+    K = None if seed % 2 else float(b / a * rng.uniform(5, 20))
+    mine = gmslab.design(zeta, wn, num=num, den=den, K=K, compensator=compensator)
+    args = ["design", "--num", " ".join(repr(c) for c in num), "--den", " ".join(repr(c) for c in den),
+            "--zeta", repr(zeta), "--wn", repr(wn), "--compensator", compensator, "--json", "-"]
+    if K is not None:
+        args += ["--K", repr(K)]
+    theirs = json.loads(cli(*args).stdout)
+    assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
+    t = mine["typed_compensator"]
+    assert t["type"] == compensator
+    assert t["error"] == "", t["error"]
+    c = t["compensator"]
+    alone = "the lead alone reaches K" in t["kind"]  # a lead-lag whose lead reaches K needs no lag
+    assert len(c["sections"]) == (1 if compensator in ("lead", "lag", "pi") or alone else 2)
+    if compensator in ("pi", "pid"):
+        assert c["sections"][-1]["p"] == 0.0  # an integrator
+    char = np.polyadd(np.polymul(den, c["den"]), np.polymul(num, c["num"]))
+    expect = np.roots(char)
+    got = np.array([complex(re, im) for re, im in t["closed_loop_poles"]])
+    assert len(got) == len(expect)
+    for p in expect:  # every root found, to the polynomial's conditioning
+        assert np.min(np.abs(got - p)) < 1e-6 * max(1.0, abs(p)), (p, got)
+    if compensator in ("lag", "pi", "pid") or (compensator == "lead_lag" and not alone):
+        assert "lag" in t
+        slow = complex(*t["lag"]["slow_pole"])
+        assert np.min(np.abs(expect - slow)) < 1e-6 * max(1.0, abs(slow))
+        z_lag = c["sections"][-1]["z"]
+        assert abs(slow + z_lag) < abs(slow)  # the slow pole sits next to the lag / integral zero
+
+
+def test_design_compensator_errors(cli):
+    with pytest.raises(gmslab.InputError) as e:
+        gmslab.design(0.5, 4.0, num=[4], den=[1, 2, 0], compensator="pd")
+    assert "lead, lag, lead_lag, pi or pid" in str(e.value)
+
+
+@pytest.mark.parametrize("seed", [31, 32])
+def test_design_of_a_scenario_with_a_compensator_matches_cli(cli, seed):
+    """A scenario's plant (Fig. 4, sliding): the same dict as the CLI, with the describing-function
+    limit cycles of the lead loop and of the typed compensator's loop."""
+    rng = np.random.default_rng(seed)
+    preset = os.path.join(PRESETS, "fig4_stick_slip.json")
+    zeta, wn = float(rng.uniform(0.5, 0.8)), float(rng.uniform(40, 80))
+    comp = ["pi", "pid"][seed % 2]
+    mine = gmslab.design(zeta, wn, scenario=preset, regime="sliding", compensator=comp)
+    theirs = json.loads(cli("design", "--preset", preset, "--regime", "sliding", "--zeta", repr(zeta), "--wn",
+                            repr(wn), "--compensator", comp, "--json", "-").stdout)
+    assert json.dumps(mine, sort_keys=True) == json.dumps(theirs, sort_keys=True)
+    assert "limit_cycles" in mine and "limit_cycles" in mine["typed_compensator"]
+
+
 @pytest.mark.parametrize("output", ["x.motor", "x.load"])
 def test_design_on_the_assembled_plant_matches_cli(cli, output):
     """The assembled two-mass train from its force drive to a body: the same plant and design as the CLI."""
