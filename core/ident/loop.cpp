@@ -429,7 +429,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   // mass, a time shift, a force along the stroke) and a model with friction-scaling effects is not
   // tested again at the end.
   double cur_val = rms_on(cur, val, c);
-  auto widen_element_range = [&] {
+  auto widen_element_range = [&](bool before_rounds) {
     if (!has_linear_elements(base.model) || cur.u.empty()) return;
     const bool g_columns = std::any_of(cur.spec.effects.begin(), cur.spec.effects.end(), multiplies_friction);
     EffectContext wide = c;
@@ -442,7 +442,26 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         wo.stage = "element table on a wider range";
         FitResult again = regrid_elements(cur.spec, train, wide, wo, cur.u);
         const double again_val = rms_on(again, val, wide);
-        if (again.rms_train < cur.rms_train && again_val < cur_val) {
+        // Before the rounds a soft element competes with the effects it can mimic (an offset
+        // within a stroke, a force along it): when the effect that screens best at the current
+        // shape, refitted, predicts the validation record as well (within 3 %), the loop decides.
+        bool effect_alike = false;
+        if (before_rounds && again.rms_train < cur.rms_train && again_val < cur_val) {
+          std::optional<Candidate> top;
+          for (Effect e : o.candidates)
+            if (e != Effect::TimeShift && e != Effect::SensorFilter && e != Effect::Backlash &&
+                e != Effect::DwellStiction && effect_applicable(e, train, c)) {
+              Candidate k = screen(e, cur, train, val, c, &cur.u);
+              if (!top || k.screen_rms_validation < top->screen_rms_validation) top = std::move(k);
+            }
+          if (top) {
+            FitOptions fo = o.refit;
+            fo.stage = "element range or " + std::string(effect_name(top->effect)) + "?";
+            const FitResult f = fit_model(with(cur.spec, top->effect), train, c, fo, &cur.u);
+            effect_alike = rms_on(f, val, c) <= 1.03 * again_val;
+          }
+        }
+        if (!effect_alike && again.rms_train < cur.rms_train && again_val < cur_val) {
           rep.notes.push_back("the element range was widened to " + std::to_string(1e6 * wide.x_hi_factor * wide.x_ba) +
                               " um (softer elements than the swing after most reversals shows): validation RMS " +
                               std::to_string(cur_val) + " -> " + std::to_string(again_val) + " N");
@@ -454,7 +473,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       }
     }
   };
-  widen_element_range();
+  widen_element_range(true);
   if (rep.range_widened) add_shares();
   const double floor = rep.noise.floor();
   rep.stages.push_back(cur);
@@ -704,7 +723,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = cur_val;
     }
   }
-  if (!rep.range_widened) widen_element_range();
+  if (!rep.range_widened) widen_element_range(false);
   rep.context = c;
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = cur_val;

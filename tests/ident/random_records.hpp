@@ -569,12 +569,16 @@ inline std::pair<Generated, Generated> synthesize_pair(Truth& tr, unsigned seed,
       default: p = 0.05; break;
     }
     const double target = e.size * tr.noise;
+    // Against the record with the effects drawn so far: the effect's own contribution (measured
+    // against the effect-free record, a second effect smaller than the first could never reach
+    // its size and was bisected down to nothing).
+    const std::vector<double> before = tr.effects.empty() ? base.clean : synthesize(tr, seed, samples).clean;
     auto rms_at = [&](double param) {
       Truth t2 = tr;
       EffectSpec s = e;
       s.param = param;
       t2.effects.push_back(s);
-      return detail::rms_diff(synthesize(t2, seed, samples).clean, base.clean);
+      return detail::rms_diff(synthesize(t2, seed, samples).clean, before);
     };
     // Bracket, then bisect in log space.
     double lo = p, hi = p;
