@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/error.hpp"
+#include "core/friction/gms_path.hpp"
 
 namespace gmslab::ident {
 
@@ -188,9 +189,20 @@ class ElementEvaluator {
     } catch (const SimulationError&) {
       return false;
     }
+    E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
+    if (a >= 0) {
+      // GMS: the Stribeck level and relaxation of every step once for all K elements, then the
+      // element recursion (GmsPathRunner); the same element forces as GmsModel::step.
+      if (path_.samples != d_.size()) path_ = gms_path(d_);
+      const GmsParams gp = GmsParams::from(m);
+      runner_.prepare(gp.S, gp.C, path_);
+      const std::vector<double> sk(K, 0.0);  // no micro-damping in the unit elements
+      runner_.run(path_, gp.alpha, gp.k, sk, 0.0, row_of_, scale, E_.data(), {});
+      if (row_of_[0] >= 0) E_.row(row_of_[0]).setZero();
+      return E_.allFinite();
+    }
     std::vector<double> state(model->state_size());
     model->reset(state);
-    E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
     for (std::size_t t = 1; t < d_.size(); ++t) {
       for_each_step(d_, t, [&](double v, double h) { model->step(state, {v, h, 0.0, 0.0}); });
       const long r = row_of_[t];
@@ -241,6 +253,8 @@ class ElementEvaluator {
   std::vector<long> row_of_;
   Eigen::VectorXd y_, bf_;
   RowMat E_;
+  GmsPath path_;
+  GmsPathRunner runner_;
   Eigen::MatrixXd Af_, Gff_;
   std::vector<bool> fixed_nonneg_;
   double yy_ = 0;

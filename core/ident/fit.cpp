@@ -10,6 +10,7 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/friction/gms_path.hpp"
 #include "core/ident/element_fit.hpp"
 
 namespace gmslab::ident {
@@ -206,6 +207,26 @@ void simulate_along(const FrictionModel& m, const Dataset& d, std::vector<double
     for_each_step(d, k, [&](double v, double h) { out[k] = m.step(state, {v, h, 0.0, 0.0}); });
 }
 
+GmsPath gms_path(const Dataset& d) {
+  GmsPath p;
+  p.samples = 1;
+  for (std::size_t k = 1; k < d.size(); ++k) {
+    for_each_step(d, k, [&](double v, double h) { p.add_step(v, h); });
+    p.end_sample();
+  }
+  if (d.size() == 0) p.samples = 0;
+  return p;
+}
+
+void simulate_gms_along(const GmsParams& g, const GmsPath& p, GmsPathRunner& runner,
+                        std::vector<double>& out) {
+  out.assign(p.samples, 0.0);
+  runner.prepare(g.S, g.C, p);
+  std::vector<double> sk(g.k.size());
+  for (std::size_t i = 0; i < sk.size(); ++i) sk[i] = g.sigma[i] / g.k[i];
+  runner.run(p, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, out);
+}
+
 namespace {
 
 struct Term {
@@ -264,14 +285,14 @@ class Evaluator {
     const std::size_t n = d_.size();
     try {
       auto mp = par_.unit_model(u);
-      simulate_along(*build_model(mp), d_, g);
+      sim(mp, g);
       if (needs_sensitivity_) {
         std::vector<double> g2;
         const auto fs = model_info(mp.model).scalar_index("Fs");
         if (fs >= 0) {
           const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
           mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
-          simulate_along(*build_model(mp), d_, g2);
+          sim(mp, g2);
           for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
         } else {
           g2 = g;
@@ -338,6 +359,14 @@ class Evaluator {
 
  private:
   double bad() const { return 2.0 * null_rms() + 1.0; }
+  // The model along the record: GMS through the path runner (the record's path built at the
+  // first GMS simulation), other models step by step.
+  void sim(const ModelParams& mp, std::vector<double>& out) const {
+    const auto model = build_model(mp);  // validates the parameters (throws on a bad shape)
+    if (mp.model != "gms") return simulate_along(*model, d_, out);
+    if (path_.samples != d_.size()) path_ = gms_path(d_);
+    simulate_gms_along(GmsParams::from(mp), path_, runner_, out);
+  }
   void gather(const std::vector<double>& full, Eigen::Ref<Eigen::VectorXd> out) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) out(static_cast<Eigen::Index>(i)) = full[rows_[i]];
   }
@@ -353,6 +382,8 @@ class Evaluator {
   double yy_ = 0;
   std::vector<double> g_;
   bool needs_sensitivity_ = false;
+  mutable GmsPath path_;
+  mutable GmsPathRunner runner_;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -524,7 +555,14 @@ std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectCo
 std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c) {
   const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
   std::vector<double> g(d.size(), 0.0);
-  simulate_along(*build_model(par.unit_model(r.u)), d, g);
+  const auto mp = par.unit_model(r.u);
+  const auto model = build_model(mp);
+  if (mp.model == "gms") {  // as the fit's Evaluator simulates it
+    GmsPathRunner runner;
+    simulate_gms_along(GmsParams::from(mp), gms_path(d), runner, g);
+  } else {
+    simulate_along(*model, d, g);
+  }
   return g;  // the unit output only (no sensitivity)
 }
 
