@@ -1,63 +1,14 @@
 #include "core/friction/gms_path.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 
 namespace gmslab {
 
-namespace {
-
-// exp(y[i]) (or exp(-y[i]) with negate): Cody-Waite reduction y = n ln2 + r, |r| <= ln2 / 2, a
-// degree-13 Taylor polynomial of exp(r) (truncation below 5e-18 relative), 2^n put into the
-// exponent bits; |y| beyond the double range: 0 or +inf. Branch-free, so the loop vectorises.
-__attribute__((target_clones("avx2", "default"))) void exp_kernel(const double* __restrict y,
-                                                                   double* __restrict out,
-                                                                   std::size_t n, double sign) {
-  constexpr double log2e = 1.4426950408889634074;
-  constexpr double ln2_hi = 6.93147180369123816490e-01;  // fdlibm: n ln2_hi exact for |n| < 2^20
-  constexpr double ln2_lo = 1.90821492927058770002e-10;
-  constexpr double shifter = 0x1.8p52;  // adding it rounds to an integer in the low mantissa bits
-#pragma omp simd
-  for (std::size_t i = 0; i < n; ++i) {
-    const double yi = sign * y[i];
-    const double yc = std::clamp(yi, -708.0, 709.0);
-    const double t = yc * log2e + shifter;
-    const double nd = t - shifter;
-    const double r = (yc - nd * ln2_hi) - nd * ln2_lo;
-    double p = 1.0 / 6227020800.0;  // 1/13!
-    p = p * r + 1.0 / 479001600.0;
-    p = p * r + 1.0 / 39916800.0;
-    p = p * r + 1.0 / 3628800.0;
-    p = p * r + 1.0 / 362880.0;
-    p = p * r + 1.0 / 40320.0;
-    p = p * r + 1.0 / 5040.0;
-    p = p * r + 1.0 / 720.0;
-    p = p * r + 1.0 / 120.0;
-    p = p * r + 1.0 / 24.0;
-    p = p * r + 1.0 / 6.0;
-    p = p * r + 0.5;
-    p = p * r + 1.0;
-    p = p * r + 1.0;
-    const std::uint64_t bits = (std::bit_cast<std::uint64_t>(t) + 1023u) << 52;
-    double e = p * std::bit_cast<double>(bits);
-    e = yi < -708.0 ? 0.0 : e;
-    e = yi > 709.0 ? std::numeric_limits<double>::infinity() : e;
-    out[i] = yi != yi ? yi : e;  // NaN stays NaN
-  }
-}
-
-}  // namespace
-
-void exp_neg_n(std::span<const double> x, std::span<double> out) {
-  exp_kernel(x.data(), out.data(), std::min(x.size(), out.size()), -1.0);
-}
-
 void GmsPath::add_step(double vj, double hj) {
   v.push_back(vj);
   h.push_back(hj);
-  log_abs_v.push_back(std::log(std::abs(vj)));
 }
 
 void GmsPath::end_sample() {
@@ -68,30 +19,33 @@ void GmsPath::end_sample() {
 
 void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
   const std::size_t m = path.v.size();
+  // The same shape along the same path (a search moving only the elements): nothing to redo.
+  const bool same_path = &path == path_ && m == steps_;
+  const bool same_S = same_path && S.Fs == shape_.Fs && S.Fc == shape_.Fc && S.Vs == shape_.Vs &&
+                      S.delta == shape_.delta;
+  if (same_S && C == C_) return;
+  path_ = &path, steps_ = m, shape_ = S, C_ = C;
   S_.resize(m);
   E_.resize(m);
-  tmp_.resize(m);
-  // (|v| / Vs)^delta: squares and plain ratios without exp/log (the common delta = 2 and 1).
-  const double inv_vs = 1.0 / S.Vs;
-  if (S.delta == 2.0) {
+  if (!same_S) {
+    // As GmsModel::step: beyond r_sat S is Fc exactly in doubles (no pow, no exp there).
+    const double inv_vs = 1.0 / S.Vs;
+    const double gap = S.Fs - S.Fc;
+    double r_sat = gap > 0.0 ? std::pow(std::log(gap / S.Fc) + 54.0 * std::log(2.0), 1.0 / S.delta) : 0.0;
+    if (!(r_sat > 0.0)) r_sat = gap > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
     for (std::size_t j = 0; j < m; ++j) {
       const double r = std::abs(path.v[j]) * inv_vs;
-      tmp_[j] = r * r;
+      S_[j] = r > r_sat ? S.Fc : S.at_scaled(r);
     }
-  } else if (S.delta == 1.0) {
-    for (std::size_t j = 0; j < m; ++j) tmp_[j] = std::abs(path.v[j]) * inv_vs;
-  } else {
-    const double lvs = std::log(S.Vs);
-    for (std::size_t j = 0; j < m; ++j) S_[j] = S.delta * (path.log_abs_v[j] - lvs);
-    exp_kernel(S_.data(), tmp_.data(), m, 1.0);  // exp(-inf) = 0 at v = 0
   }
-  exp_kernel(tmp_.data(), S_.data(), m, -1.0);
-  const double gap = S.Fs - S.Fc;
+  // Relaxation exp(-C h / S): consecutive steps of the same h and S (sliding beyond the Stribeck
+  // region at a fixed sample step) share it.
+  double last_x = -1.0, last_e = 0.0;
   for (std::size_t j = 0; j < m; ++j) {
-    S_[j] = S.Fc + gap * S_[j];
-    tmp_[j] = C * path.h[j] / S_[j];
+    const double x = C * path.h[j] / S_[j];
+    if (x != last_x) last_x = x, last_e = exp_neg(x);
+    E_[j] = last_e;
   }
-  exp_kernel(tmp_.data(), E_.data(), m, -1.0);
 }
 
 namespace {

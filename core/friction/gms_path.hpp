@@ -3,11 +3,10 @@
 // Along a prescribed path of steps (v_j, h_j) - the motion does not depend on the force - the
 // Stribeck level S_j = S(v_j) and a slipping element's relaxation E_j = exp(-C h_j / S_j) depend
 // on the shape (Fs, Fc, Vs, delta, C) and the path only, not on the elements. GmsPathRunner
-// computes them for all steps at once, in vectorisable loops (|v|^delta as exp(delta ln|v|) with
-// ln|v| taken once per path; a polynomial exp), and then runs the element recursion with no
-// transcendental function in it. The element arithmetic is that of GmsModel::step (same stick,
-// break-away and slip updates); S and E agree with GmsModel's to a few ulp (exp_neg_n), so the
-// element forces agree to ~1e-15 relative (tests/core/gms_path_test.cpp).
+// computes them once per shape for all steps (and keeps them while only the elements change),
+// then runs the element recursion with no transcendental function in it and no virtual call per
+// step. Every operation is GmsModel::step's, in its order: the results are bit-identical to
+// stepping a GmsModel (tests/core/gms_path_test.cpp), so a fit takes the same path as before.
 #pragma once
 
 #include <cstdint>
@@ -18,15 +17,10 @@
 
 namespace gmslab {
 
-// exp(-x[i]) for x[i] >= 0 (NaN propagates): within 2 ulp of std::exp(-x) for x <= 708, 0 beyond
-// (std::exp gives at most 3e-308 there). Vectorised (AVX2 clone chosen at load time).
-void exp_neg_n(std::span<const double> x, std::span<double> out);
-
-// A prescribed path: the steps of sample k (k >= 1) are [first[k - 1], first[k]) (sample 0 has
-// none: it is the initial state). Shape-independent, built once per record.
+// A prescribed path: the steps of sample k >= 1 are [last[k - 2], last[k - 1]) (from 0 for k = 1;
+// sample 0 has none: it is the initial state). Shape-independent, built once per record.
 struct GmsPath {
   std::vector<double> v, h;        // per step [m/s], [s]
-  std::vector<double> log_abs_v;   // ln|v| per step (-inf at v = 0)
   std::vector<std::uint32_t> last; // per sample k >= 1: one past its last step (size samples - 1)
   std::size_t samples = 0;
 
@@ -37,7 +31,9 @@ struct GmsPath {
 
 class GmsPathRunner {
  public:
-  // S_j and E_j for every step of `path` (the shape S, attraction C [N/s]).
+  // S_j and E_j for every step of `path` (the shape S, attraction C [N/s]). Kept from the last
+  // call when the path (same object, same steps) and the shape are the same: S_j also when only
+  // C changed. A path changed in place must be prepared by a fresh runner.
   void prepare(const Stribeck& S, double C, const GmsPath& path);
 
   // Runs elements (alpha_i, k_i [N/m], sigma_i / k_i [s]) from rest along the prepared path.
@@ -50,7 +46,11 @@ class GmsPathRunner {
            double scale, double* element_rows, std::span<double> total) const;
 
  private:
-  std::vector<double> S_, E_, tmp_;
+  std::vector<double> S_, E_;
+  const GmsPath* path_ = nullptr;  // what S_ and E_ were computed for
+  std::size_t steps_ = 0;
+  Stribeck shape_;
+  double C_ = 0.0;
 };
 
 }  // namespace gmslab
