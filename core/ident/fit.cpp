@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/friction/gms_path.hpp"
 #include "core/ident/element_fit.hpp"
+#include "core/ident/parallel.hpp"
 
 namespace gmslab::ident {
 
@@ -426,9 +427,11 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       // From the warm start, and with the element table chosen afresh on the grid at the warm
       // shape: a new effect can free the table from what it had bent itself into (e.g. a soft
       // element standing in for an offset).
-      FitResult w = polish_elements(spec, train, c, o, *warm);
-      if (!o.data_start) return w;
-      FitResult g = regrid_elements(spec, train, c, o, *warm);
+      if (!o.data_start) return polish_elements(spec, train, c, o, *warm);
+      FitResult w, g;
+      const FitOptions po = serialised_progress(o);
+      run_both([&] { g = regrid_elements(spec, train, c, po, *warm); },
+               [&] { w = polish_elements(spec, train, c, po, *warm); });
       const int evals = w.evaluations + g.evaluations;
       FitResult& best = g.rms_train < w.rms_train ? g : w;
       best.evaluations = evals;
@@ -436,8 +439,12 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     }
   }
   std::optional<FitResult> frozen;
-  if (has_linear_elements(spec.model) && spec.elements > 0 && warm &&
-      warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
+  const bool with_frozen = has_linear_elements(spec.model) && spec.elements > 0 && warm &&
+                           warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
+  const FitOptions& oo = o;
+  const FitOptions po = with_frozen ? serialised_progress(oo) : oo;
+  auto frozen_polish = [&] {
+    if (!with_frozen) return;
     // Effects that multiply the friction (g columns): the element polish with g frozen at the
     // warm shape (a stand-in that moves little when an effect is added; its final linear solve,
     // refit_linear, uses the true g), competing with the shape search below from the warm start.
@@ -446,16 +453,22 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     wr.u = *warm;
     EffectContext cg = c;
     cg.g_frozen = unit_friction(wr, train, c);
-    frozen = polish_elements(spec, train, cg, o, *warm);
-  }
+    frozen = polish_elements(spec, train, cg, po, *warm);
+  };
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);
   const std::size_t n = par.size();
   std::vector<double> best_u = par.initial();
   Eigen::VectorXd best_th;
-  double best = ev.cost(best_u, &best_th);
+  double best = 0;
   int evals = 1;
+  bool time_limited = false;
+  int budget = 0;
+  // The shape search (below) and the frozen-g polish are independent: on two threads.
+  auto shape_search = [&] {
+  const FitOptions& o = po;
+  best = ev.cost(best_u, &best_th);
   // Start points: the warm start (if any), the data-based guess, then jittered copies of the
   // first; finally a polishing restart from the best point found.
   std::vector<std::vector<double>> starts;
@@ -470,9 +483,8 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   }
   const int total = static_cast<int>(starts.size()) + 1;
   const auto t_start = std::chrono::steady_clock::now();
-  bool time_limited = false;
   const int polish_evaluations = std::max(100, o.max_evaluations / 3);
-  const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
+  budget = (total - 1) * o.max_evaluations + polish_evaluations;
   for (int s = 0; s < total && n > 0; ++s) {
     std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
@@ -527,6 +539,10 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     if (o.cancel && o.cancel->load()) throw Cancelled();
   }
   best = ev.cost(best_u, &best_th);
+  };
+  if (with_frozen) run_both(frozen_polish, shape_search);
+  else shape_search();
+  if (o.cancel && o.cancel->load()) throw Cancelled();
   if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
   FitResult r = make_result(spec, par, ev, best_u, best_th, best, evals);
   r.time_limited = time_limited;
