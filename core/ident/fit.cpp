@@ -438,37 +438,18 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       return best;
     }
   }
-  std::optional<FitResult> frozen;
+  // Effects that multiply the friction (g columns) on an element model with a warm start: the
+  // element polish with g frozen at the warm shape (a stand-in that moves little when an effect is
+  // added; its final linear solve, refit_linear, uses the true g), competing with the shape search.
   const bool with_frozen = has_linear_elements(spec.model) && spec.elements > 0 && warm &&
                            warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
-  const FitOptions& oo = o;
-  const FitOptions po = with_frozen ? serialised_progress(oo) : oo;
-  auto frozen_polish = [&] {
-    if (!with_frozen) return;
-    // Effects that multiply the friction (g columns): the element polish with g frozen at the
-    // warm shape (a stand-in that moves little when an effect is added; its final linear solve,
-    // refit_linear, uses the true g), competing with the shape search below from the warm start.
-    FitResult wr;
-    wr.spec = spec;
-    wr.u = *warm;
-    EffectContext cg = c;
-    cg.g_frozen = unit_friction(wr, train, c);
-    frozen = polish_elements(spec, train, cg, po, *warm);
-  };
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);
   const std::size_t n = par.size();
   std::vector<double> best_u = par.initial();
   Eigen::VectorXd best_th;
-  double best = 0;
-  int evals = 1;
-  bool time_limited = false;
-  int budget = 0;
-  // The shape search (below) and the frozen-g polish are independent: on two threads.
-  auto shape_search = [&] {
-  const FitOptions& o = po;
-  best = ev.cost(best_u, &best_th);
+  double best = ev.cost(best_u, &best_th);
   // Start points: the warm start (if any), the data-based guess, then jittered copies of the
   // first; finally a polishing restart from the best point found.
   std::vector<std::vector<double>> starts;
@@ -484,65 +465,100 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   const int total = static_cast<int>(starts.size()) + 1;
   const auto t_start = std::chrono::steady_clock::now();
   const int polish_evaluations = std::max(100, o.max_evaluations / 3);
-  budget = (total - 1) * o.max_evaluations + polish_evaluations;
-  for (int s = 0; s < total && n > 0; ++s) {
-    std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
+  const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
+  const FitOptions so = serialised_progress(o);
+  // One local search from x with evaluator e: the first best point it saw (as one shared search
+  // over all starts would keep it), its evaluations, whether it hit the time budget.
+  struct Run {
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<double> best_u;
+    int evals = 0;
+    bool time_limited = false;
+  };
+  auto local_search = [&](Evaluator& e, std::vector<double> x, bool polish, const std::string& stage) {
+    Run run;
+    if (n == 0) return run;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
     if (o.max_seconds > 0) {
       const double left =
           o.max_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
       if (left <= 0) {
-        time_limited = true;
-        break;
+        run.time_limited = true;
+        return run;
       }
       opt.set_maxtime(left);
     }
     opt.set_lower_bounds(std::vector<double>(n, 0.0));
     opt.set_upper_bounds(std::vector<double>(n, 1.0));
-    opt.set_maxeval(s + 1 < total ? o.max_evaluations : polish_evaluations);
+    opt.set_maxeval(polish ? polish_evaluations : o.max_evaluations);
     opt.set_ftol_rel(o.rel_tol);
-    opt.set_initial_step(std::vector<double>(n, s + 1 < total ? 0.1 : 0.03));
-    int local = 0;
+    opt.set_initial_step(std::vector<double>(n, polish ? 0.03 : 0.1));
     struct Ctx {
       Evaluator* ev;
       const FitOptions* o;
-      double* best;
-      std::vector<double>* best_u;
-      int* evals;
-      int* local;
+      Run* run;
       int budget;
-      std::string stage;
-    } ctx{&ev, &o, &best, &best_u, &evals, &local, budget,
-          o.stage + (s + 1 < total ? ", start " + std::to_string(s + 1) + "/" +
-                                         std::to_string(total - 1)
-                                   : ", polish")};
+      const std::string* stage;
+    } ctx{&e, &so, &run, budget, &stage};
     opt.set_min_objective(
         [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
           auto& cx = *static_cast<Ctx*>(p);
           if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
           const double f = cx.ev->cost(u);
-          ++*cx.evals;
-          ++*cx.local;
-          if (f < *cx.best) *cx.best = f, *cx.best_u = u;
-          if (cx.o->progress && *cx.local % 25 == 0) cx.o->progress({cx.stage, *cx.evals, *cx.best, cx.budget});
+          ++cx.run->evals;
+          if (f < cx.run->best) cx.run->best = f, cx.run->best_u = u;
+          if (cx.o->progress && cx.run->evals % 25 == 0)
+            cx.o->progress({*cx.stage, cx.run->evals, cx.run->best, cx.budget});
           return f;
         },
         &ctx);
     double f = 0;
     try {
-      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) time_limited = true;
+      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) run.time_limited = true;
     } catch (const nlopt::forced_stop&) {
     } catch (const Error&) {
       throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
     } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();
+    return run;
+  };
+  // The frozen-g polish and the starts are independent searches: on two workers (parallel.hpp),
+  // each with its own evaluator; merged in the order one thread would have run them.
+  std::optional<FitResult> frozen;
+  const std::size_t first_start = with_frozen ? 1 : 0;
+  const std::size_t tasks = first_start + (n > 0 ? starts.size() : 0);
+  std::vector<Run> runs(starts.size());
+  std::optional<Evaluator> ev2;
+  if (tasks >= 2 && t_parallel_depth == 0 && n > 0) ev2.emplace(spec, par, train, c);
+  run_tasks(tasks, [&](std::size_t t, int worker) {
+    if (t < first_start) {
+      FitResult wr;
+      wr.spec = spec;
+      wr.u = *warm;
+      EffectContext cg = c;
+      cg.g_frozen = unit_friction(wr, train, c);
+      frozen = polish_elements(spec, train, cg, so, *warm);
+      return;
+    }
+    const std::size_t s = t - first_start;
+    runs[s] = local_search(worker == 1 ? *ev2 : ev, starts[s], false,
+                           o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(total - 1));
+  });
+  int evals = 1;
+  bool time_limited = false;
+  for (const auto& run : runs) {
+    evals += run.evals;
+    time_limited |= run.time_limited;
+    if (run.best < best) best = run.best, best_u = run.best_u;
+  }
+  if (n > 0 && !time_limited) {
+    const Run run = local_search(ev, best_u, true, o.stage + ", polish");
+    evals += run.evals;
+    time_limited |= run.time_limited;
+    if (run.best < best) best = run.best, best_u = run.best_u;
   }
   best = ev.cost(best_u, &best_th);
-  };
-  if (with_frozen) run_both(frozen_polish, shape_search);
-  else shape_search();
-  if (o.cancel && o.cancel->load()) throw Cancelled();
   if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
   FitResult r = make_result(spec, par, ev, best_u, best_th, best, evals);
   r.time_limited = time_limited;

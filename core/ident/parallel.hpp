@@ -7,6 +7,7 @@
 // the calling thread (two cores; more threads would only compete).
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <future>
 #include <memory>
@@ -41,6 +42,27 @@ void run_both(A&& a, B&& b) {
   }
   --t_parallel_depth;
   fut.get();
+}
+
+// fn(task, worker) for task = 0 .. count - 1 on two workers (0: this thread, 1: a second one),
+// each taking the next task when free; inside a parallel section all on this thread (worker 0).
+// fn must not depend on the order the tasks run in.
+template <class F>
+void run_tasks(std::size_t count, F&& fn) {
+  if (t_parallel_depth > 0 || count < 2) {
+    for (std::size_t i = 0; i < count; ++i) fn(i, 0);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  auto worker = [&](int w) {
+    try {
+      for (std::size_t i; (i = next++) < count;) fn(i, w);
+    } catch (...) {
+      next = count;  // the other worker stops after its task
+      throw;
+    }
+  };
+  run_both([&] { worker(1); }, [&] { worker(0); });
 }
 
 // The options with a progress callback that two threads may call (one at a time).
