@@ -7,8 +7,11 @@
 #include <nlopt.hpp>
 #include <functional>
 #include <numeric>
+#include <optional>
 
 #include "core/error.hpp"
+#include "core/friction/gms_path.hpp"
+#include "core/ident/parallel.hpp"
 
 namespace gmslab::ident {
 
@@ -188,9 +191,20 @@ class ElementEvaluator {
     } catch (const SimulationError&) {
       return false;
     }
+    E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
+    if (a >= 0) {
+      // GMS: the Stribeck level and relaxation of every step once for all K elements, then the
+      // element recursion (GmsPathRunner); the same element forces as GmsModel::step.
+      if (path_.samples != d_.size()) path_ = gms_path(d_);
+      const GmsParams gp = GmsParams::from(m);
+      runner_.prepare(gp.S, gp.C, path_);
+      const std::vector<double> sk(K, 0.0);  // no micro-damping in the unit elements
+      runner_.run(path_, gp.alpha, gp.k, sk, 0.0, row_of_, scale, E_.data(), {});
+      if (row_of_[0] >= 0) E_.row(row_of_[0]).setZero();
+      return E_.allFinite();
+    }
     std::vector<double> state(model->state_size());
     model->reset(state);
-    E_.resize(static_cast<Eigen::Index>(rows_.size()), static_cast<Eigen::Index>(K));
     for (std::size_t t = 1; t < d_.size(); ++t) {
       for_each_step(d_, t, [&](double v, double h) { model->step(state, {v, h, 0.0, 0.0}); });
       const long r = row_of_[t];
@@ -241,6 +255,8 @@ class ElementEvaluator {
   std::vector<long> row_of_;
   Eigen::VectorXd y_, bf_;
   RowMat E_;
+  GmsPath path_;
+  GmsPathRunner runner_;
   Eigen::MatrixXd Af_, Gff_;
   std::vector<bool> fixed_nonneg_;
   double yy_ = 0;
@@ -394,12 +410,22 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
       if (i == ns) break;
     }
   }
-  std::vector<std::pair<double, std::size_t>> scored;
-  for (std::size_t i = 0; i < cands.size(); ++i) {
-    if (o.cancel && o.cancel->load()) throw Cancelled();
-    scored.push_back({ev.cost(cands[i], g.kappa), i});
-    ++search.evals;
-  }
+  // The design points and then the starts on two threads when no parallel section is open
+  // (parallel.hpp): every start is its own BOBYQA run, so the results are those of one thread.
+  const bool two = t_parallel_depth == 0;
+  std::optional<ElementEvaluator> ev2;
+  if (two) ev2.emplace(spec, train, c, kGridRows);
+  const FitOptions po = serialised_progress(o);
+  std::vector<std::pair<double, std::size_t>> scored(cands.size());
+  auto score = [&](ElementEvaluator& e, std::size_t from, std::size_t stride) {
+    for (std::size_t i = from; i < cands.size(); i += stride) {
+      if (o.cancel && o.cancel->load()) throw Cancelled();
+      scored[i] = {e.cost(cands[i], g.kappa), i};
+    }
+  };
+  if (two) run_both([&] { score(*ev2, 1, 2); }, [&] { score(ev, 0, 2); });
+  else score(ev, 0, 1);
+  search.evals += static_cast<int>(cands.size());
   std::sort(scored.begin(), scored.end());
   double best = scored.front().first;
   std::vector<double> best_u = cands[scored.front().second];
@@ -422,14 +448,37 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   }
   if (first > 0 && !chosen.empty()) best = std::numeric_limits<double>::infinity(), best_u = cands[chosen.front()];
   const int starts = static_cast<int>(chosen.size());
-  for (int s = 0; s < starts; ++s) {
-    std::vector<double> x = cands[chosen[static_cast<std::size_t>(s)]];
-    auto f = [&](const std::vector<double>& u) { return ev.cost(u, g.kappa); };
-    if (search.time_limited) break;
-    const double v = search.run(f, x, o.max_evaluations / 2, 0.1,
-                                o.stage + ", grid start " + std::to_string(s + 1) + "/" + std::to_string(starts));
-    if (v < best) best = v, best_u = x;
+  struct StartResult {
+    double v = std::numeric_limits<double>::infinity();
+    std::vector<double> x;
+    bool ran = false;
+  };
+  std::vector<StartResult> res(static_cast<std::size_t>(starts));
+  // Thread `from` runs starts from, from + stride, ...; each with its own evaluator and search.
+  auto run_starts = [&](ElementEvaluator& e, int from, int stride, Search& se) {
+    for (int s = from; s < starts; s += stride) {
+      std::vector<double> x = cands[chosen[static_cast<std::size_t>(s)]];
+      auto f = [&](const std::vector<double>& u) { return e.cost(u, g.kappa); };
+      if (se.time_limited) break;
+      auto& r = res[static_cast<std::size_t>(s)];
+      r.v = se.run(f, x, o.max_evaluations / 2, 0.1,
+                   o.stage + ", grid start " + std::to_string(s + 1) + "/" + std::to_string(starts));
+      r.x = std::move(x);
+      r.ran = true;
+    }
+  };
+  if (two && starts > 1) {
+    Search s0{po, g.started}, s1{po, g.started};
+    s0.budget = s1.budget = g.budget;
+    s0.evals = s1.evals = search.evals;
+    run_both([&] { run_starts(*ev2, 1, 2, s1); }, [&] { run_starts(ev, 0, 2, s0); });
+    search.evals = s0.evals + s1.evals - search.evals;
+    search.time_limited = s0.time_limited || s1.time_limited;
+  } else {
+    run_starts(ev, 0, 1, search);
   }
+  for (const auto& r : res)
+    if (r.ran && r.v < best) best = r.v, best_u = r.x;
   finish_grid(ev, best_u, g);
   g.evaluations = search.evals;
   return g;

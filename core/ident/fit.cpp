@@ -10,7 +10,9 @@
 #include <random>
 
 #include "core/error.hpp"
+#include "core/friction/gms_path.hpp"
 #include "core/ident/element_fit.hpp"
+#include "core/ident/parallel.hpp"
 
 namespace gmslab::ident {
 
@@ -206,6 +208,26 @@ void simulate_along(const FrictionModel& m, const Dataset& d, std::vector<double
     for_each_step(d, k, [&](double v, double h) { out[k] = m.step(state, {v, h, 0.0, 0.0}); });
 }
 
+GmsPath gms_path(const Dataset& d) {
+  GmsPath p;
+  p.samples = 1;
+  for (std::size_t k = 1; k < d.size(); ++k) {
+    for_each_step(d, k, [&](double v, double h) { p.add_step(v, h); });
+    p.end_sample();
+  }
+  if (d.size() == 0) p.samples = 0;
+  return p;
+}
+
+void simulate_gms_along(const GmsParams& g, const GmsPath& p, GmsPathRunner& runner,
+                        std::vector<double>& out) {
+  out.assign(p.samples, 0.0);
+  runner.prepare(g.S, g.C, p);
+  std::vector<double> sk(g.k.size());
+  for (std::size_t i = 0; i < sk.size(); ++i) sk[i] = g.sigma[i] / g.k[i];
+  runner.run(p, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, out);
+}
+
 namespace {
 
 struct Term {
@@ -264,14 +286,14 @@ class Evaluator {
     const std::size_t n = d_.size();
     try {
       auto mp = par_.unit_model(u);
-      simulate_along(*build_model(mp), d_, g);
+      sim(mp, g);
       if (needs_sensitivity_) {
         std::vector<double> g2;
         const auto fs = model_info(mp.model).scalar_index("Fs");
         if (fs >= 0) {
           const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
           mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
-          simulate_along(*build_model(mp), d_, g2);
+          sim(mp, g2);
           for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
         } else {
           g2 = g;
@@ -338,6 +360,14 @@ class Evaluator {
 
  private:
   double bad() const { return 2.0 * null_rms() + 1.0; }
+  // The model along the record: GMS through the path runner (the record's path built at the
+  // first GMS simulation), other models step by step.
+  void sim(const ModelParams& mp, std::vector<double>& out) const {
+    const auto model = build_model(mp);  // validates the parameters (throws on a bad shape)
+    if (mp.model != "gms") return simulate_along(*model, d_, out);
+    if (path_.samples != d_.size()) path_ = gms_path(d_);
+    simulate_gms_along(GmsParams::from(mp), path_, runner_, out);
+  }
   void gather(const std::vector<double>& full, Eigen::Ref<Eigen::VectorXd> out) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) out(static_cast<Eigen::Index>(i)) = full[rows_[i]];
   }
@@ -353,6 +383,8 @@ class Evaluator {
   double yy_ = 0;
   std::vector<double> g_;
   bool needs_sensitivity_ = false;
+  mutable GmsPath path_;
+  mutable GmsPathRunner runner_;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -395,28 +427,22 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       // From the warm start, and with the element table chosen afresh on the grid at the warm
       // shape: a new effect can free the table from what it had bent itself into (e.g. a soft
       // element standing in for an offset).
-      FitResult w = polish_elements(spec, train, c, o, *warm);
-      if (!o.data_start) return w;
-      FitResult g = regrid_elements(spec, train, c, o, *warm);
+      if (!o.data_start) return polish_elements(spec, train, c, o, *warm);
+      FitResult w, g;
+      const FitOptions po = serialised_progress(o);
+      run_both([&] { g = regrid_elements(spec, train, c, po, *warm); },
+               [&] { w = polish_elements(spec, train, c, po, *warm); });
       const int evals = w.evaluations + g.evaluations;
       FitResult& best = g.rms_train < w.rms_train ? g : w;
       best.evaluations = evals;
       return best;
     }
   }
-  std::optional<FitResult> frozen;
-  if (has_linear_elements(spec.model) && spec.elements > 0 && warm &&
-      warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
-    // Effects that multiply the friction (g columns): the element polish with g frozen at the
-    // warm shape (a stand-in that moves little when an effect is added; its final linear solve,
-    // refit_linear, uses the true g), competing with the shape search below from the warm start.
-    FitResult wr;
-    wr.spec = spec;
-    wr.u = *warm;
-    EffectContext cg = c;
-    cg.g_frozen = unit_friction(wr, train, c);
-    frozen = polish_elements(spec, train, cg, o, *warm);
-  }
+  // Effects that multiply the friction (g columns) on an element model with a warm start: the
+  // element polish with g frozen at the warm shape (a stand-in that moves little when an effect is
+  // added; its final linear solve, refit_linear, uses the true g), competing with the shape search.
+  const bool with_frozen = has_linear_elements(spec.model) && spec.elements > 0 && warm &&
+                           warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
   const auto alg = algorithm_of(o.method);
@@ -424,7 +450,6 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   std::vector<double> best_u = par.initial();
   Eigen::VectorXd best_th;
   double best = ev.cost(best_u, &best_th);
-  int evals = 1;
   // Start points: the warm start (if any), the data-based guess, then jittered copies of the
   // first; finally a polishing restart from the best point found.
   std::vector<std::vector<double>> starts;
@@ -439,61 +464,99 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   }
   const int total = static_cast<int>(starts.size()) + 1;
   const auto t_start = std::chrono::steady_clock::now();
-  bool time_limited = false;
   const int polish_evaluations = std::max(100, o.max_evaluations / 3);
   const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
-  for (int s = 0; s < total && n > 0; ++s) {
-    std::vector<double> x = s + 1 < total ? starts[static_cast<std::size_t>(s)] : best_u;
+  const FitOptions so = serialised_progress(o);
+  // One local search from x with evaluator e: the first best point it saw (as one shared search
+  // over all starts would keep it), its evaluations, whether it hit the time budget.
+  struct Run {
+    double best = std::numeric_limits<double>::infinity();
+    std::vector<double> best_u;
+    int evals = 0;
+    bool time_limited = false;
+  };
+  auto local_search = [&](Evaluator& e, std::vector<double> x, bool polish, const std::string& stage) {
+    Run run;
+    if (n == 0) return run;
     nlopt::opt opt(alg, static_cast<unsigned>(n));
     if (o.max_seconds > 0) {
       const double left =
           o.max_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
       if (left <= 0) {
-        time_limited = true;
-        break;
+        run.time_limited = true;
+        return run;
       }
       opt.set_maxtime(left);
     }
     opt.set_lower_bounds(std::vector<double>(n, 0.0));
     opt.set_upper_bounds(std::vector<double>(n, 1.0));
-    opt.set_maxeval(s + 1 < total ? o.max_evaluations : polish_evaluations);
+    opt.set_maxeval(polish ? polish_evaluations : o.max_evaluations);
     opt.set_ftol_rel(o.rel_tol);
-    opt.set_initial_step(std::vector<double>(n, s + 1 < total ? 0.1 : 0.03));
-    int local = 0;
+    opt.set_initial_step(std::vector<double>(n, polish ? 0.03 : 0.1));
     struct Ctx {
       Evaluator* ev;
       const FitOptions* o;
-      double* best;
-      std::vector<double>* best_u;
-      int* evals;
-      int* local;
+      Run* run;
       int budget;
-      std::string stage;
-    } ctx{&ev, &o, &best, &best_u, &evals, &local, budget,
-          o.stage + (s + 1 < total ? ", start " + std::to_string(s + 1) + "/" +
-                                         std::to_string(total - 1)
-                                   : ", polish")};
+      const std::string* stage;
+    } ctx{&e, &so, &run, budget, &stage};
     opt.set_min_objective(
         [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
           auto& cx = *static_cast<Ctx*>(p);
           if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
           const double f = cx.ev->cost(u);
-          ++*cx.evals;
-          ++*cx.local;
-          if (f < *cx.best) *cx.best = f, *cx.best_u = u;
-          if (cx.o->progress && *cx.local % 25 == 0) cx.o->progress({cx.stage, *cx.evals, *cx.best, cx.budget});
+          ++cx.run->evals;
+          if (f < cx.run->best) cx.run->best = f, cx.run->best_u = u;
+          if (cx.o->progress && cx.run->evals % 25 == 0)
+            cx.o->progress({*cx.stage, cx.run->evals, cx.run->best, cx.budget});
           return f;
         },
         &ctx);
     double f = 0;
     try {
-      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) time_limited = true;
+      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) run.time_limited = true;
     } catch (const nlopt::forced_stop&) {
     } catch (const Error&) {
       throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
     } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();
+    return run;
+  };
+  // The frozen-g polish and the starts are independent searches: on two workers (parallel.hpp),
+  // each with its own evaluator; merged in the order one thread would have run them.
+  std::optional<FitResult> frozen;
+  const std::size_t first_start = with_frozen ? 1 : 0;
+  const std::size_t tasks = first_start + (n > 0 ? starts.size() : 0);
+  std::vector<Run> runs(starts.size());
+  std::optional<Evaluator> ev2;
+  if (tasks >= 2 && t_parallel_depth == 0 && n > 0) ev2.emplace(spec, par, train, c);
+  run_tasks(tasks, [&](std::size_t t, int worker) {
+    if (t < first_start) {
+      FitResult wr;
+      wr.spec = spec;
+      wr.u = *warm;
+      EffectContext cg = c;
+      cg.g_frozen = unit_friction(wr, train, c);
+      frozen = polish_elements(spec, train, cg, so, *warm);
+      return;
+    }
+    const std::size_t s = t - first_start;
+    runs[s] = local_search(worker == 1 ? *ev2 : ev, starts[s], false,
+                           o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(total - 1));
+  });
+  int evals = 1;
+  bool time_limited = false;
+  for (const auto& run : runs) {
+    evals += run.evals;
+    time_limited |= run.time_limited;
+    if (run.best < best) best = run.best, best_u = run.best_u;
+  }
+  if (n > 0 && !time_limited) {
+    const Run run = local_search(ev, best_u, true, o.stage + ", polish");
+    evals += run.evals;
+    time_limited |= run.time_limited;
+    if (run.best < best) best = run.best, best_u = run.best_u;
   }
   best = ev.cost(best_u, &best_th);
   if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
@@ -524,7 +587,14 @@ std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectCo
 std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c) {
   const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
   std::vector<double> g(d.size(), 0.0);
-  simulate_along(*build_model(par.unit_model(r.u)), d, g);
+  const auto mp = par.unit_model(r.u);
+  const auto model = build_model(mp);
+  if (mp.model == "gms") {  // as the fit's Evaluator simulates it
+    GmsPathRunner runner;
+    simulate_gms_along(GmsParams::from(mp), gms_path(d), runner, g);
+  } else {
+    simulate_along(*model, d, g);
+  }
   return g;  // the unit output only (no sensitivity)
 }
 

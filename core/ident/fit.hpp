@@ -33,6 +33,12 @@
 #include "core/ident/dataset.hpp"
 #include "core/ident/effects.hpp"
 
+namespace gmslab {
+struct GmsParams;
+struct GmsPath;
+class GmsPathRunner;
+}  // namespace gmslab
+
 namespace gmslab::ident {
 
 class Cancelled : public std::runtime_error {
@@ -128,6 +134,13 @@ struct FitResult {
 
 // Simulates the friction model along the record's motion (prescribed): out[k] = force at t[k].
 void simulate_along(const FrictionModel& m, const Dataset& d, std::vector<double>& out);
+// The record's steps (for_each_step) as a GmsPath (core/friction/gms_path.hpp), built once per
+// record for the many GMS simulations of a fit.
+GmsPath gms_path(const Dataset& d);
+// simulate_along for a GMS model (sigma_i, sigma2 included) through GmsPathRunner: the Stribeck
+// level and relaxation of every step at once, then the elements (same output to ~1e-15).
+void simulate_gms_along(const GmsParams& g, const GmsPath& p, GmsPathRunner& runner,
+                        std::vector<double>& out);
 
 // Fits spec to train. `warm` (unit-box shape of a previous fit of the same model) replaces the
 // data-based first start. Throws Cancelled, InputError (model unknown / element count).

@@ -1,0 +1,103 @@
+// GmsPathRunner (core/friction/gms_path.hpp) must be GmsModel along a prescribed path: the same
+// total force (GmsModel::step's return) and element forces after every sample, on random paths
+// (sinusoids, reversals inside sub-stepped samples, rests, constant-speed strokes) with random
+// GMS parameters (1-40 elements: the scalar and the vectorised element loops; delta 2 and others),
+// against the model stepped one step at a time: bit for bit (the same operations in the same
+// order), also when the runner is prepared again for only a new C or for the same shape.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/friction/gms_path.hpp"
+
+namespace gmslab {
+namespace {
+
+// A random path: a sum of two sinusoids with rests and strokes; every tenth sample in 16 parts
+// around a reversal-like sign change, others in 1..3 parts.
+GmsPath random_path(std::mt19937& rng, std::vector<std::pair<double, double>>& steps,
+                    std::vector<std::size_t>& last) {
+  std::uniform_real_distribution<double> U(0, 1);
+  const double amp = std::pow(10.0, -6 + 4 * U(rng));  // 1 um .. 10 mm
+  const double f1 = 0.2 + 3 * U(rng), f2 = 5 + 20 * U(rng), h = std::pow(10.0, -4 + 1.5 * U(rng));
+  GmsPath p;
+  p.samples = 1;
+  double t = 0;
+  for (int k = 1; k < 1500; ++k) {
+    const int parts = k % 10 == 0 ? 16 : 1 + static_cast<int>(3 * U(rng));
+    for (int j = 0; j < parts; ++j) {
+      const double hj = h / parts;
+      double v = amp * (f1 * std::cos(f1 * t) + 0.3 * f2 * std::sin(f2 * t));
+      if (k % 300 < 40) v = 0.0;                          // a rest
+      if (k % 300 >= 200 && k % 300 < 240) v = amp * f1;  // a stroke
+      steps.push_back({v, hj});
+      p.add_step(v, hj);
+      t += hj;
+    }
+    p.end_sample();
+    last.push_back(steps.size());
+  }
+  return p;
+}
+
+TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
+  std::mt19937 rng(20261125);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::size_t slipping = 0, sticking = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    std::vector<std::pair<double, double>> steps;
+    std::vector<std::size_t> last;
+    const GmsPath path = random_path(rng, steps, last);
+    GmsParams g;
+    g.S.Fc = std::pow(10.0, -1 + 3 * U(rng));
+    g.S.Fs = g.S.Fc * (1 + 1.5 * U(rng));
+    g.S.Vs = std::pow(10.0, -4 + 2 * U(rng));
+    g.S.delta = trial % 3 == 0 ? 2.0 : trial % 3 == 1 ? 1.0 : 0.5 + 2 * U(rng);
+    g.C = g.S.Fs * std::pow(10.0, 1 + 3 * U(rng));
+    g.sigma2 = trial % 2 ? 0.0 : g.S.Fc * U(rng);
+    const std::size_t n = trial % 4 == 0 ? 1 + trial % 7 : 9 + static_cast<std::size_t>(30 * U(rng));
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      g.alpha.push_back(0.1 + U(rng));
+      sum += g.alpha.back();
+      const double x_ba = std::pow(10.0, -7 + 3.5 * U(rng));
+      g.k.push_back(g.S.Fc / x_ba);
+      g.sigma.push_back(trial % 2 ? 0.0 : 1e-4 * g.k.back() * U(rng));
+    }
+    for (auto& a : g.alpha) a /= sum;
+    for (std::size_t i = 0; i < n; ++i) g.k[i] *= g.alpha[i];
+    const GmsModel model(g.to_params());
+    GmsPathRunner runner;
+    // A stale preparation first (another shape, then another C): what prepare keeps must not leak.
+    Stribeck other = g.S;
+    other.Vs *= 1.7;
+    runner.prepare(other, g.C, path);
+    runner.prepare(g.S, 2.0 * g.C, path);
+    runner.prepare(g.S, g.C, path);
+    runner.prepare(g.S, g.C, path);
+    std::vector<double> sk(n);
+    for (std::size_t i = 0; i < n; ++i) sk[i] = g.sigma[i] / g.k[i];
+    std::vector<long> rows(path.samples);
+    for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = static_cast<long>(k);
+    std::vector<double> elems(path.samples * n, -1.0), total(path.samples);
+    runner.run(path, g.alpha, g.k, sk, g.sigma2, rows, 2.0, elems.data(), total);
+    std::vector<double> state(model.state_size());
+    model.reset(state);
+    std::size_t j = 0;
+    for (std::size_t k = 1; k < path.samples; ++k) {
+      double f = 0;
+      for (; j < last[k - 1]; ++j) f = model.step(state, {steps[j].first, steps[j].second, 0.0, 0.0});
+      ASSERT_EQ(total[k], f) << "trial " << trial << " sample " << k;
+      for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(elems[k * n + i], 2.0 * state[i]) << "trial " << trial << " sample " << k << " element " << i;
+        (state[n + i] != 0.0 ? slipping : sticking) += 1;
+      }
+    }
+  }
+  EXPECT_GT(slipping, 1000u);
+  EXPECT_GT(sticking, 1000u);
+}
+
+}  // namespace
+}  // namespace gmslab
