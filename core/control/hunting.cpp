@@ -88,56 +88,115 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
                        " rad/s is too slow for the plant's stiffest mode (more than 2e6 steps per period)");
     n = std::max(n, static_cast<int>(need));
   }
+  n += n % 2;
+  const int nh = n / 2;
   const double h = T / n, m = pl.mass, k = pl.spring, c = pl.damper;
   const double decay = std::exp(-fp.a * h), gain = fp.a > 0.0 ? (1.0 - decay) / fp.a : h;
   std::vector<double> st(f.state_size());
-  f.reset(st);
-  // Start where a stick-slip cycle starts its rise: the drive at its trough (phase -90 deg), the
-  // mass at rest at the low stick level of the ideal cycle, (C_f(0) + k) x0 = -(Fs - F_slide)
-  // (F_slide: the lowest steady sliding force; the offset a symmetric Coulomb slip leaves). A
-  // drive too weak to break away from there ends stuck (P = 0).
-  const cplx jw(0.0, w), U1(0.0, -A * first_harmonic_of(o.wave));
-  const double k0 = fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0) + k;
-  double f_slide = f.break_away();
-  for (int i = 0; i <= 24; ++i) f_slide = std::min(f_slide, f.steady_state(std::pow(10.0, -6.0 + 0.25 * i)));
-  double x = k0 > 0.0 ? -(f.break_away() - f_slide) / k0 : 0.0, v = 0.0;
-  double ws = fp.a > 0.0 ? -x / fp.a : 0.0;  // e = -x held: w_s at rest = e / a
-  const double th0 = -0.5 * kPi;
   const cplx rot(std::cos(w * h), std::sin(w * h)), half(std::cos(0.5 * w * h), std::sin(0.5 * w * h));
-  std::vector<double> xs(static_cast<std::size_t>(2 * n));
-  double before_prev = x, before_last = x;
-  for (int p = 0; p < o.periods; ++p) {
-    cplx e(std::cos(th0), std::sin(th0));  // e^{j w t} at the step's start (restarted each period)
-    if (p == o.periods - 2) before_prev = x;
-    if (p == o.periods - 1) before_last = x;
-    double* rec = p == o.periods - 1 ? xs.data() + n : p == o.periods - 2 ? xs.data() : nullptr;
-    for (int j = 0; j < n; ++j) {
-      const double uI = A * wave_at(o.wave, (e * half).imag());  // at mid-step
-      const double err = -x;
-      const double uf = fp.d * err + fp.cst * ws;
-      ws = decay * ws + gain * err;
-      const double f_other = uI + uf - k * x - c * v;
-      const double F = f.step(st, {v, h, f_other, m});
-      v += h * (f_other - F) / m;
-      x += h * v;
-      e *= rot;
-      if (rec) rec[j] = x;
+  // From rest at x = -X0 (friction virgin, C_f's state at rest) with the drive rising through 0,
+  // `halves` half periods; x of the last half period into rec (nh samples) when given.
+  struct End {
+    double x, v;
+  };
+  const auto run = [&](double X0, int halves, double* rec) {
+    f.reset(st);
+    double x = -X0, v = 0.0, ws = fp.a > 0.0 ? X0 / fp.a : 0.0;
+    cplx e(1.0, 0.0);
+    for (int p = 0; p < halves; ++p) {
+      if (p % 2 == 0) e = cplx(1.0, 0.0);  // restart the rotation every period (no drift)
+      for (int j = 0; j < nh; ++j) {
+        const double uI = A * wave_at(o.wave, (e * half).imag());  // at mid-step
+        const double err = -x;
+        const double uf = fp.d * err + fp.cst * ws;
+        ws = decay * ws + gain * err;
+        const double f_other = uI + uf - k * x - c * v;
+        const double F = f.step(st, {v, h, f_other, m});
+        v += h * (f_other - F) / m;
+        x += h * v;
+        e *= rot;
+        if (rec && p == halves - 1) rec[j] = x;
+      }
+      if (!std::isfinite(x) || !std::isfinite(v))
+        throw SimulationError("hunting describing function: the driven plant diverged (step too large)");
     }
-    if (!std::isfinite(x) || !std::isfinite(v))
-      throw SimulationError("hunting describing function: the driven plant diverged (step too large)");
-  }
-  Harmonics last = harmonics(xs.data() + n, n, before_last, th0);
-  if (last.half_pp < 1e-12) last = Harmonics{};  // stuck: roundoff only (P = 0)
+    return End{x, v};
+  };
+  // The symmetric stick-slip cycle: stuck at -X0 as the drive rises through 0, stuck at +X0 half a
+  // period later (odd symmetry). g(X0) = x(T/2) - X0: below the break-away offset the mass never
+  // moves (g = -2 X0), just above it one slip overshoots (g > 0), far above it the slip cannot reach
+  // +X0 (g < 0): the largest + to - change of g is the cycle (an attracting fixed point of the
+  // half-period map). X0 on a grid up to the stick band's edge (C_f(0) + k) X0 = Fs.
+  const double k0 = fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0) + k;
+  const double Xmax = k0 > 0.0 ? f.break_away() / k0 : 0.0;
+  std::vector<double> xs(static_cast<std::size_t>(n));
   PlantHarmonics r;
-  r.X1 = last.X1;
-  r.X3 = last.X3;
-  r.half_pp = last.half_pp;
-  r.P = last.X1 / U1;
-  if (o.periods >= 2) {
-    const Harmonics prev = harmonics(xs.data(), n, before_prev, th0);
-    r.settle = std::abs(last.X1) > 0.0 ? std::abs(last.X1 - prev.X1) / std::abs(last.X1) : 0.0;
+  bool cycle = false, moves = false;
+  double X_star = 0.0;
+  if (Xmax > 0.0) {
+    // Below X_b = (Fs - A) / k0 the peak drive cannot break the mass away: the grid starts there,
+    // denser near it (the + region of g is narrow when the cycle is near its threshold).
+    const int grid = 12;
+    const double Xb = std::clamp((f.break_away() - A) / k0, 0.0, Xmax);
+    double prev_X = 0.0, prev_g = 0.0;
+    int found = -1;
+    std::vector<double> gx(grid + 1), gg(grid + 1);
+    for (int j = 1; j <= grid; ++j) {
+      const double q = static_cast<double>(j) / grid;
+      gx[j] = Xb + (Xmax - Xb) * q * q + 1e-9 * Xmax;
+      const End e = run(gx[j], 1, nullptr);
+      gg[j] = e.x - gx[j];
+      moves |= std::abs(e.x + gx[j]) > 1e-12;
+    }
+    for (int j = grid - 1; j >= 1 && found < 0; --j)
+      if (gg[j] > 0.0 && gg[j + 1] <= 0.0) found = j;
+    if (found >= 0) {
+      double lo = gx[found], hi = gx[found + 1];
+      prev_X = lo, prev_g = gg[found];
+      for (int it = 0; it < 12; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const double g = run(mid, 1, nullptr).x - mid;
+        if (g > 0.0) lo = mid;
+        else hi = mid;
+      }
+      (void)prev_X, (void)prev_g;
+      X_star = 0.5 * (lo + hi);
+      const End e = run(X_star, 1, xs.data());
+      r.settle = std::abs(e.x - X_star) / X_star;
+      cycle = true;
+    }
   }
-  if (keep_x) r.x.assign(xs.begin() + n, xs.end());
+  if (cycle) {
+    for (int j = 0; j < nh; ++j) xs[nh + j] = -xs[j];  // odd symmetry
+  } else if (moves || Xmax == 0.0) {
+    // No stick-to-stick cycle (e.g. the mass keeps sliding): the response after `periods` periods
+    // from X0 = Xmax / 2, linear drift over the last period removed.
+    run(0.5 * Xmax, 2 * o.periods - 2, nullptr);  // (the run restarts; kept simple: run again below)
+    std::vector<double> tmp(static_cast<std::size_t>(nh));
+    const End e1 = run(0.5 * Xmax, 2 * o.periods - 1, xs.data());
+    const End e2 = run(0.5 * Xmax, 2 * o.periods, tmp.data());
+    (void)e1;
+    std::copy(tmp.begin(), tmp.end(), xs.begin() + nh);
+    const double slope = (e2.x - xs[0]) / (n - 1);
+    for (int j = 0; j < n; ++j) xs[j] -= slope * (j - 0.5 * n);
+    r.settle = kNaN;
+  } else {
+    return r;  // stuck at any offset: P = 0
+  }
+  cplx s1, s3;
+  double lo = 1e300, hi = -1e300;
+  for (int j = 0; j < n; ++j) {
+    const double th = 2.0 * kPi * (j + 1) / n;
+    s1 += xs[j] * cplx(std::cos(th), -std::sin(th));
+    s3 += xs[j] * cplx(std::cos(3 * th), -std::sin(3 * th));
+    lo = std::min(lo, xs[j]), hi = std::max(hi, xs[j]);
+  }
+  r.X1 = s1 * (2.0 / n);
+  r.X3 = s3 * (2.0 / n);
+  r.half_pp = 0.5 * (hi - lo);
+  if (r.half_pp < 1e-12) return PlantHarmonics{};
+  r.P = r.X1 / cplx(0.0, -A * first_harmonic_of(o.wave));
+  if (keep_x) r.x = xs;
   return r;
 }
 
@@ -187,126 +246,119 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
   }
   const auto eval = [&](double lA, double lw) {
     ++r.evaluations;
-    return plant_harmonics(pl, *model, fp, std::exp(lA), std::exp(lw), opt);
+    try {
+      return plant_harmonics(pl, *model, fp, std::exp(lA), std::exp(lw), opt);
+    } catch (const Error&) {  // a frequency too slow for the step bound, a diverging block: no motion
+      return PlantHarmonics{};
+    }
   };
   const auto phase_err = [](const PlantHarmonics& ph) { return wrap(std::arg(ph.P) + 0.5 * kPi); };
-  const auto gain_err = [&](const PlantHarmonics& ph, double lw) { return std::log(R * std::abs(ph.P)) - lw; };
+  // A stick-slip motion, not the creep of a stick band or a presliding model's elastic motion.
+  const double x_scale = r.break_away / std::max(1e-300, fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0) + pl.spring);
+  const auto moving = [&](const PlantHarmonics& ph) { return ph.half_pp > 1e-3 * x_scale; };
   const double la0 = std::log(0.2 * r.break_away), la1 = std::log(100.0 * r.break_away);
   const int na = opt.amplitudes;
-  struct Root {
+  // At frequency lw: the A of the phase balance arg P = -90 deg (bisection on a sign change of the
+  // phase error), or, when the sustained cycles of the block never lag the drive by 90 deg, the A
+  // closest to it: the sustain threshold (bisection between stuck and moving). `lA0`: where to look
+  // first (a bracket of +-0.15 around it), NaN: the whole grid.
+  struct Balance {
     double lA = kNaN;
     PlantHarmonics ph;
+    bool exact = false;
   };
-  // Bisection of the phase error on [lo, hi] (a sign change with |error| < 90 deg at both ends).
-  const auto bisect = [&](double lo, double hi, double flo, double lw) {
-    Root rt;
-    for (int it = 0; it < 14; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      const PlantHarmonics ph = eval(mid, lw);
-      const double fm = std::abs(ph.P) > 0.0 ? phase_err(ph) : kNaN;
-      rt.lA = mid, rt.ph = ph;
-      if (!std::isfinite(fm)) {  // stuck (below break-away): a larger A
-        lo = mid;
-        continue;
+  const auto balance = [&](double lw, double lA0) {
+    Balance out;
+    std::vector<double> las;
+    if (std::isfinite(lA0)) las = {lA0 - 0.15, lA0 + 0.15};
+    for (int pass = 0; pass < 2 && !std::isfinite(out.lA); ++pass) {
+      if (pass == 1) {
+        if (!std::isfinite(lA0)) break;
+        las.clear();
       }
-      if (std::abs(fm) < 1e-4) break;
-      if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
-      else hi = mid;
+      if (las.empty())
+        for (int i = 0; i < na; ++i) las.push_back(la0 + (la1 - la0) * i / (na - 1));
+      std::vector<PlantHarmonics> phs;
+      for (double la : las) phs.push_back(eval(la, lw));
+      for (std::size_t i = 0; i + 1 < las.size() && !std::isfinite(out.lA); ++i) {
+        const PlantHarmonics &p0 = phs[i], &p1 = phs[i + 1];
+        double lo = las[i], hi = las[i + 1];
+        if (moving(p0) && moving(p1) && (phase_err(p0) > 0) != (phase_err(p1) > 0) &&
+            std::abs(phase_err(p0)) < 0.5 * kPi && std::abs(phase_err(p1)) < 0.5 * kPi) {
+          double flo = phase_err(p0);
+          out.exact = true;
+          for (int it = 0; it < 10; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            out.ph = eval(mid, lw), out.lA = mid;
+            const double fm = moving(out.ph) ? phase_err(out.ph) : -1.0;
+            if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
+            else hi = mid;
+          }
+        } else if (!moving(p0) && moving(p1) && phase_err(p1) > 0.0) {
+          // The threshold: lags less than 90 deg above it, stuck below.
+          out.ph = p1, out.lA = hi;
+          for (int it = 0; it < 8; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            const PlantHarmonics pm = eval(mid, lw);
+            if (moving(pm)) hi = mid, out.ph = pm, out.lA = mid;
+            else lo = mid;
+          }
+        }
+      }
     }
-    return rt;
+    return out;
   };
-  const auto usable = [&](const PlantHarmonics& ph) {
-    return std::abs(ph.P) > 0.0 && std::abs(phase_err(ph)) < 0.5 * kPi;
-  };
-  // Every phase root at frequency lw over the A grid.
-  const auto scan = [&](double lw) {
-    std::vector<Root> roots;
-    double prev_la = la0;
-    PlantHarmonics prev = eval(la0, lw);
-    for (int i = 1; i < na; ++i) {
-      const double la = la0 + (la1 - la0) * i / (na - 1);
-      PlantHarmonics cur = eval(la, lw);
-      if (usable(prev) && usable(cur) && (phase_err(prev) > 0) != (phase_err(cur) > 0))
-        roots.push_back(bisect(prev_la, la, phase_err(prev), lw));
-      prev = std::move(cur), prev_la = la;
-    }
-    return roots;
-  };
-  // The phase root nearest lA0 at frequency lw: a bracket grown around lA0, else the full scan.
-  const auto root_near = [&](double lA0, double lw) {
-    for (double span : {0.15, 0.4, 1.0}) {
-      const double lo = lA0 - span, hi = lA0 + span;
-      const PlantHarmonics a = eval(lo, lw), b = eval(hi, lw);
-      if (usable(a) && usable(b) && (phase_err(a) > 0) != (phase_err(b) > 0))
-        return bisect(lo, hi, phase_err(a), lw);
-    }
-    Root best;
-    for (Root& rt : scan(lw))
-      if (!std::isfinite(best.lA) || std::abs(rt.lA - lA0) < std::abs(best.lA - lA0)) best = std::move(rt);
-    return best;
-  };
-  // Seed frequency: where the integral's gain R / w equals the fast part's DC gain.
+  // The gain balance R |P| / w = 1 by the fixed point w <- R |P(A(w), w)| (P depends little on w
+  // for stick-slip: a square wave of x whose level the slips set), damped when it oscillates.
   const double cf0 = fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0);
-  const double w_seed = cf0 > 0.0 ? R / cf0 : R / std::max(fp.d, 1e-300);
-  std::vector<Root> seeds;
-  double lw_seed = std::log(w_seed);
-  for (double f : {1.0, 0.25, 4.0, 1.0 / 16, 16.0}) {
-    seeds = scan(std::log(w_seed * f));
-    if (!seeds.empty()) {
-      lw_seed = std::log(w_seed * f);
+  double lw = std::log(cf0 > 0.0 ? R / cf0 : R / std::max(fp.d, 1e-300));
+  Balance b = balance(lw, kNaN);
+  bool conv = false;
+  double prev_step = 0.0;
+  for (int it = 0; it < 24 && std::isfinite(b.lA); ++it) {
+    double step = std::log(R * std::abs(b.ph.P)) - lw;
+    if (std::abs(step) < 5e-3) {
+      conv = true;
       break;
     }
+    if (prev_step != 0.0 && step * prev_step < 0.0) step *= 0.5;
+    prev_step = step;
+    lw += std::clamp(step, -1.5, 1.5);
+    Balance nb = balance(lw, b.lA);
+    if (!std::isfinite(nb.lA)) nb = balance(lw, kNaN);
+    b = nb;
   }
-  for (Root seed : seeds) {
-    // Secant on the gain error in ln w, following this phase root.
-    double lw0 = lw_seed, h0 = gain_err(seed.ph, lw0);
-    Root cur = seed;
-    double lw1 = lw0, h1 = h0;
-    bool conv = std::abs(h0) < 1e-3;
-    double step = std::clamp(h0, -1.5, 1.5);  // the fixed point w = R |P|
-    for (int it = 0; it < 14 && !conv; ++it) {
-      Root nx = root_near(cur.lA, lw1 + step);
-      int tries = 0;
-      while (!std::isfinite(nx.lA) && tries++ < 3) {  // lost the root: a shorter step
-        step *= 0.5;
-        nx = root_near(cur.lA, lw1 + step);
-      }
-      if (!std::isfinite(nx.lA)) break;
-      lw0 = lw1, h0 = h1;
-      lw1 = lw1 + step, cur = nx, h1 = gain_err(nx.ph, lw1);
-      if (std::abs(h1) < 1e-3) {
-        conv = true;
-        break;
-      }
-      step = h1 != h0 ? -h1 * (lw1 - lw0) / (h1 - h0) : h1;
-      if (!std::isfinite(step)) break;
-      step = std::clamp(step, -1.5, 1.5);
-    }
+  if (std::isfinite(b.lA) && moving(b.ph)) {
     HuntingCycle hc;
-    hc.force_amplitude = std::exp(cur.lA);
-    hc.frequency = std::exp(lw1);
+    hc.force_amplitude = std::exp(b.lA);
+    hc.frequency = std::exp(lw);
     hc.period = 2.0 * kPi / hc.frequency;
-    hc.converged = conv && std::abs(phase_err(cur.ph)) < 0.1 * kPi / 180.0;
-    bool dup = false;
-    for (const HuntingCycle& o : r.cycles)
-      dup |= std::abs(std::log(o.force_amplitude) - cur.lA) < 0.01 && std::abs(std::log(o.frequency) - lw1) < 0.01;
-    if (dup) continue;
-    const PlantHarmonics full = plant_harmonics(pl, *model, fp, hc.force_amplitude, hc.frequency, opt, true);
+    hc.converged = conv;
+    hc.phase_residual = phase_err(b.ph);
+    PlantHarmonics full;
+    try {
+      full = plant_harmonics(pl, *model, fp, hc.force_amplitude, hc.frequency, opt, true);
+    } catch (const Error&) {
+    }
     ++r.evaluations;
     hc.plant_gain = full.P;
     hc.amplitude = full.half_pp;
     hc.first_harmonic = std::abs(full.X1);
-    // Stability (Loeb): g = ln(R |P| / w) + j (arg P + 90 deg); stable when Im(g_A / g_w) < 0.
+    // Stability: stick-slip cycles of the block exist only above the threshold and lag less there
+    // as A grows (Loeb with g = ln(R |P| / w) + j (arg P + 90 deg): Im(g_A / g_w) < 0); a cycle
+    // at the threshold is the attracting one the integrator winds up to.
     const double d = 0.02;
-    const auto g = [&](const PlantHarmonics& ph, double lw) { return cplx(gain_err(ph, lw), phase_err(ph)); };
-    const cplx g0 = g(full, lw1);
-    const PlantHarmonics pa = eval(cur.lA + d, lw1), pw = eval(cur.lA, lw1 + d);
-    if (std::abs(pa.P) > 0.0 && std::abs(pw.P) > 0.0) {
-      const cplx gA = (g(pa, lw1) - g0) / d, gw = (g(pw, lw1 + d) - g0) / d;
+    const auto g = [&](const PlantHarmonics& ph, double l) { return cplx(std::log(R * std::abs(ph.P)) - l, phase_err(ph)); };
+    const PlantHarmonics pa = eval(b.lA + d, lw), pw = eval(b.lA, lw + d);
+    if (!b.exact) {
+      hc.stable = true;  // at the sustain threshold (see the header)
+    } else if (moving(pa) && moving(pw)) {
+      const cplx g0 = g(full, lw), gA = (g(pa, lw) - g0) / d, gw = (g(pw, lw + d) - g0) / d;
       hc.stable = (gA / gw).imag() < 0.0;
     }
     // Waveform the loop feeds back, -R int x dt, against the assumed wave (same first harmonic).
-    const int n = static_cast<int>(full.x.size());
+    const int n = std::max(1, static_cast<int>(full.x.size()));
+    full.x.resize(static_cast<std::size_t>(n));
     const double h = hc.period / n;
     std::vector<double> ui(static_cast<std::size_t>(n)), ua(static_cast<std::size_t>(n));
     double acc = 0.0, mean = 0.0;
@@ -314,7 +366,7 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
     cplx Ui;
     for (int k = 0; k < n; ++k) {
       ui[k] -= mean;
-      const double th = -0.5 * kPi + 2.0 * kPi * (k + 1) / n;  // the block's sample phases
+      const double th = 2.0 * kPi * (k + 1) / n;
       ua[k] = hc.force_amplitude * wave_at(opt.wave, std::sin(th));
       Ui += ui[k] * cplx(std::cos(th), -std::sin(th));
     }
@@ -322,13 +374,14 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
     double se = 0.0, sa = 0.0;
     for (int k = 0; k < n; ++k) se += std::pow(ui[k] * scale - ua[k], 2), sa += ua[k] * ua[k];
     hc.waveform_error = sa > 0.0 ? std::sqrt(se / sa) : kNaN;
-    hc.valid = hc.converged && hc.waveform_error <= kHuntingWaveformLimit;
+    hc.valid = hc.converged && std::abs(hc.phase_residual) <= kHuntingPhaseLimit &&
+               hc.waveform_error <= kHuntingWaveformLimit;
     r.cycles.push_back(hc);
   }
   std::sort(r.cycles.begin(), r.cycles.end(),
             [](const HuntingCycle& a, const HuntingCycle& b) { return a.force_amplitude < b.force_amplitude; });
   if (r.cycles.empty())
-    r.note = "no hunting predicted: arg P(A, w) never reaches -90 deg for A in [0.2, 100] x break-away";
+    r.note = "no hunting predicted: the block sticks or never lags 90 deg for A in [0.2, 100] x break-away";
   return r;
 }
 
