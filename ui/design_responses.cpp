@@ -54,21 +54,35 @@ void metrics_table(const DesignViewState& d) {
       "limit cycle (hunting) half peak-to-peak; '-': the loop does not hunt");
   row("cycle period", if_hunting(a, a.cycle_period), if_hunting(b, b.cycle_period), 1e3, "ms",
       "limit cycle period; '-': the loop does not hunt");
-  // Describing-function prediction (loop without compensation) beside the simulated cycle.
+  // Describing-function predictions (loop without compensation) beside the simulated cycle: the
+  // stick-slip hunting of an integrating compensator (hunting.hpp), and the velocity DF's cycle
+  // (for a loop with integral action an unstable amplitude threshold).
+  const control::HuntingCycle* hc = d.out.hunting ? d.out.hunting->hunting() : nullptr;
+  row("DF ampl.", hc ? hc->amplitude : NAN, NAN, 1e3, "mm",
+      "predicted hunting (stick-slip limit cycle) of the loop without compensation: describing function of the mass "
+      "with its friction and the controller's fast part, driven by the integral force (triangle); half "
+      "peak-to-peak of x, as 'cycle ampl.'. '-': no integrator, or no cycle predicted");
+  row("DF period", hc ? hc->period : NAN, NAN, 1e3, "ms", "period of the predicted hunting; '-': none");
   const control::LimitCycle* pc = nullptr;
   if (d.out.limit_cycles)
     for (const auto& c : d.out.limit_cycles->cycles)
       if (!pc || (c.stable && !pc->stable)) pc = &c;
-  const char* help = "describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
-                     "H = s G / (1 + Gc G) (loop without compensation); '-': no cycle predicted";
-  row("DF ampl.", pc ? pc->amplitude : NAN, NAN, 1e3, "mm", help);
-  row("DF period", pc ? pc->period : NAN, NAN, 1e3, "ms", help);
+  const char* help = "velocity describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
+                     "H = s G / (1 + Gc G): a sinusoidal velocity never sticks, so this is the threshold cycle "
+                     "(larger motions grow) rather than the hunting; '-': no cycle predicted";
+  row(pc && !pc->stable ? "DF threshold" : "DF vel. ampl.", pc ? pc->amplitude : NAN, NAN, 1e3, "mm", help);
+  row(pc && !pc->stable ? "DF thr. period" : "DF vel. period", pc ? pc->period : NAN, NAN, 1e3, "ms", help);
   ImGui::EndTable();
+  if (hc)
+    ImGui::TextDisabled("DF hunting: %s (force %.3g N, phase residual %.1f deg, waveform error %.2f)",
+                        hc->valid ? "within the DF's validity" : "OUTSIDE the DF's validity", hc->force_amplitude,
+                        hc->phase_residual * 57.29578, hc->waveform_error);
+  else if (d.out.hunting)
+    ImGui::TextDisabled("DF hunting: none predicted");
   if (pc)
-    ImGui::TextDisabled("DF: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
-                        pc->stable ? "" : ":\nlarger motions grow");
+    ImGui::TextDisabled("DF velocity: %s cycle", pc->stable ? "stable" : "unstable (amplitude threshold)");
   else if (d.out.limit_cycles)
-    ImGui::TextDisabled("DF: no cycle predicted");
+    ImGui::TextDisabled("DF velocity: no cycle predicted");
   if (d.out.source == control::PlantSource::Assembly && !d.out.loop_note.empty()) {
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("%s", d.out.loop_note.c_str());

@@ -150,6 +150,12 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
     for (const auto& c : lc["cycles"])
       os << "describing function: " << (c["stable"].get<bool>() ? "stable" : "unstable (threshold)")
          << " limit cycle, amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"]) << " s\n";
+    if (lc.contains("hunting")) {
+      if (lc["hunting"]["cycles"].empty()) os << "hunting: none predicted (" << lc["hunting"]["note"].get<std::string>() << ")\n";
+      for (const auto& c : lc["hunting"]["cycles"])
+        os << "hunting (stick-slip DF): amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"])
+           << " s" << (c["valid"].get<bool>() ? "" : " (outside the DF's validity)") << '\n';
+    }
   }
   if (j.contains("simulation"))
     for (const auto& s : j["simulation"])
@@ -202,6 +208,7 @@ int run_design(const Opts& o) {
     const auto fm = build_model(sc->friction);
     const LeadDesign& ld = chosen->second;
     j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
+    j["limit_cycles"]["hunting"] = to_json(predict_hunting(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p}));
   }
   if (o.lag_K) {  // a lag after the chosen lead: the error constant it buys and what it costs
     if (!chosen) throw InputError("--lag-K: no lead design to add a lag to (" + r.limits.reason + ")");
@@ -246,6 +253,10 @@ int run_design(const Opts& o) {
                   {"K_without_lag", out.lag->K_gain_only},
                   {"slow_pole", {out.lag->slow_pole.real(), out.lag->slow_pole.imag()}},
                   {"slow_time_constant_s", out.lag->time_constant}};
+    if (out.limit_cycles) {  // the view's predictions for this compensator (view-rate DF)
+      t["limit_cycles"] = to_json(*out.limit_cycles);
+      if (out.hunting) t["limit_cycles"]["hunting"] = to_json(*out.hunting);
+    }
     j["typed_compensator"] = t;
   }
   if (o.simulate) {

@@ -312,6 +312,14 @@ DesignOutputs compute_design(const DesignInputs& in) {
       const auto fm = build_model(in.scenario.friction);
       out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
                                               DfOptions{400, 2});
+      if (integral_split(*out.compensator)) {
+        HuntingOptions ho;
+        ho.steps = 200;
+        ho.amplitudes = 8;
+        ho.max_steps = 4000;
+        ho.shooting = 6;
+        out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, *out.compensator, ho);
+      }
     }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";

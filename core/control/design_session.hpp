@@ -33,6 +33,7 @@
 #include "core/control/describing_function.hpp"
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
+#include "core/control/hunting.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -137,6 +138,10 @@ struct DesignOutputs {
   // scenario's friction (core/control/describing_function.hpp; view-rate DF: 400 steps per period,
   // 2 periods), with the friction-free plant (m, spring, damper) and the compensator.
   std::optional<LimitCycleReport> limit_cycles;
+  // The stick-slip hunting of a compensator with one integrator (PI, PID, ...) predicted by the
+  // describing function of the mass with its friction and the controller's fast part
+  // (core/control/hunting.hpp; view rate: 200 steps per period, 12 amplitudes); none otherwise.
+  std::optional<HuntingReport> hunting;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;

@@ -83,9 +83,10 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
   int n = o.steps;
   if (o.max_step > 0.0) {
     const double need = std::ceil(T / o.max_step);
-    if (need > 2e6)
+    if (need > o.max_steps)
       throw InputError("hunting describing function: w = " + std::to_string(w) +
-                       " rad/s is too slow for the plant's stiffest mode (more than 2e6 steps per period)");
+                       " rad/s is too slow for the plant's stiffest mode (more than " + std::to_string(o.max_steps) +
+                       " steps per period)");
     n = std::max(n, static_cast<int>(need));
   }
   n += n % 2;
@@ -136,7 +137,7 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
   if (Xmax > 0.0) {
     // Below X_b = (Fs - A) / k0 the peak drive cannot break the mass away: the grid starts there,
     // denser near it (the + region of g is narrow when the cycle is near its threshold).
-    const int grid = 12;
+    const int grid = std::max(4, o.shooting);
     const double Xb = std::clamp((f.break_away() - A) / k0, 0.0, Xmax);
     double prev_X = 0.0, prev_g = 0.0;
     int found = -1;
@@ -153,7 +154,7 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
     if (found >= 0) {
       double lo = gx[found], hi = gx[found + 1];
       prev_X = lo, prev_g = gg[found];
-      for (int it = 0; it < 12; ++it) {
+      for (int it = 0; it < std::max(4, o.shooting); ++it) {
         const double mid = 0.5 * (lo + hi);
         const double g = run(mid, 1, nullptr).x - mid;
         if (g > 0.0) lo = mid;
@@ -311,7 +312,8 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
   // The gain balance R |P| / w = 1 by the fixed point w <- R |P(A(w), w)| (P depends little on w
   // for stick-slip: a square wave of x whose level the slips set), damped when it oscillates.
   const double cf0 = fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0);
-  double lw = std::log(cf0 > 0.0 ? R / cf0 : R / std::max(fp.d, 1e-300));
+  const double lw_seed = std::log(cf0 > 0.0 ? R / cf0 : R / std::max(fp.d, 1e-300));
+  double lw = lw_seed;
   Balance b = balance(lw, kNaN);
   bool conv = false;
   double prev_step = 0.0;
@@ -324,6 +326,7 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
     if (prev_step != 0.0 && step * prev_step < 0.0) step *= 0.5;
     prev_step = step;
     lw += std::clamp(step, -1.5, 1.5);
+    if (std::abs(lw - lw_seed) > 4.6) break;  // beyond 100x the seed: outside the prediction's range
     Balance nb = balance(lw, b.lA);
     if (!std::isfinite(nb.lA)) nb = balance(lw, kNaN);
     b = nb;

@@ -59,6 +59,8 @@ struct HuntingOptions {
   int periods = 4;       // periods run; harmonics over the last one
   int amplitudes = 20;   // log grid of A over [0.2, 100] x break-away
   double max_step = 0.0;  // [s]; 0: none (predict_hunting sets 0.5 x the block's stability limit)
+  int max_steps = 20000;  // per period: a slower w is outside the prediction's range (no motion)
+  int shooting = 12;      // grid points and bisection steps of the stick level X0
 };
 
 // C_f(s) = d + cst / (s + a) (cst = 0: a gain), acting on e = -x [N].
@@ -82,7 +84,8 @@ struct PlantHarmonics {
   double settle = 0.0;   // |X1(last) - X1(previous period)| / |X1(last)| (0 with one period)
   std::vector<double> x;  // x over the last period (detrended), when asked for [m]
 };
-// Throws InputError for A <= 0, w <= 0, m <= 0, or steps < 16 / periods < 1.
+// Throws InputError for A <= 0, w <= 0, m <= 0, steps < 16 / periods < 1, or a w that needs more
+// than max_steps per period.
 PlantHarmonics plant_harmonics(const Plant& plant, const FrictionModel& friction, const FastPart& fast, double A,
                                double w, const HuntingOptions& opt = {}, bool keep_x = false);
 

@@ -102,6 +102,7 @@ TEST(HuntingDf, BlockOfIdealStickSlipIsASquareWave) {
     const double A = Fc * 1.02, w = 0.05;  // slips of ~pi sqrt(m/Kc) << 2 pi / w
     HuntingOptions o;
     o.max_step = 0.02 * std::sqrt(pl.mass / Kc);
+    o.max_steps = 1000000;
     const PlantHarmonics ph = plant_harmonics(pl, *m, FastPart{Kc, 0.0, 0.0}, A, w, o);
     EXPECT_NEAR(ph.half_pp, X, 0.03 * X) << "Fs=" << Fs << " m=" << pl.mass;
     EXPECT_NEAR(std::abs(ph.X1), 4.0 / kPi * X, 0.04 * X);
