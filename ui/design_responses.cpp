@@ -74,9 +74,14 @@ void metrics_table(const DesignViewState& d) {
   row(pc && !pc->stable ? "DF thr. period" : "DF vel. period", pc ? pc->period : NAN, NAN, 1e3, "ms", help);
   ImGui::EndTable();
   if (hc)
-    ImGui::TextDisabled("DF hunting: %s (force %.3g N, phase residual %.1f deg, waveform error %.2f)",
-                        hc->valid ? "within the DF's validity" : "OUTSIDE the DF's validity", hc->force_amplitude,
-                        hc->phase_residual * 57.29578, hc->waveform_error);
+  {
+    ImGui::TextDisabled("DF hunting: %s", hc->valid ? "valid" : "OUTSIDE its validity");
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("integral force amplitude %.3g N, phase residual %.1f deg (limit %.0f), waveform error %.3f "
+                        "(limit %.2f)",
+                        hc->force_amplitude, hc->phase_residual * 57.29578, control::kHuntingPhaseLimit * 57.29578,
+                        hc->waveform_error, control::kHuntingWaveformLimit);
+  }
   else if (d.out.hunting)
     ImGui::TextDisabled("DF hunting: none predicted");
   if (pc)

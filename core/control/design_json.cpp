@@ -163,6 +163,7 @@ nlohmann::json to_json(const HuntingReport& r) {
                  {"amplitude_m", num(c.amplitude)},
                  {"first_harmonic_m", num(c.first_harmonic)},
                  {"waveform_error", num(c.waveform_error)},
+                 {"phase_residual_deg", num(c.phase_residual * 180.0 / std::numbers::pi)},
                  {"stable", c.stable},
                  {"converged", c.converged},
                  {"valid", c.valid}});

@@ -41,7 +41,7 @@ nlohmann::json to_json(const ZLocus& z, double Kc);
 nlohmann::json to_json(const LimitCycleReport& r);
 // The hunting prediction (core/control/hunting.hpp), key limit_cycles.hunting: cycles
 // [{force_amplitude_N (peak of the integral force), frequency_rad_s, period_s, amplitude_m (half
-// peak-to-peak of x), first_harmonic_m, waveform_error, stable, converged, valid}], wave,
+// peak-to-peak of x), first_harmonic_m, waveform_error, phase_residual_deg, stable, converged, valid}], wave,
 // break_away_N, integral_gain_N_per_m_s, waveform_error_limit, note.
 nlohmann::json to_json(const HuntingReport& r);
 // The compensator Kc prod_i (s + z_i) / (s + p_i) for export: {"num": Kc prod (s + z_i), "den":

@@ -13,7 +13,8 @@
 //          chosen drive, measuring the chosen output); none for a typed plant (no friction to
 //          simulate: `loop_note` says so)
 // horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
-// horizon, or two periods of a sine reference when that is longer, at a view-rate step
+// horizon, or two periods of a sine reference when that is longer (with a constant reference and a
+// predicted hunting cycle: 20 of its periods, at most 30 s), at a view-rate step
 // dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
 // Kc) / m)).
 // locus view (unless given): the region around s_d, the plant's poles, its zeros within 4x the
