@@ -98,6 +98,7 @@ static void BM_HuntingDfViewRate(benchmark::State& st) {
   o.amplitudes = 8;
   o.max_steps = 4000;
   o.shooting = 6;
+  o.limit_fraction = 0.9;
   int evals = 0;
   for (auto _ : st) {
     const HuntingReport r = predict_hunting(s.plant, s.friction, C, o);

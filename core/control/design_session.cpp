@@ -318,6 +318,7 @@ DesignOutputs compute_design(const DesignInputs& in) {
         ho.amplitudes = 8;
         ho.max_steps = 4000;
         ho.shooting = 6;
+        ho.limit_fraction = 0.9;
         out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, *out.compensator, ho);
       }
     }

@@ -141,7 +141,8 @@ struct DesignOutputs {
   std::optional<LimitCycleReport> limit_cycles;
   // The stick-slip hunting of a compensator with one integrator (PI, PID, ...) predicted by the
   // describing function of the mass with its friction and the controller's fast part
-  // (core/control/hunting.hpp; view rate: 200 steps per period, 12 amplitudes); none otherwise.
+  // (core/control/hunting.hpp; view rate: 200 steps per period, 8 amplitudes, 6 shooting steps,
+  // 0.9 x the stability limit, <= 4000 steps per period); none otherwise.
   std::optional<HuntingReport> hunting;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]

@@ -242,7 +242,7 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
     const double lim = stability_limit_dt(s);
     // The fast part's high-frequency gain acts as one more spring (as in the loop simulation's check).
     const double k_eq = (std::isfinite(lim) ? 4.0 / (lim * lim) * pl.mass : 0.0) + std::max(0.0, fp.d);
-    if (k_eq > 0.0) opt.max_step = 0.5 * 2.0 / std::sqrt(k_eq / pl.mass);
+    if (k_eq > 0.0) opt.max_step = opt.limit_fraction * 2.0 / std::sqrt(k_eq / pl.mass);
     if (pl.damper > 0.0) opt.max_step = std::min(opt.max_step > 0.0 ? opt.max_step : 1e300, 0.2 * pl.mass / pl.damper);
   }
   const auto eval = [&](double lA, double lw) {

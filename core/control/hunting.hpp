@@ -58,7 +58,8 @@ struct HuntingOptions {
   int steps = 400;       // per period (raised so that the step stays <= max_step)
   int periods = 4;       // periods run; harmonics over the last one
   int amplitudes = 20;   // log grid of A over [0.2, 100] x break-away
-  double max_step = 0.0;  // [s]; 0: none (predict_hunting sets 0.5 x the block's stability limit)
+  double max_step = 0.0;  // [s]; 0: none (predict_hunting sets limit_fraction x the block's stability limit)
+  double limit_fraction = 0.5;  // of the stability limit 2 / sqrt((k + sum k_i + C_f's gain) / m)
   int max_steps = 20000;  // per period: a slower w is outside the prediction's range (no motion)
   int shooting = 12;      // grid points and bisection steps of the stick level X0
 };
