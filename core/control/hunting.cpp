@@ -139,7 +139,6 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
     // denser near it (the + region of g is narrow when the cycle is near its threshold).
     const int grid = std::max(4, o.shooting);
     const double Xb = std::clamp((f.break_away() - A) / k0, 0.0, Xmax);
-    double prev_X = 0.0, prev_g = 0.0;
     int found = -1;
     std::vector<double> gx(grid + 1), gg(grid + 1);
     for (int j = 1; j <= grid; ++j) {
@@ -153,14 +152,12 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
       if (gg[j] > 0.0 && gg[j + 1] <= 0.0) found = j;
     if (found >= 0) {
       double lo = gx[found], hi = gx[found + 1];
-      prev_X = lo, prev_g = gg[found];
       for (int it = 0; it < std::max(4, o.shooting); ++it) {
         const double mid = 0.5 * (lo + hi);
         const double g = run(mid, 1, nullptr).x - mid;
         if (g > 0.0) lo = mid;
         else hi = mid;
       }
-      (void)prev_X, (void)prev_g;
       X_star = 0.5 * (lo + hi);
       const End e = run(X_star, 1, xs.data());
       r.settle = std::abs(e.x - X_star) / X_star;
@@ -172,12 +169,9 @@ PlantHarmonics plant_harmonics(const Plant& pl, const FrictionModel& f, const Fa
   } else if (moves || Xmax == 0.0) {
     // No stick-to-stick cycle (e.g. the mass keeps sliding): the response after `periods` periods
     // from X0 = Xmax / 2, linear drift over the last period removed.
-    run(0.5 * Xmax, 2 * o.periods - 2, nullptr);  // (the run restarts; kept simple: run again below)
-    std::vector<double> tmp(static_cast<std::size_t>(nh));
     const End e1 = run(0.5 * Xmax, 2 * o.periods - 1, xs.data());
-    const End e2 = run(0.5 * Xmax, 2 * o.periods, tmp.data());
+    const End e2 = run(0.5 * Xmax, 2 * o.periods, xs.data() + nh);  // (the same run, one half longer)
     (void)e1;
-    std::copy(tmp.begin(), tmp.end(), xs.begin() + nh);
     const double slope = (e2.x - xs[0]) / (n - 1);
     for (int j = 0; j < n; ++j) xs[j] -= slope * (j - 0.5 * n);
     r.settle = kNaN;

@@ -13,13 +13,14 @@
 // friction step with v frozen, v += h (f - F_f)/m, x += h v; C_f's state advanced exactly, e held).
 // Its describing function P(A, w) = X1 / U1: u_I a periodic wave of frequency w and peak A
 // (a sine, or a triangle: the integral of the piecewise-constant error of stick-slip), U1 its first
-// harmonic phasor, X1 that of x over the last of `periods` periods (linear drift removed), started
-// from the friction-free steady state. The loop with a constant reference closes through the
+// harmonic phasor, X1 that of x over the block's periodic response (below). The loop with a
+// constant reference closes through the
 // integrator: u_I = -(R/s) x, so
 //   1 + (R / (jw)) P(A, w) = 0:  arg P = -90 deg (phase) and R |P| / w = 1 (gain).
 // The block's periodic response is found by shooting: the symmetric stick-slip cycle (stuck at -X0
 // as the drive rises through 0, at +X0 half a period later), X0 by bisection of the half-period map;
-// when there is none (the mass keeps sliding) the response after `periods` periods.
+// when there is none (the mass keeps sliding) the last of `periods` periods from X0 = Xmax / 2
+// (linear drift removed); stuck at every X0: P = 0.
 // Solution: at a frequency w, the A where arg P = -90 deg (scan of a log grid of A over
 // [0.2, 100] x break-away, bisection in ln A); when the sustained cycles of the block lag the drive
 // by less than 90 deg at every A (measured: the slip's finite duration), the A closest to it, the
@@ -30,8 +31,9 @@
 // lag less than the balance needs).
 // Validity: the waveform the loop would feed back, u_I = -R int x dt over the predicted cycle,
 // against the assumed drive wave (both zero-mean, scaled to the same first harmonic):
-// waveform_error = rms(difference) / rms(assumed). Above kHuntingWaveformLimit the prediction is
-// flagged as outside the describing function's validity.
+// waveform_error = rms(difference) / rms(assumed); and the phase residual of a threshold solution.
+// Above kHuntingWaveformLimit or kHuntingPhaseLimit the prediction is flagged as outside the
+// describing function's validity (measured against simulation: tests/control/hunting_df_test.cpp).
 #pragma once
 
 #include <optional>
