@@ -282,7 +282,7 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
             std::abs(phase_err(p0)) < 0.5 * kPi && std::abs(phase_err(p1)) < 0.5 * kPi) {
           double flo = phase_err(p0);
           out.exact = true;
-          for (int it = 0; it < 10; ++it) {
+          for (int it = 0; it < (opt.shooting >= 12 ? 10 : 7); ++it) {
             const double mid = 0.5 * (lo + hi);
             out.ph = eval(mid, lw), out.lA = mid;
             const double fm = moving(out.ph) ? phase_err(out.ph) : -1.0;
@@ -292,7 +292,7 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
         } else if (!moving(p0) && moving(p1) && phase_err(p1) > 0.0) {
           // The threshold: lags less than 90 deg above it, stuck below.
           out.ph = p1, out.lA = hi;
-          for (int it = 0; it < 8; ++it) {
+          for (int it = 0; it < (opt.shooting >= 12 ? 8 : 5); ++it) {
             const double mid = 0.5 * (lo + hi);
             const PlantHarmonics pm = eval(mid, lw);
             if (moving(pm)) hi = mid, out.ph = pm, out.lA = mid;
