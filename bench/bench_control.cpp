@@ -87,6 +87,97 @@ static void BM_LimitCyclesViewRate(benchmark::State& st) {  // as the design vie
 }
 BENCHMARK(BM_LimitCyclesViewRate)->Unit(benchmark::kMillisecond);
 
+// The stick-slip hunting prediction (core/control/hunting.hpp) of a PI loop on the Fig. 4 mass with
+// its GMS friction: at the view's rate (200 steps per period, 12 amplitudes) and at the default
+// (400, 20) used by the CLI and the tests.
+static void BM_HuntingDfViewRate(benchmark::State& st) {
+  const Scenario s = fig4();
+  const LeadCompensator C{1000.0, 5.0, 0.0};
+  HuntingOptions o;
+  o.steps = 200;
+  o.amplitudes = 8;
+  o.max_steps = 4000;
+  o.shooting = 6;
+  o.limit_fraction = 0.9;
+  int evals = 0;
+  for (auto _ : st) {
+    const HuntingReport r = predict_hunting(s.plant, s.friction, C, o);
+    evals = r.evaluations;
+    benchmark::DoNotOptimize(r.cycles.size());
+  }
+  st.counters["block_runs"] = evals;
+}
+BENCHMARK(BM_HuntingDfViewRate)->Unit(benchmark::kMillisecond);
+
+// A case where the hunting is found (Coulomb Fs 1.5 N, Fc 1 N on 0.2 kg with 40 N s/m, the view's PI
+// 8160.8 (s + 10.1)/s: predicted 0.037 mm, 1.62 s), at the view's rate.
+static void BM_HuntingDfViewRateCoulomb(benchmark::State& st) {
+  ModelParams fr = model_info("coulomb").defaults();
+  fr.set_scalar("Fs", 1.5), fr.set_scalar("Fc", 1.0), fr.set_scalar("sigma2", 0.4);
+  const Plant pl{0.2, 0.0, 40.0};
+  const LeadCompensator C{8160.8, 10.1, 0.0};
+  HuntingOptions o;
+  o.steps = 200;
+  o.amplitudes = 8;
+  o.max_steps = 4000;
+  o.shooting = 6;
+  o.limit_fraction = 0.9;
+  int evals = 0;
+  for (auto _ : st) {
+    const HuntingReport r = predict_hunting(pl, fr, C, o);
+    if (!r.hunting()) st.SkipWithError("no hunting predicted");
+    evals = r.evaluations;
+    benchmark::DoNotOptimize(r.cycles.size());
+  }
+  st.counters["block_runs"] = evals;
+}
+BENCHMARK(BM_HuntingDfViewRateCoulomb)->Unit(benchmark::kMillisecond);
+
+static void BM_HuntingDfDefault(benchmark::State& st) {
+  const Scenario s = fig4();
+  const LeadCompensator C{1000.0, 5.0, 0.0};
+  for (auto _ : st) benchmark::DoNotOptimize(predict_hunting(s.plant, s.friction, C).cycles.size());
+}
+BENCHMARK(BM_HuntingDfDefault)->Unit(benchmark::kMillisecond);
+
+// One drag of the Design view with a PI compensator (the hunting prediction added to the frame).
+static void BM_DesignViewFramePI(benchmark::State& st) {
+  DesignInputs in;
+  in.scenario = fig4();
+  in.regime = Regime::Sliding;
+  in.root = {0.7, 60.0};
+  in.K = 1000.0;
+  in.type = CompensatorType::PI;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);
+  for (auto _ : st) {
+    const DesignOutputs out = compute_design(in);
+    if (!out.error.empty()) st.SkipWithError(out.error.c_str());
+    benchmark::DoNotOptimize(out.locus.gains.data());
+  }
+}
+BENCHMARK(BM_DesignViewFramePI)->Unit(benchmark::kMillisecond);
+
+// The same with a hunting case (the plant of BM_HuntingDfViewRateCoulomb, a step reference): the
+// prediction is found and the loops run 20 predicted periods (30 s).
+static void BM_DesignViewFramePIHunting(benchmark::State& st) {
+  DesignInputs in;
+  in.scenario = fig4();
+  in.scenario.friction = model_info("coulomb").defaults();
+  in.scenario.friction.set_scalar("Fs", 1.5), in.scenario.friction.set_scalar("Fc", 1.0);
+  in.scenario.friction.set_scalar("sigma2", 0.4);
+  in.scenario.plant = {0.2, 0.0, 40.0};
+  in.regime = Regime::Sliding;
+  in.root = {0.5, 0.5};
+  in.type = CompensatorType::PI;
+  in.reference = Signal::constant(0.01);
+  for (auto _ : st) {
+    const DesignOutputs out = compute_design(in);
+    if (!out.error.empty() || !out.hunting || !out.hunting->hunting()) st.SkipWithError("no hunting predicted");
+    benchmark::DoNotOptimize(out.locus.gains.data());
+  }
+}
+BENCHMARK(BM_DesignViewFramePIHunting)->Unit(benchmark::kMillisecond);
+
 static void BM_DesignViewFrame(benchmark::State& st) {
   DesignInputs in;
   in.scenario = fig4();

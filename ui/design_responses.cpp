@@ -54,8 +54,16 @@ void metrics_table(const DesignViewState& d) {
       "limit cycle (hunting) half peak-to-peak; '-': the loop does not hunt");
   row("cycle period", if_hunting(a, a.cycle_period), if_hunting(b, b.cycle_period), 1e3, "ms",
       "limit cycle period; '-': the loop does not hunt");
-  // Describing-function prediction of each loop beside its simulated cycle (the compensated loop's
-  // with F - F_hat when the feedforward is driven by the measured velocity).
+  // Describing-function predictions beside the simulated cycle: the stick-slip hunting of an
+  // integrating compensator (hunting.hpp; loop without compensation), and the velocity DF's cycle
+  // of each loop (for a loop with integral action an unstable amplitude threshold; the compensated
+  // loop's with F - F_hat when the feedforward is driven by the measured velocity).
+  const control::HuntingCycle* hc = d.out.hunting ? d.out.hunting->hunting() : nullptr;
+  row("DF ampl.", hc ? hc->amplitude : NAN, NAN, 1e3, "mm",
+      "predicted hunting (stick-slip limit cycle) of the loop without compensation: describing function of the mass "
+      "with its friction and the controller's fast part, driven by the integral force (triangle); half "
+      "peak-to-peak of x, as 'cycle ampl.'. '-': no integrator, or no cycle predicted");
+  row("DF period", hc ? hc->period : NAN, NAN, 1e3, "ms", "period of the predicted hunting; '-': none");
   const auto predicted = [](const std::optional<control::LimitCycleReport>& r) {
     const control::LimitCycle* p = nullptr;
     if (r)
@@ -65,19 +73,31 @@ void metrics_table(const DesignViewState& d) {
   };
   const control::LimitCycle* pc = predicted(d.out.limit_cycles);
   const control::LimitCycle* pk = predicted(d.out.limit_cycles_compensated);
-  const char* help = "describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
-                     "H = s G / (1 + Gc G); with compensation driven by the measured velocity N is that of "
-                     "F - F_hat (by the reference velocity: the friction's, the feedforward being 0 at a "
-                     "constant set point); '-': no cycle predicted";
-  row("DF ampl.", pc ? pc->amplitude : NAN, pk ? pk->amplitude : NAN, 1e3, "mm", help);
-  row("DF period", pc ? pc->period : NAN, pk ? pk->period : NAN, 1e3, "ms", help);
+  const char* help = "velocity describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
+                     "H = s G / (1 + Gc G): a sinusoidal velocity never sticks, so this is the threshold cycle "
+                     "(larger motions grow) rather than the hunting; with compensation driven by the measured "
+                     "velocity N is that of F - F_hat (by the reference velocity: the friction's, the feedforward "
+                     "being 0 at a constant set point); '-': no cycle predicted";
+  const bool threshold = (pc && !pc->stable) || (pk && !pk->stable);
+  row(threshold ? "DF threshold" : "DF vel. ampl.", pc ? pc->amplitude : NAN, pk ? pk->amplitude : NAN, 1e3, "mm", help);
+  row(threshold ? "DF thr. period" : "DF vel. period", pc ? pc->period : NAN, pk ? pk->period : NAN, 1e3, "ms", help);
   ImGui::EndTable();
   ImGui::PushTextWrapPos(0.0f);  // the column is narrow: wrap, never clip
+  if (hc) {
+    ImGui::TextDisabled("DF hunting: %s", hc->valid ? "valid" : "OUTSIDE its validity");
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("integral force amplitude %.3g N, phase residual %.1f deg (limit %.0f), waveform error %.3f "
+                        "(limit %.2f)",
+                        hc->force_amplitude, hc->phase_residual * 57.29578, control::kHuntingPhaseLimit * 57.29578,
+                        hc->waveform_error, control::kHuntingWaveformLimit);
+  } else if (d.out.hunting) {
+    ImGui::TextDisabled("DF hunting: none predicted");
+  }
   if (pc)
-    ImGui::TextDisabled("DF: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
+    ImGui::TextDisabled("DF velocity: %s cycle%s", pc->stable ? "stable" : "unstable (amplitude threshold)",
                         pc->stable ? "" : ": larger motions grow");
   else if (d.out.limit_cycles)
-    ImGui::TextDisabled("DF: no cycle predicted");
+    ImGui::TextDisabled("DF velocity: no cycle predicted");
   if (d.in.feedforward_source == control::FeedforwardSource::Measured && d.out.limit_cycles_compensated)
     ImGui::TextDisabled("DF with %s driven by the measured v (F - F_hat): %s", control::to_string(d.in.compensation),
                         !pk ? "no cycle predicted" : pk->stable ? "stable cycle" : "unstable (threshold) cycle");

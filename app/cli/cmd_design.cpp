@@ -154,6 +154,12 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
     for (const auto& c : lc["cycles"])
       os << "describing function: " << (c["stable"].get<bool>() ? "stable" : "unstable (threshold)")
          << " limit cycle, amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"]) << " s\n";
+    if (lc.contains("hunting")) {
+      if (lc["hunting"]["cycles"].empty()) os << "hunting: none predicted (" << lc["hunting"]["note"].get<std::string>() << ")\n";
+      for (const auto& c : lc["hunting"]["cycles"])
+        os << "hunting (stick-slip DF): amplitude " << f(c["amplitude_m"]) << " m, period " << f(c["period_s"])
+           << " s" << (c["valid"].get<bool>() ? "" : " (outside the DF's validity)") << '\n';
+    }
   }
   if (j.contains("simulation"))
     for (const auto& s : j["simulation"])
@@ -206,6 +212,7 @@ int run_design(const Opts& o) {
     const auto fm = build_model(sc->friction);
     const LeadDesign& ld = chosen->second;
     j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
+    j["limit_cycles"]["hunting"] = to_json(predict_hunting(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p}));
   }
   if (o.lag_K) {  // a lag after the chosen lead: the error constant it buys and what it costs
     if (!chosen) throw InputError("--lag-K: no lead design to add a lag to (" + r.limits.reason + ")");

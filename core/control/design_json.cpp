@@ -154,6 +154,24 @@ nlohmann::json to_json(const LimitCycleReport& r) {
   return {{"cycles", a}, {"note", r.note}};
 }
 
+nlohmann::json to_json(const HuntingReport& r) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const HuntingCycle& c : r.cycles)
+    a.push_back({{"force_amplitude_N", num(c.force_amplitude)},
+                 {"frequency_rad_s", num(c.frequency)},
+                 {"period_s", num(c.period)},
+                 {"amplitude_m", num(c.amplitude)},
+                 {"first_harmonic_m", num(c.first_harmonic)},
+                 {"waveform_error", num(c.waveform_error)},
+                 {"phase_residual_deg", num(c.phase_residual * 180.0 / std::numbers::pi)},
+                 {"stable", c.stable},
+                 {"converged", c.converged},
+                 {"valid", c.valid}});
+  return {{"cycles", a}, {"wave", to_string(r.wave)}, {"break_away_N", num(r.break_away)},
+          {"integral_gain_N_per_m_s", num(r.integral_gain)}, {"waveform_error_limit", kHuntingWaveformLimit},
+          {"note", r.note}};
+}
+
 namespace {
 std::string coeffs(const std::vector<double>& v) {
   std::string s;

@@ -15,6 +15,7 @@
 #include "core/control/describing_function.hpp"
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
+#include "core/control/hunting.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/loop_simulation.hpp"
 
@@ -38,6 +39,11 @@ nlohmann::json to_json(const ZLocus& z, double Kc);
 // The "limit_cycles" key: cycles [{velocity_amplitude_m_s, amplitude_m, frequency_rad_s, period_s,
 // stable, converged}], note.
 nlohmann::json to_json(const LimitCycleReport& r);
+// The hunting prediction (core/control/hunting.hpp), key limit_cycles.hunting: cycles
+// [{force_amplitude_N (peak of the integral force), frequency_rad_s, period_s, amplitude_m (half
+// peak-to-peak of x), first_harmonic_m, waveform_error, phase_residual_deg, stable, converged, valid}], wave,
+// break_away_N, integral_gain_N_per_m_s, waveform_error_limit, note.
+nlohmann::json to_json(const HuntingReport& r);
 // The compensator Kc prod_i (s + z_i) / (s + p_i) for export: {"num": Kc prod (s + z_i), "den":
 // prod (s + p_i) (highest power first; one section: [Kc, Kc z], [1, p]), "Kc", "z", "p" (the first
 // section), "sections": [{z, p}, ...], "matlab": "C = tf([...], [...]);", "python": "C =

@@ -13,7 +13,8 @@
 //          chosen drive, measuring the chosen output); none for a typed plant (no friction to
 //          simulate: `loop_note` says so)
 // horizon = clamp(10 / (zeta wn), 0.01 s, 20 s) unless given; the friction loops run over the
-// horizon, or two periods of a sine reference when that is longer, at a view-rate step
+// horizon, or two periods of a sine reference when that is longer (with a constant reference and a
+// predicted hunting cycle: 20 of its periods, at most 30 s), at a view-rate step
 // dt = clamp(duration / 20000, scenario dt, 0.05 x the stability limit 2 / sqrt((k_presliding +
 // Kc) / m)).
 // locus view (unless given): the region around s_d, the plant's poles, its zeros within 4x the
@@ -33,6 +34,7 @@
 #include "core/control/describing_function.hpp"
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
+#include "core/control/hunting.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -145,6 +147,11 @@ struct DesignOutputs {
   // one the feedforward is 0 around a constant set point, so the loop's nonlinearity is the friction
   // and this is limit_cycles again.
   std::optional<LimitCycleReport> limit_cycles_compensated;
+  // The stick-slip hunting of a compensator with one integrator (PI, PID, ...) predicted by the
+  // describing function of the mass with its friction and the controller's fast part
+  // (core/control/hunting.hpp; view rate: 200 steps per period, 8 amplitudes, 6 shooting steps,
+  // 0.9 x the stability limit, <= 4000 steps per period); none otherwise.
+  std::optional<HuntingReport> hunting;
   LoopTrace loop_plain, loop_compensated;
   std::vector<double> error_plain, error_compensated;  // tracking_error() of each loop [m]
   LoopMetrics metrics_plain, metrics_compensated;

@@ -43,7 +43,10 @@ TypedCompensator typed_compensator(DesignInputs in) {
                 {"K_without_lag", out.lag->K_gain_only},
                 {"slow_pole", {out.lag->slow_pole.real(), out.lag->slow_pole.imag()}},
                 {"slow_time_constant_s", out.lag->time_constant}};
-  if (out.limit_cycles) t["limit_cycles"] = to_json(*out.limit_cycles);  // this compensator's loop
+  if (out.limit_cycles) {  // this compensator's loop (view-rate DF), with its hunting prediction
+    t["limit_cycles"] = to_json(*out.limit_cycles);
+    if (out.hunting) t["limit_cycles"]["hunting"] = to_json(*out.hunting);
+  }
   r.json = std::move(t);
   return r;
 }
