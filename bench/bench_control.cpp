@@ -93,12 +93,7 @@ BENCHMARK(BM_LimitCyclesViewRate)->Unit(benchmark::kMillisecond);
 static void BM_HuntingDfViewRate(benchmark::State& st) {
   const Scenario s = fig4();
   const LeadCompensator C{1000.0, 5.0, 0.0};
-  HuntingOptions o;
-  o.steps = 200;
-  o.amplitudes = 8;
-  o.max_steps = 4000;
-  o.shooting = 6;
-  o.limit_fraction = 0.9;
+  const HuntingOptions o = view_rate_hunting_options();
   int evals = 0;
   for (auto _ : st) {
     const HuntingReport r = predict_hunting(s.plant, s.friction, C, o);
@@ -116,12 +111,7 @@ static void BM_HuntingDfViewRateCoulomb(benchmark::State& st) {
   fr.set_scalar("Fs", 1.5), fr.set_scalar("Fc", 1.0), fr.set_scalar("sigma2", 0.4);
   const Plant pl{0.2, 0.0, 40.0};
   const LeadCompensator C{8160.8, 10.1, 0.0};
-  HuntingOptions o;
-  o.steps = 200;
-  o.amplitudes = 8;
-  o.max_steps = 4000;
-  o.shooting = 6;
-  o.limit_fraction = 0.9;
+  const HuntingOptions o = view_rate_hunting_options();
   int evals = 0;
   for (auto _ : st) {
     const HuntingReport r = predict_hunting(pl, fr, C, o);

@@ -87,6 +87,11 @@ nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadCompensato
     nlohmann::json j = to_json(loop_metrics(sc.run(cfg)));
     j["compensation"] = to_string(c);
     if (c != Compensation::None) j["feedforward_source"] = o.feedforward;
+    // Driven by the measured velocity, the compensated loop's nonlinearity is F - F_hat: its
+    // describing-function prediction (the view's compensated column; one-body plants).
+    if (c != Compensation::None && cfg.feedforward_source == FeedforwardSource::Measured && sc.scenario && !sc.assembly)
+      j["limit_cycles"] = to_json(predict_limit_cycles(compensated_friction(sc.scenario->friction, c, cfg.mismatch),
+                                                       sc.scenario->plant, C));
     out.push_back(j);
   }
   return out;
@@ -209,10 +214,8 @@ int run_design(const Opts& o) {
   nlohmann::json j = d.json;
   j["plant"] = plant;
   if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
-    const auto fm = build_model(sc->friction);
     const LeadDesign& ld = chosen->second;
-    j["limit_cycles"] = to_json(predict_limit_cycles(stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
-    j["limit_cycles"]["hunting"] = to_json(predict_hunting(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p}));
+    j["limit_cycles"] = limit_cycles_json(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p});
   }
   if (o.lag_K) {  // a lag after the chosen lead: the error constant it buys and what it costs
     if (!chosen) throw InputError("--lag-K: no lead design to add a lag to (" + r.limits.reason + ")");

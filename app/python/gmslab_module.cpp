@@ -313,10 +313,8 @@ PYBIND11_MODULE(_gmslab, m) {
     d.json["plant"] = plant;
     if (sc) {  // as `gmslab design --preset`: the lead loop's describing-function limit cycles
       if (d.chosen) {
-        const auto fm = build_model(sc->friction);
         const control::LeadDesign& ld = d.chosen->second;
-        d.json["limit_cycles"] = control::to_json(
-            control::predict_limit_cycles(control::stepped(*fm), sc->plant, {ld.Kc, ld.z, ld.p}));
+        d.json["limit_cycles"] = control::limit_cycles_json(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p});
       }
     }
     if (type) {  // the Design view's compensator of that type (`gmslab design --compensator`)

@@ -1,6 +1,7 @@
 #include "core/control/design_json.hpp"
 
 #include "core/control/discrete.hpp"
+#include "core/friction/model.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -152,6 +153,13 @@ nlohmann::json to_json(const LimitCycleReport& r) {
                  {"stable", c.stable},
                  {"converged", c.converged}});
   return {{"cycles", a}, {"note", r.note}};
+}
+
+nlohmann::json limit_cycles_json(const Plant& plant, const ModelParams& friction, const LeadCompensator& c) {
+  const auto fm = build_model(friction);
+  nlohmann::json j = to_json(predict_limit_cycles(stepped(*fm), plant, c));
+  j["hunting"] = to_json(predict_hunting(plant, friction, c));
+  return j;
 }
 
 nlohmann::json to_json(const HuntingReport& r) {

@@ -44,6 +44,9 @@ nlohmann::json to_json(const LimitCycleReport& r);
 // peak-to-peak of x), first_harmonic_m, waveform_error, phase_residual_deg, stable, converged, valid}], wave,
 // break_away_N, integral_gain_N_per_m_s, waveform_error_limit, note.
 nlohmann::json to_json(const HuntingReport& r);
+// The limit cycles of the loop of `c` around `plant` with `friction` (no compensation), as the
+// CLI and Python report them: the velocity-DF cycles with the stick-slip hunting under "hunting".
+nlohmann::json limit_cycles_json(const Plant& plant, const ModelParams& friction, const LeadCompensator& c);
 // The compensator Kc prod_i (s + z_i) / (s + p_i) for export: {"num": Kc prod (s + z_i), "den":
 // prod (s + p_i) (highest power first; one section: [Kc, Kc z], [1, p]), "Kc", "z", "p" (the first
 // section), "sections": [{z, p}, ...], "matlab": "C = tf([...], [...]);", "python": "C =

@@ -317,15 +317,9 @@ DesignOutputs compute_design(const DesignInputs& in) {
               ? predict_limit_cycles(compensated_friction(in.scenario.friction, in.compensation, in.mismatch),
                                      in.scenario.plant, *out.compensator, 1e-6, 10.0, DfOptions{400, 2})
               : out.limit_cycles;
-      if (integral_split(*out.compensator)) {
-        HuntingOptions ho;
-        ho.steps = 200;
-        ho.amplitudes = 8;
-        ho.max_steps = 4000;
-        ho.shooting = 6;
-        ho.limit_fraction = 0.9;
-        out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, *out.compensator, ho);
-      }
+      if (integral_split(*out.compensator))
+        out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, *out.compensator,
+                                      view_rate_hunting_options());
     }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";

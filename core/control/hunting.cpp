@@ -53,6 +53,16 @@ double wrap(double a) {  // to (-pi, pi]
 
 const char* to_string(DriveWave w) { return w == DriveWave::Sine ? "sine" : "triangle"; }
 
+HuntingOptions view_rate_hunting_options() {
+  HuntingOptions ho;
+  ho.steps = 200;
+  ho.amplitudes = 8;
+  ho.max_steps = 4000;
+  ho.shooting = 6;
+  ho.limit_fraction = 0.9;
+  return ho;
+}
+
 std::optional<IntegralSplit> integral_split(const LeadCompensator& c) {
   int integrators = 0;
   for (int i = 0; i < c.sections(); ++i) integrators += c.section(i).p == 0.0;

@@ -66,6 +66,9 @@ struct HuntingOptions {
   int shooting = 12;      // grid points and bisection steps of the stick level X0 (below 12 also
                           // fewer bisection steps in A: 7 on the phase, 5 on the threshold, for 10, 8)
 };
+// What the Design view recomputes on every drag (200 steps per period, 8 amplitudes, 6 shooting
+// steps, 0.9 x the stability limit, <= 4000 steps per period): one drag stays under 16 ms.
+HuntingOptions view_rate_hunting_options();
 
 // C_f(s) = d + cst / (s + a) (cst = 0: a gain), acting on e = -x [N].
 struct FastPart {

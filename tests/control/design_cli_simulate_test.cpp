@@ -148,6 +148,11 @@ TEST(DesignCliSimulate, WithFrictionTheCliRunsTheCoreLoopWithTheTypedCompensator
         nlohmann::json expect = to_json(loop_metrics(simulate_loop(sc, cfg)));
         expect["compensation"] = s["compensation"];
         if (cfg.comp != Compensation::None) expect["feedforward_source"] = source;
+        // Driven by the measured velocity: the compensated loop's describing-function prediction
+        // (F - F_hat) beside its simulated metrics.
+        if (cfg.comp != Compensation::None && cfg.feedforward_source == FeedforwardSource::Measured)
+          expect["limit_cycles"] =
+              to_json(predict_limit_cycles(compensated_friction(sc.friction, cfg.comp, cfg.mismatch), sc.plant, C));
         EXPECT_EQ(s, expect) << type << " " << source;
       }
       // The compensator simulated is not the lead: its loop differs from the lead's.

@@ -5,6 +5,8 @@
 // mean crossings over the steady tail).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -115,7 +117,9 @@ TEST(HuntingDf, BlockOfIdealStickSlipIsASquareWave) {
 // residual <= 3 deg, waveform error <= 0.15) the amplitude agrees within 20 % and the period
 // within 10 %; the table is printed (README).
 TEST(HuntingDf, PredictedHuntingAgreesWithSimulationWhereValid) {
-  std::mt19937 rng(1242);
+  // GMSLAB_HUNTING_SEED draws other loops (the validity limits were chosen on seed 1242's).
+  const char* seed_env = std::getenv("GMSLAB_HUNTING_SEED");
+  std::mt19937 rng(seed_env ? static_cast<unsigned>(std::strtoul(seed_env, nullptr, 10)) : 1242u);
   std::uniform_real_distribution<double> lm(std::log(0.5), std::log(5.0)), ur(1.2, 2.0), uz(2.0, 6.0),
       uk(500.0, 3000.0), uc(0.5, 2.0);
   int valid = 0, agreed = 0, cases = 0;
@@ -148,7 +152,7 @@ TEST(HuntingDf, PredictedHuntingAgreesWithSimulationWhereValid) {
     EXPECT_NEAR(h->period, sim.period, 0.1 * sim.period) << model << " case " << i;
   }
   std::printf("valid predictions %d of %d cases, agreeing %d\n", valid, cases, agreed);
-  EXPECT_GE(valid, 4);
+  if (!seed_env) EXPECT_GE(valid, 4);
 }
 
 // LuGre and GMS (presliding: the block never sticks exactly) on the PI loop of the former
