@@ -446,8 +446,9 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         // Before the rounds a soft element competes with the effects it can mimic (an offset
         // within a stroke, a force along it): when the effect that screens best at the current
         // shape, refitted, predicts the validation record as well (within 3 %), the loop decides.
+        const bool better = again.rms_train < cur.rms_train && again_val < cur_val;
         bool effect_alike = false;
-        if (before_rounds && again.rms_train < cur.rms_train && again_val < cur_val) {
+        if (before_rounds && better) {
           std::optional<Candidate> top;
           for (Effect e : o.candidates)
             if (e != Effect::TimeShift && e != Effect::SensorFilter && e != Effect::Backlash &&
@@ -462,7 +463,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
             effect_alike = rms_on(f, val, c) <= 1.03 * again_val;
           }
         }
-        if (!effect_alike && again.rms_train < cur.rms_train && again_val < cur_val) {
+        if (better && !effect_alike) {
           rep.notes.push_back("the element range was widened to " + std::to_string(1e6 * wide.x_hi_factor * wide.x_ba) +
                               " um (softer elements than the swing after most reversals shows): validation RMS " +
                               std::to_string(cur_val) + " -> " + std::to_string(again_val) + " N");
@@ -534,9 +535,6 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     int tries = 0;
     bool control_done = false;
     std::optional<std::pair<FitResult, Attempt>> best;
-    // Refits one candidate with its effect and judges it; returns false when a guard said the
-    // effect cannot be what the refit found (too small, a negative mass, within the sampling):
-    // such an attempt does not use up one of the round's tries.
     // Whether the current model lags along the sampled path: a refit with inertia whose mass comes
     // out negative (-M a is what a model half a step late leaves). Its validation RMS, once per
     // round (from the round's inertia attempt when there is one).
@@ -560,6 +558,9 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       if (negative(terms_of(f, Effect::Inertia))) lag_val = rms_on(f, val, c);
       return lag_val;
     };
+    // Refits one candidate with its effect and judges it; returns false when a guard said the
+    // effect cannot be what the refit found (too small, a negative mass, within the sampling):
+    // such an attempt does not use up one of the round's tries.
     auto attempt = [&](const Candidate& k) -> bool {
       FitOptions fo = o.refit;
       fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));
@@ -593,16 +594,17 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       // it lower (e.g. a sampling share taken from a base fit that bent to the missing effect).
       const double fl = std::min(floor, a.rms_validation);
       const bool big = fl <= 0 || a.size >= o.min_size * fl;
+      bool guarded = false;  // refused because the effect cannot be what the refit found
       const bool signature = k.p_value * static_cast<double>(screened) <= o.max_p;
       if (!a.kept) a.verdict = "validation RMS not lowered by " + std::to_string(o.min_gain * 100).substr(0, 4) + " %";
       else if (!signature) a.kept = false, a.verdict = "no signature in the training residual (F-test)";
       else if (a.bic_change >= 0) a.kept = false, a.verdict = "validation BIC not lowered";
-      else if (!big) a.kept = false, a.verdict = "contribution below " + std::to_string(o.min_size).substr(0, 4) + " x the noise floor";
+      else if (!big) a.kept = false, guarded = true, a.verdict = "contribution below " + std::to_string(o.min_size).substr(0, 4) + " x the noise floor";
       else if (fl > 0 && a.size < o.sure_size * fl) {
         // A small contribution must explain a good share of what lies above the floor.
         const double e0 = cur_val * cur_val - fl * fl, e1 = a.rms_validation * a.rms_validation - fl * fl;
         if (!(e0 > 0) || (e0 - e1) / e0 < o.min_excess)
-          a.kept = false, a.verdict = "small (below " + std::to_string(o.sure_size).substr(0, 3) +
+          a.kept = false, guarded = true, a.verdict = "small (below " + std::to_string(o.sure_size).substr(0, 3) +
                                       " x the floor) and explains less than " + std::to_string(o.min_excess).substr(0, 4) +
                                       " of the validation error above the floor";
       }
@@ -611,7 +613,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         // force that leads the modelled one by a fraction of a step looks like -M a), not inertia.
         for (const auto& t : a.terms)
           if (t.name == "M" && !(t.value > 0))
-            a.kept = false, a.verdict = "negative mass M = " + std::to_string(t.value) +
+            a.kept = false, guarded = true, a.verdict = "negative mass M = " + std::to_string(t.value) +
                                         " kg: not an inertia (the model lags along the sampled path)";
       }
       if (a.kept && (k.effect == Effect::Inertia || k.effect == Effect::TimeShift || k.effect == Effect::SensorFilter) &&
@@ -619,7 +621,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         // Lag-like effects (a force leading or lagging the motion) are what the unmeasured path
         // between samples also changes: below 1.5 x that share of the floor they cannot be told
         // from it, and the loop says so instead of naming one.
-        a.kept = false;
+        a.kept = false, guarded = true;
         a.verdict = "contribution " + std::to_string(a.size) + " N is within 1.5 x what the path between samples "
                     "changes (" + std::to_string(rep.noise.sampling) + " N): cannot be told from the sampling";
       }
@@ -628,13 +630,12 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         // negative mass fits), change the force alike: when the latter fits the validation record
         // as well (within 2 %), the data cannot say the channel lags.
         if (const auto lv = lagging_model_fit(); lv && *lv <= 1.02 * a.rms_validation) {
-          a.kept = false;
+          a.kept = false, guarded = true;
           a.verdict = "fits the validation record no better than a negative mass (" + std::to_string(*lv) +
                       " N): the model lagging along the sampled path, not the channel: cannot be told from the sampling";
         }
       }
       if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
-      const bool guarded = !a.kept && a.verdict.rfind("validation", 0) != 0 && a.verdict.rfind("no signature", 0) != 0;
       rd.attempts.push_back(a);
       if (a.kept && (!best || a.rms_validation < best->second.rms_validation)) {
         best.emplace(std::move(f), a);
