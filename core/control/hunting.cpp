@@ -20,30 +20,6 @@ double wave_at(DriveWave w, double sin_th) {
   return w == DriveWave::Sine ? sin_th : (2.0 / kPi) * std::asin(std::clamp(sin_th, -1.0, 1.0));
 }
 
-// First and third harmonic phasors of x (samples at phase th0 + 2 pi (k + 1) / n, k < n) after the linear
-// drift over the period is removed; the detrended samples are written back.
-struct Harmonics {
-  cplx X1, X3;
-  double half_pp = 0.0;
-};
-Harmonics harmonics(double* x, int n, double x_before, double th0) {
-  const double slope = (x[n - 1] - x_before) / n;  // per sample
-  Harmonics r;
-  double lo = 1e300, hi = -1e300;
-  cplx s1, s3;
-  for (int k = 0; k < n; ++k) {
-    x[k] -= slope * (k + 1 - 0.5 * n);
-    const double th = th0 + 2.0 * kPi * (k + 1) / n;
-    s1 += x[k] * cplx(std::cos(th), -std::sin(th));
-    s3 += x[k] * cplx(std::cos(3 * th), -std::sin(3 * th));
-    lo = std::min(lo, x[k]), hi = std::max(hi, x[k]);
-  }
-  r.X1 = s1 * (2.0 / n);
-  r.X3 = s3 * (2.0 / n);
-  r.half_pp = 0.5 * (hi - lo);
-  return r;
-}
-
 double wrap(double a) {  // to (-pi, pi]
   while (a > kPi) a -= 2 * kPi;
   while (a <= -kPi) a += 2 * kPi;
