@@ -184,6 +184,27 @@ void set_path(Dataset& d, const PathRule& rule) {
   if (!sv.empty()) d.sub = std::move(sub), d.sv = std::move(sv), d.sh = std::move(sh);
 }
 
+Dataset decimated(const Dataset& d, std::size_t every, const PathRule& rule) {
+  if (every <= 1) return d;
+  Dataset s;
+  s.source = d.source;
+  s.has_v = d.has_v, s.has_Fn = d.has_Fn;
+  for (std::size_t k = 0; k < d.size(); k += every) {
+    s.t.push_back(d.t[k]), s.x.push_back(d.x[k]), s.v.push_back(d.v[k]), s.a.push_back(d.a[k]);
+    s.F.push_back(d.F[k]), s.use.push_back(d.use[k]);
+    if (d.has_Fn) s.Fn.push_back(d.Fn[k]);
+  }
+  const std::size_t n = s.size();
+  s.h.assign(n, 0.0);
+  s.vstep.assign(n, 0.0);
+  for (std::size_t k = 1; k < n; ++k) {
+    s.h[k] = s.t[k] - s.t[k - 1];
+    s.vstep[k] = s.has_v ? 0.5 * (s.v[k - 1] + s.v[k]) : (s.x[k] - s.x[k - 1]) / s.h[k];
+  }
+  set_path(s, rule);
+  return s;
+}
+
 Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& masks,
                         std::size_t edge) {
   Dataset d;

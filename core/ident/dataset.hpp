@@ -82,6 +82,11 @@ inline void for_each_step(const Dataset& d, std::size_t k, Step&& step) {
   }
 }
 
+// Every `every`-th sample of d (from the first), the derived signals (v, a) kept as computed at the
+// full rate; steps, step velocities and the path between the kept samples made again by `rule`.
+// What the residual loop screens long records on (LoopOptions::screen_samples).
+Dataset decimated(const Dataset& d, std::size_t every, const PathRule& rule);
+
 // Parses "t0:t1,t0:t1,..." [s]; throws InputError naming `what` (the option or field) and the bad
 // item (t1 must exceed t0).
 std::vector<TimeWindow> parse_masks(std::string_view spec, std::string_view what = "--mask");

@@ -427,7 +427,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       // From the warm start, and with the element table chosen afresh on the grid at the warm
       // shape: a new effect can free the table from what it had bent itself into (e.g. a soft
       // element standing in for an offset).
-      if (!o.data_start) return polish_elements(spec, train, c, o, *warm);
+      if (!o.data_start || o.polish_only) return polish_elements(spec, train, c, o, *warm);
       FitResult w, g;
       const FitOptions po = serialised_progress(o);
       run_both([&] { g = regrid_elements(spec, train, c, po, *warm); },
@@ -441,7 +441,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   // Effects that multiply the friction (g columns) on an element model with a warm start: the
   // element polish with g frozen at the warm shape (a stand-in that moves little when an effect is
   // added; its final linear solve, refit_linear, uses the true g), competing with the shape search.
-  const bool with_frozen = has_linear_elements(spec.model) && spec.elements > 0 && warm &&
+  const bool with_frozen = !o.polish_only && has_linear_elements(spec.model) && spec.elements > 0 && warm &&
                            warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
   const Parameterization par(model_info(spec.model), spec.elements, c);
   Evaluator ev(spec, par, train, c);
@@ -453,11 +453,12 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
   // Start points: the warm start (if any), the data-based guess, then jittered copies of the
   // first; finally a polishing restart from the best point found.
   std::vector<std::vector<double>> starts;
+  const bool polish_only = o.polish_only && warm && warm->size() == n;
   if (warm && warm->size() == n) starts.push_back(*warm);
-  if (starts.empty() || o.data_start) starts.push_back(par.initial());
+  if (starts.empty() || (o.data_start && !polish_only)) starts.push_back(par.initial());
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> jitter(-0.2, 0.2);
-  while (static_cast<int>(starts.size()) < std::max(1, o.starts)) {
+  while (!polish_only && static_cast<int>(starts.size()) < std::max(1, o.starts)) {
     auto x = starts.front();
     for (auto& xi : x) xi = std::clamp(xi + jitter(rng), 0.0, 1.0);
     starts.push_back(x);
@@ -542,7 +543,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       return;
     }
     const std::size_t s = t - first_start;
-    runs[s] = local_search(worker == 1 ? *ev2 : ev, starts[s], false,
+    runs[s] = local_search(worker == 1 ? *ev2 : ev, starts[s], polish_only,
                            o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(total - 1));
   });
   int evals = 1;
@@ -552,7 +553,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     time_limited |= run.time_limited;
     if (run.best < best) best = run.best, best_u = run.best_u;
   }
-  if (n > 0 && !time_limited) {
+  if (n > 0 && !time_limited && !polish_only) {
     const Run run = local_search(ev, best_u, true, o.stage + ", polish");
     evals += run.evals;
     time_limited |= run.time_limited;

@@ -67,6 +67,9 @@ struct FitOptions {
   int max_evaluations = 600;      // per start
   double rel_tol = 1e-7;          // relative cost tolerance
   bool data_start = true;         // also start from the data-based guess when warm-started
+  bool polish_only = false;       // warm-started: one local search from the warm start with the
+                                  // polishing step and budget, nothing else (a shape found on a
+                                  // screened record refined on the full one)
   double max_seconds = 0;         // wall-time budget of the whole fit [s]; 0 = none
   std::string stage = "fit";      // label shown in progress
   std::function<void(const FitProgress&)> progress;  // may be empty

@@ -10,7 +10,6 @@
 #include <set>
 #include <optional>
 #include <cstdio>
-#include <cstdlib>
 #include <Eigen/Dense>
 
 #include "core/ident/element_fit.hpp"
@@ -340,7 +339,12 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   EffectContext c = make_context(train_in);
   IdentReport rep;
   rep.noise = noise_level(train_in, c);
-  FitResult cur = fit_base(base, train_in, val_in, c, o.base);
+  // A long record is screened on every k-th sample (at least screen_samples of them): the base fit
+  // and every decision of the loop on it, the floor and the final refit on all samples.
+  std::size_t every =
+      o.screen_samples > 0 && train_in.size() >= 2 * o.screen_samples ? train_in.size() / o.screen_samples : 1;
+  Dataset screen_rec = every > 1 ? decimated(train_in, every, PathRule{}) : Dataset{};
+  FitResult cur = fit_base(base, every > 1 ? screen_rec : train_in, val_in, c, o.base);
   // The path between samples. The adaptive path steps straight where the speed hardly changes;
   // with a fast attraction (C h >> 1) the force at a sample follows the speed at that sample, and
   // the straight step's mean speed is half a step late. When the base fit's friction along the
@@ -368,32 +372,70 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     if (rep.fine_path) {
       val_fine = val_in;
       set_path(val_fine, kFinePath);
-      cur = fit_base(base, train_fine, val_fine, c, o.base);
+      if (every > 1) screen_rec = decimated(train_fine, every, kFinePath);
+      cur = fit_base(base, every > 1 ? screen_rec : train_fine, val_fine, c, o.base);
     } else {
       train_fine = Dataset{};
     }
   }
-  const Dataset& train = rep.fine_path ? train_fine : train_in;
-  const Dataset& val = rep.fine_path ? val_fine : val_in;
-  rep.model = base.model;
-  rep.train_source = train.source;
-  rep.validation_source = val.source;
-  rep.train_samples = train.used();
-  rep.validation_samples = val.used();
-  rep.elements = cur.spec.elements;
-  // The quantisation and sampling shares of the floor, through the base fit (updated at the end).
   auto friction_force = [&](const FitResult& f, const Dataset& d, bool straight = false) {
     auto g = straight ? unit_friction(f, with_straight_steps(d), c) : unit_friction(f, d, c);
     const double fc = f.theta.empty() ? 1.0 : f.theta[0];
     for (auto& x : g) x *= fc;
     return g;
   };
+  const Dataset& full = rep.fine_path ? train_fine : train_in;
+  const Dataset& val = rep.fine_path ? val_fine : val_in;
+  // The screened record must drive the friction as the full one does: the base fit's friction along
+  // both, compared at the kept samples, within a quarter of the noise. Else every k/2-th sample is
+  // tried (and so on), and the base fit is polished on the record that passes. (Slow motion at a
+  // steep Stribeck curve: the step velocities of a quantised position at the full rate and at
+  // every k-th sample give S(v) different means.)
+  if (every > 1) {
+    const PathRule rule = rep.fine_path ? kFinePath : PathRule{};
+    const auto ff = friction_force(cur, full);
+    auto difference = [&](std::size_t e, const Dataset& sc) {
+      const auto fs = friction_force(cur, sc);
+      double s2 = 0, n = 0;
+      for (std::size_t k = 0; k < sc.size(); ++k)
+        if (sc.use[k]) s2 += (fs[k] - ff[k * e]) * (fs[k] - ff[k * e]), n += 1;
+      return n > 0 ? std::sqrt(s2 / n) : 0.0;
+    };
+    std::size_t e = every;
+    double diff = difference(e, screen_rec);
+    const double first_diff = diff;
+    while (e > 1 && diff > 0.25 * rep.noise.sigma) {
+      e /= 2;
+      if (e > 1) screen_rec = decimated(full, e, rule), diff = difference(e, screen_rec);
+    }
+    if (e != every) {
+      rep.notes.push_back("every " + std::to_string(every) + "th sample would change the base fit's friction by " +
+                          std::to_string(first_diff) + " N RMS (more than a quarter of the noise, " +
+                          std::to_string(0.25 * rep.noise.sigma) + " N): screened on every " +
+                          std::to_string(e) + (e == 1 ? " (all samples)" : "th sample"));
+      every = e;
+      if (every == 1) screen_rec = Dataset{};
+      FitOptions po = o.base;
+      po.polish_only = true;
+      po.stage = "base fit, polished on the screened record";
+      cur = fit_model(cur.spec, every > 1 ? screen_rec : full, c, po, &cur.u);
+    }
+  }
+  const Dataset& train = every > 1 ? screen_rec : full;
+  rep.screen_every = every;
+  rep.model = base.model;
+  rep.train_source = full.source;
+  rep.validation_source = val.source;
+  rep.train_samples = full.used();
+  rep.validation_samples = val.used();
+  rep.elements = cur.spec.elements;
+  // The quantisation and sampling shares of the floor, through the base fit (updated at the end).
   const NoiseEstimate noise_data = rep.noise;
   auto add_shares = [&] {
     rep.noise = noise_data;
-    const auto f = friction_force(cur, train);
-    add_quantisation(rep.noise, train, c, f);
-    add_sampling(rep.noise, train, f, friction_force(cur, train, true));
+    const auto f = friction_force(cur, full);
+    add_quantisation(rep.noise, full, c, f);
+    add_sampling(rep.noise, full, f, friction_force(cur, full, true));
   };
   add_shares();
   // A GMS / Maxwell-slip base fit whose error stays 1.3-5x above the floor the data allow sits in a
@@ -489,7 +531,9 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     rd.rms_validation_before = cur_val;
     const auto r = residual(cur, train, c);
     const auto g = unit_friction(cur, train, c);
-    const RippleSearch rs = ripple_search(train, c, r, g);
+    // The ripple search on all samples: the shortest wavelength it can resolve is 3 position steps.
+    const RippleSearch rs = every > 1 ? ripple_search(full, c, residual(cur, full, c), unit_friction(cur, full, c))
+                                      : ripple_search(train, c, r, g);
     if (round == 1) rep.ripples = rs;
     if (!contains(cur.spec.effects, Effect::PositionPeriodic)) {
       c.wavelengths.clear();
@@ -712,12 +756,23 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     rep.rounds.push_back(std::move(rd));
     if (!added) break;
   }
-  if (!rep.effects_added.empty()) {
+  if (every > 1) {
+    // Screened on every k-th sample: the element range tested there, then the final model refitted
+    // on all samples from its screened shape (and the first stage's training RMS taken on all).
+    if (!rep.range_widened) widen_element_range(false);
+    rep.rms_before_train = rms_on(rep.stages.front(), full, c);
+    cur.rms_train = rms_on(cur, full, c);
+    rep.stages.back().rms_train = cur.rms_train;
+  }
+  if (!rep.effects_added.empty() || every > 1) {
     // A last refit of the final model from its shape and from the data-based guess (the control
     // refit of a round, for the model the loop ends with): what it gains is optimisation.
     FitOptions fo = o.refit;
     fo.stage = "final refit";
-    FitResult f = fit_model(cur.spec, train, c, fo, &cur.u);
+    // After screening: one local search from the screened shape on all samples (the shape is
+    // found; more samples move it a little).
+    fo.polish_only = every > 1;
+    FitResult f = fit_model(cur.spec, full, c, fo, &cur.u);
     if (f.rms_train < cur.rms_train) {
       cur = std::move(f);
       cur_val = rms_on(cur, val, c);
@@ -725,11 +780,11 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = cur_val;
     }
   }
-  if (!rep.range_widened) widen_element_range(false);
+  if (every == 1 && !rep.range_widened) widen_element_range(false);
   rep.context = c;
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = cur_val;
-  rep.parameters = parameter_estimates(cur, train, c);
+  rep.parameters = parameter_estimates(cur, full, c);
   {
     const auto rv = residual(cur, val, c);
     const auto gv = unit_friction(cur, val, c);
@@ -908,6 +963,7 @@ nlohmann::json to_json(const IdentReport& r) {
                 {"quantisation_N", r.noise.quantisation}, {"sampling_N", r.noise.sampling},
                 {"floor_N", r.noise.floor()}};
   j["path"] = {{"fine", r.fine_path}, {"difference_N", r.path_difference}};
+  j["screened_every"] = r.screen_every;
   j["base_retried"] = r.base_retried;
   j["element_range_widened"] = r.range_widened;
   j["ripple_search"] = to_json(r.ripples);

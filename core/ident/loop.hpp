@@ -68,6 +68,11 @@ struct LoopOptions {
   double refit_above_floor = 1.3;
   int train_tries = 2;
   int max_rounds = 9;
+  // A training record of at least 2 x screen_samples samples is screened on every k-th sample
+  // (k = samples / screen_samples): the base fit and the loop's refits and decisions run there;
+  // the noise floor, the final refit (one local search from the screened shape), the parameter
+  // errors and all validation RMS use every sample. 0: never.
+  std::size_t screen_samples = 2000;
   std::vector<Effect> candidates;  // empty = the whole catalog
   LoopOptions();
 };
@@ -151,6 +156,9 @@ struct IdentReport {
   bool base_retried = false;
   // The element range was widened beyond 20 x the swing estimate (softer elements in the data).
   bool range_widened = false;
+  // The loop screened the training record on every screen_every-th sample (1: all of them;
+  // LoopOptions::screen_samples). Training RMS of the stages before the final one are on those.
+  std::size_t screen_every = 1;
   const FitResult& final_fit() const { return stages.back(); }
 };
 

@@ -5,6 +5,7 @@
 #include <functional>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <sstream>
 
 namespace gmslab::ident {
@@ -159,6 +160,30 @@ void add_sampling(NoiseEstimate& e, const Dataset& d, const std::vector<double>&
   e.sampling = n > 0 ? std::sqrt(s / n / 3.0) : 0.0;
 }
 
+namespace {
+struct PeriodogramSums {
+  double v[10];  // C0 S0 C1 S1 C2 S2 bs bc bgs bgc
+};
+// One frequency's sums over the scan samples, and the phase recurrence to the next frequency.
+// Compiled for AVX2 and the baseline, chosen at load time (the reduction order depends on the
+// vector width: results are reproducible per machine kind, as the GMS element step).
+__attribute__((target_clones("avx2", "default"))) PeriodogramSums periodogram_sums(
+    std::size_t ns, double* __restrict pc, double* __restrict ps, const double* __restrict pcr,
+    const double* __restrict psr, const double* __restrict pg, const double* __restrict pr) {
+  double C0 = 0, S0 = 0, C1 = 0, S1 = 0, C2 = 0, S2 = 0, bs = 0, bc = 0, bgs = 0, bgc = 0;
+#pragma omp simd reduction(+ : C0, S0, C1, S1, C2, S2, bs, bc, bgs, bgc)
+  for (std::size_t q = 0; q < ns; ++q) {
+    const double cc = pc[q], ss = ps[q], gg = pg[q], rr = pr[q];
+    const double c2 = cc * cc - ss * ss, s2 = 2 * cc * ss;
+    C0 += c2, S0 += s2, C1 += gg * c2, S1 += gg * s2, C2 += gg * gg * c2, S2 += gg * gg * s2;
+    bs += rr * ss, bc += rr * cc, bgs += rr * gg * ss, bgc += rr * gg * cc;
+    pc[q] = cc * pcr[q] - ss * psr[q];  // (exact again at the next multiple of 128)
+    ps[q] = ss * pcr[q] + cc * psr[q];
+  }
+  return {{C0, S0, C1, S1, C2, S2, bs, bc, bgs, bgc}};
+}
+}  // namespace
+
 RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::vector<double>& r,
                            const std::vector<double>& g_in, double fap, int max_peaks) {
   RippleSearch out;
@@ -206,10 +231,18 @@ RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::
   out.independent = std::max(1.0, (fmax - fmin) * span);
   const double df = 1 / (span * over);
   const int M = static_cast<int>(std::floor((fmax - fmin) / df)) + 1;
-  // Scan samples (at most 20000, evenly strided); refits use all.
-  const std::size_t stride = std::max<std::size_t>(1, n / 20000);
+  // Scan samples: all, or a fixed pseudo-random subset of kRippleScan of them (an even stride would
+  // alias a ripple whose period is near the stride's travel); the peak's refinement, amplitude and
+  // false-alarm probability use all.
   std::vector<std::size_t> sidx;
-  for (std::size_t i = 0; i < n; i += stride) sidx.push_back(i);
+  if (n <= kRippleScan) {
+    for (std::size_t i = 0; i < n; ++i) sidx.push_back(i);
+  } else {
+    std::mt19937 rng(20261126u);  // raw outputs only: the same subset on every platform
+    std::size_t need = kRippleScan;
+    for (std::size_t i = 0; i < n && need > 0; ++i)  // selection sampling (Knuth's algorithm S)
+      if (static_cast<double>(rng()) / 4294967296.0 * static_cast<double>(n - i) < static_cast<double>(need)) sidx.push_back(i), --need;
+  }
   const std::size_t ns = sidx.size();
   double W1 = 0, W2 = 0;
   for (std::size_t i : sidx) W1 += gs[i], W2 += gs[i] * gs[i];
@@ -234,22 +267,9 @@ RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::
           }
         }
       }
-      double C0 = 0, S0 = 0, C1 = 0, S1 = 0, C2 = 0, S2 = 0, bs = 0, bc = 0, bgs = 0, bgc = 0;
-      double* __restrict pc = cs.data();
-      double* __restrict ps = sn.data();
-      const double* __restrict pcr = cr.data();
-      const double* __restrict psr = sr.data();
-      const double* __restrict pg = gq.data();
-      const double* __restrict pr = rq.data();
-#pragma omp simd reduction(+ : C0, S0, C1, S1, C2, S2, bs, bc, bgs, bgc)
-      for (std::size_t q = 0; q < ns; ++q) {
-        const double cc = pc[q], ss = ps[q], gg = pg[q], rr = pr[q];
-        const double c2 = cc * cc - ss * ss, s2 = 2 * cc * ss;
-        C0 += c2, S0 += s2, C1 += gg * c2, S1 += gg * s2, C2 += gg * gg * c2, S2 += gg * gg * s2;
-        bs += rr * ss, bc += rr * cc, bgs += rr * gg * ss, bgc += rr * gg * cc;
-        pc[q] = cc * pcr[q] - ss * psr[q];  // (exact again at the next multiple of 128)
-        ps[q] = ss * pcr[q] + cc * psr[q];
-      }
+      const PeriodogramSums ps = periodogram_sums(ns, cs.data(), sn.data(), cr.data(), sr.data(), gq.data(), rq.data());
+      const double C0 = ps.v[0], S0 = ps.v[1], C1 = ps.v[2], S1 = ps.v[3], C2 = ps.v[4], S2 = ps.v[5];
+      const double bs = ps.v[6], bc = ps.v[7], bgs = ps.v[8], bgc = ps.v[9];
       Eigen::Matrix4d G;
       G << (W0 - C0) / 2, S0 / 2, (W1 - C1) / 2, S1 / 2,  //
           S0 / 2, (W0 + C0) / 2, S1 / 2, (W1 + C1) / 2,     //
@@ -266,12 +286,12 @@ RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::
       }
     }
     const int jp = static_cast<int>(std::max_element(P.begin(), P.end()) - P.begin());
-    // Refine on all sliding samples (golden section over +-1 grid step).
+    // Refine on the scan samples (golden section over +-1 grid step); the peak's fit on all.
     double a = fmin + std::max(0, jp - 1) * df, bnd = fmin + std::min(M - 1, jp + 1) * df;
     const double gr = 0.5 * (std::sqrt(5.0) - 1);
     for (int it = 0; it < 30; ++it) {
       const double c1 = bnd - gr * (bnd - a), c2 = a + gr * (bnd - a);
-      if (fit4(xs, gs, rs, 1 / c1).delta > fit4(xs, gs, rs, 1 / c2).delta) bnd = c2;
+      if (fit4(xq, gq, rq, 1 / c1).delta > fit4(xq, gq, rq, 1 / c2).delta) bnd = c2;
       else a = c1;
     }
     const double fpk = 0.5 * (a + bnd);
