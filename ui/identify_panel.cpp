@@ -472,6 +472,13 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
                 r.rms_before_validation, r.rms_after_validation, r.rms_before_train, r.rms_after_train,
                 added.empty() ? "none" : added.c_str());
     ImGui::Text("Base model: %s, %zu elements found", r.model.c_str(), r.final_fit().spec.elements);
+    if (r.screen_every > 1) {
+      ImGui::SameLine();
+      ImGui::TextColored(grey, "(%s)", ident::screen_summary(r).c_str());
+      tooltip("A long record: the base fit and the loop's decisions ran on every k-th sample of the "
+              "training record; the noise floor, the ripple search, the final fit (polished from the "
+              "screened shape) and all validation errors use every sample");
+    }
     if (!r.remaining.summary.empty()) {
       TextWrappedAtSpaces("What remains: " + r.remaining.summary);
       tooltip("The final validation residual tested for structure by velocity, position, time, after "

@@ -124,8 +124,9 @@ int run_identify(const IdentifyOptions& o) {
   j["scenario_file"] = scenario;
   save_scenario(ident::identified_scenario(rep, train), scenario);
   write_file_atomic(o.report, j.dump(2) + "\n");
-  std::cout << "identify: " << train.source << " (" << train.used() << " samples used), validation "
-            << val.source << " (" << val.used() << ")\n";
+  std::cout << "identify: " << train.source << " (" << train.used() << " samples used";
+  if (rep.screen_every > 1) std::cout << "; " << ident::screen_summary(rep);
+  std::cout << "), validation " << val.source << " (" << val.used() << ")\n";
   std::cout << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
             << " elements; validation RMS " << rep.rms_before_validation << " -> "
             << rep.rms_after_validation << " N; effects added:";

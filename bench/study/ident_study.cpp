@@ -35,7 +35,7 @@ std::string truth_line(const Truth& t) {
   return b;
 }
 
-int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool detail) {
+int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool detail, std::size_t screen) {
   int pass = 0;
   double worst = 0, total_s = 0;
   std::printf("%-4s %-68s %10s %10s %6s %5s %6s %s\n", "rec", "truth", "floor", "val RMS", "ratio", "N fit", "s", "path");
@@ -50,6 +50,7 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
     spec.elements = auto_n ? 0 : tr.elements();
     LoopOptions lo;
     lo.max_rounds = 0;
+    lo.screen_samples = screen;
     const auto rep = identify(train, val, spec, lo);
     const double s = seconds_since(t0);
     total_s += s;
@@ -93,13 +94,14 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 }
 
 // The residual loop on records with no effect, one catalog effect (2..10 x the noise) or two.
-int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const std::string& report_dir) {
+int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const std::string& report_dir,
+             std::size_t screen) {
   const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
                            GenEffect::PositionRipple, GenEffect::PositionDependent,
                            GenEffect::TimeDrift, GenEffect::VelocityExtra, GenEffect::NormalLoad};
   int n0 = 0, ok0 = 0, n1 = 0, ok1 = 0, n2 = 0, ok2 = 0, floor_ok = 0;
   double total_s = 0;
-  std::printf("%-4s %-40s %-40s %8s %6s\n", "rec", "generated", "added", "val/floor", "s");
+  std::printf("%-4s %-40s %-40s %8s %6s %6s\n", "rec", "generated", "added", "val/floor", "s", "every");
   for (int i = skip; i < skip + records; ++i) {
     const unsigned seed = seed0 + static_cast<unsigned>(i);
     Truth tr = draw_truth(seed);
@@ -115,7 +117,9 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
     const auto t0 = std::chrono::steady_clock::now();
     FitSpec spec;
     spec.elements = tr.elements();
-    const auto rep = identify(train, val, spec, LoopOptions{});
+    LoopOptions lo;
+    lo.screen_samples = screen;
+    const auto rep = identify(train, val, spec, lo);
     const double s = seconds_since(t0);
     total_s += s;
     if (!report_dir.empty()) {
@@ -137,8 +141,8 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
     }
     const double ratio = rep.rms_after_validation / floor;
     floor_ok += ratio <= 1.5;
-    std::printf("%-4u %-40s %-40s %8.3f %6.2f %s\n", seed, gen.empty() ? "-" : gen.c_str(),
-                added.empty() ? "-" : added.c_str(), ratio, s, right ? "" : "  <-- wrong");
+    std::printf("%-4u %-40s %-40s %8.3f %6.2f %6zu %s\n", seed, gen.empty() ? "-" : gen.c_str(),
+                added.empty() ? "-" : added.c_str(), ratio, s, rep.screen_every, right ? "" : "  <-- wrong");
     std::fflush(stdout);
   }
   std::printf("\nno effect: nothing added in %d / %d; one effect: named first in %d / %d; two effects: "
@@ -158,6 +162,7 @@ int main(int argc, char** argv) {
   bool auto_n = false, detail = false;
   int skip = 0;
   std::string report_dir;
+  std::size_t screen = LoopOptions{}.screen_samples;
   app.add_option("mode", mode, "base | loop")->check(CLI::IsMember({"base", "loop"}));
   app.add_option("--records", records, "number of records")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "first seed");
@@ -167,7 +172,9 @@ int main(int argc, char** argv) {
   app.add_option("--skip", skip, "loop: start at this record index (seed + index; the index also sets the effects)")
       ->check(CLI::Range(0, 100000));
   app.add_option("--report-dir", report_dir, "loop: write each record's report JSON into this folder");
+  app.add_option("--screen-samples", screen,
+                 "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   CLI11_PARSE(app, argc, argv);
-  if (mode == "base") return run_base(records, seed, samples, auto_n, detail);
-  return run_loop(records, seed, samples, skip, report_dir);
+  if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
+  return run_loop(records, seed, samples, skip, report_dir, screen);
 }

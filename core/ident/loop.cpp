@@ -28,6 +28,13 @@ LoopOptions::LoopOptions() {
 }
 
 namespace {
+// 2 -> "2nd", 12 -> "12th", 23 -> "23rd".
+std::string ordinal(std::size_t n) {
+  const std::size_t t = n % 100, u = n % 10;
+  const char* suffix = (t >= 11 && t <= 13) ? "th" : u == 1 ? "st" : u == 2 ? "nd" : u == 3 ? "rd" : "th";
+  return std::to_string(n) + suffix;
+}
+
 bool contains(const std::vector<Effect>& v, Effect e) {
   return std::find(v.begin(), v.end(), e) != v.end();
 }
@@ -332,6 +339,11 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
   return fit_model(base, train, c, o);
 }
 
+std::string screen_summary(const IdentReport& r) {
+  if (r.screen_every <= 1) return {};
+  return "the loop screened every " + ordinal(r.screen_every) + " training sample; the final fit used all";
+}
+
 IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSpec& base,
                      const LoopOptions& o) {
   check_identifiable(train_in, "training", true);
@@ -409,16 +421,13 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       if (e > 1) screen_rec = decimated(full, e, rule), diff = difference(e, screen_rec);
     }
     if (e != every) {
-      rep.notes.push_back("every " + std::to_string(every) + "th sample would change the base fit's friction by " +
+      rep.notes.push_back("every " + ordinal(every) + " sample would change the base fit's friction by " +
                           std::to_string(first_diff) + " N RMS (more than a quarter of the noise, " +
-                          std::to_string(0.25 * rep.noise.sigma) + " N): screened on every " +
-                          std::to_string(e) + (e == 1 ? " (all samples)" : "th sample"));
+                          std::to_string(0.25 * rep.noise.sigma) + " N): " +
+                          (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
       every = e;
       if (every == 1) screen_rec = Dataset{};
-      FitOptions po = o.base;
-      po.polish_only = true;
-      po.stage = "base fit, polished on the screened record";
-      cur = fit_model(cur.spec, every > 1 ? screen_rec : full, c, po, &cur.u);
+      cur = fit_base(base, every > 1 ? screen_rec : full, val, c, o.base);
     }
   }
   const Dataset& train = every > 1 ? screen_rec : full;

@@ -167,6 +167,9 @@ struct IdentReport {
 FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& validation,
                    const EffectContext& c, const FitOptions& o);
 
+// "the loop screened every 12th training sample; the final fit used all" (empty when it used all).
+std::string screen_summary(const IdentReport& r);
+
 IdentReport identify(const Dataset& train, const Dataset& validation, const FitSpec& base,
                      const LoopOptions& o);
 
