@@ -357,6 +357,43 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       o.screen_samples > 0 && train_in.size() >= 2 * o.screen_samples ? train_in.size() / o.screen_samples : 1;
   Dataset screen_rec = every > 1 ? decimated(train_in, every, PathRule{}) : Dataset{};
   FitResult cur = fit_base(base, every > 1 ? screen_rec : train_in, val_in, c, o.base);
+  auto friction_force = [&](const FitResult& f, const Dataset& d, bool straight = false) {
+    auto g = straight ? unit_friction(f, with_straight_steps(d), c) : unit_friction(f, d, c);
+    const double fc = f.theta.empty() ? 1.0 : f.theta[0];
+    for (auto& x : g) x *= fc;
+    return g;
+  };
+  // The screened record must drive the friction as the full one does: the base fit's friction along
+  // both, compared at the kept samples, within a quarter of the noise. Else every k/2-th sample is
+  // tried (and so on), and the base fit is made again on the record that passes. (Slow motion at a
+  // steep Stribeck curve: the step velocities of a quantised position at the full rate and at
+  // every k-th sample give S(v) different means.)
+  if (every > 1) {
+    const auto ff = friction_force(cur, train_in);
+    auto difference = [&](std::size_t e, const Dataset& sc) {
+      const auto fs = friction_force(cur, sc);
+      double s2 = 0, n = 0;
+      for (std::size_t k = 0; k < sc.size(); ++k)
+        if (sc.use[k]) s2 += (fs[k] - ff[k * e]) * (fs[k] - ff[k * e]), n += 1;
+      return n > 0 ? std::sqrt(s2 / n) : 0.0;
+    };
+    std::size_t e = every;
+    double diff = difference(e, screen_rec);
+    const double first_diff = diff;
+    while (e > 1 && diff > 0.25 * rep.noise.sigma) {
+      e /= 2;
+      if (e > 1) screen_rec = decimated(train_in, e, PathRule{}), diff = difference(e, screen_rec);
+    }
+    if (e != every) {
+      rep.notes.push_back("every " + ordinal(every) + " sample would change the base fit's friction by " +
+                          std::to_string(first_diff) + " N RMS (more than a quarter of the noise, " +
+                          std::to_string(0.25 * rep.noise.sigma) + " N): " +
+                          (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
+      every = e;
+      if (every == 1) screen_rec = Dataset{};
+      cur = fit_base(base, every > 1 ? screen_rec : train_in, val_in, c, o.base);
+    }
+  }
   // The path between samples. The adaptive path steps straight where the speed hardly changes;
   // with a fast attraction (C h >> 1) the force at a sample follows the speed at that sample, and
   // the straight step's mean speed is half a step late. When the base fit's friction along the
@@ -390,46 +427,8 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       train_fine = Dataset{};
     }
   }
-  auto friction_force = [&](const FitResult& f, const Dataset& d, bool straight = false) {
-    auto g = straight ? unit_friction(f, with_straight_steps(d), c) : unit_friction(f, d, c);
-    const double fc = f.theta.empty() ? 1.0 : f.theta[0];
-    for (auto& x : g) x *= fc;
-    return g;
-  };
   const Dataset& full = rep.fine_path ? train_fine : train_in;
   const Dataset& val = rep.fine_path ? val_fine : val_in;
-  // The screened record must drive the friction as the full one does: the base fit's friction along
-  // both, compared at the kept samples, within a quarter of the noise. Else every k/2-th sample is
-  // tried (and so on), and the base fit is polished on the record that passes. (Slow motion at a
-  // steep Stribeck curve: the step velocities of a quantised position at the full rate and at
-  // every k-th sample give S(v) different means.)
-  if (every > 1) {
-    const PathRule rule = rep.fine_path ? kFinePath : PathRule{};
-    const auto ff = friction_force(cur, full);
-    auto difference = [&](std::size_t e, const Dataset& sc) {
-      const auto fs = friction_force(cur, sc);
-      double s2 = 0, n = 0;
-      for (std::size_t k = 0; k < sc.size(); ++k)
-        if (sc.use[k]) s2 += (fs[k] - ff[k * e]) * (fs[k] - ff[k * e]), n += 1;
-      return n > 0 ? std::sqrt(s2 / n) : 0.0;
-    };
-    std::size_t e = every;
-    double diff = difference(e, screen_rec);
-    const double first_diff = diff;
-    while (e > 1 && diff > 0.25 * rep.noise.sigma) {
-      e /= 2;
-      if (e > 1) screen_rec = decimated(full, e, rule), diff = difference(e, screen_rec);
-    }
-    if (e != every) {
-      rep.notes.push_back("every " + ordinal(every) + " sample would change the base fit's friction by " +
-                          std::to_string(first_diff) + " N RMS (more than a quarter of the noise, " +
-                          std::to_string(0.25 * rep.noise.sigma) + " N): " +
-                          (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
-      every = e;
-      if (every == 1) screen_rec = Dataset{};
-      cur = fit_base(base, every > 1 ? screen_rec : full, val, c, o.base);
-    }
-  }
   const Dataset& train = every > 1 ? screen_rec : full;
   rep.screen_every = every;
   rep.model = base.model;
