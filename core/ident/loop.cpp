@@ -1,5 +1,7 @@
 #include "core/ident/loop.hpp"
 
+#include <future>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +16,7 @@
 
 #include "core/ident/element_fit.hpp"
 #include "core/ident/evidence.hpp"
+#include "core/ident/parallel.hpp"
 #include "core/io/scenario_io.hpp"
 
 namespace gmslab::ident {
@@ -166,18 +169,26 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
       tune_scalar(cur, train, c, e, field, fine);
       return;
     }
-    FitOptions fo = refit;
+    FitOptions fo = serialised_progress(refit);
     fo.starts = 1;
     fo.data_start = false;
     fo.max_evaluations = std::min(refit.max_evaluations, 120);
     fo.stage = "search " + std::string(effect_name(e));
+    // The coarse values' shape refits are independent: all at once, each on its own threads (the
+    // same results as one after the other), taken in order.
+    std::vector<std::future<FitResult>> fits;
+    const FitSpec spec = with(cur.spec, e);
+    for (double v : coarse) {
+      EffectContext cv = c;
+      cv.*field = v;
+      fits.push_back(std::async(std::launch::async, [&, cv] { return fit_model(spec, train, cv, fo, &cur.u); }));
+    }
     double best = std::numeric_limits<double>::infinity();
     std::optional<FitResult> bf;
     double bv = coarse.front();
-    for (double v : coarse) {
-      c.*field = v;
-      FitResult f = fit_model(with(cur.spec, e), train, c, fo, &cur.u);
-      if (f.rms_train < best) best = f.rms_train, bv = v, bf = std::move(f);
+    for (std::size_t i = 0; i < coarse.size(); ++i) {
+      FitResult f = fits[i].get();
+      if (f.rms_train < best) best = f.rms_train, bv = coarse[i], bf = std::move(f);
     }
     std::vector<double> grid;  // fine grid within the neighbours of the best coarse value
     for (double m : {0.4, 0.55, 0.75, 0.9, 1.0, 1.12, 1.3, 1.6, 2.0}) grid.push_back(bv * m);
@@ -587,6 +598,37 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     int tries = 0;
     bool control_done = false;
     std::optional<std::pair<FitResult, Attempt>> best;
+    // Fits ahead, for wall time only: the round's first candidate the filters below let through,
+    // the control refit when that candidate's screening already passes the gain, and the next
+    // candidate when it screens within 1.5x of the first, each started at once on its own threads.
+    // A fit is a pure function of its inputs (taken by value here), so the numbers and decisions
+    // are those of fitting when needed; a fit started for nothing costs time, not results. All
+    // fits of the round share one progress lock.
+    const FitOptions refit_o = serialised_progress(o.refit);
+    std::map<Effect, std::future<FitResult>> ahead;
+    std::optional<std::future<FitResult>> ahead_control;
+    auto fit_ahead = [&](FitSpec spec, std::vector<double> warm, std::string stage) {
+      FitOptions fo = refit_o;
+      fo.stage = std::move(stage);
+      return std::async(std::launch::async, [&train, spec = std::move(spec), warm = std::move(warm), fo = std::move(fo), cc = c] {
+        return fit_model(spec, train, cc, fo, &warm);
+      });
+    };
+    const std::string round_stage = "round " + std::to_string(round) + ": ";
+    {
+      std::vector<const Candidate*> next;
+      for (const auto& k : rd.candidates) {
+        if (next.size() == 2) break;
+        if (k.explained < o.min_explained || k.screen_rms_validation >= cur_val) continue;
+        if (!next.empty() && k.screen_rms_validation > 1.5 * next.front()->screen_rms_validation) break;
+        next.push_back(&k);
+      }
+      for (const Candidate* k : next)
+        ahead.emplace(k->effect, fit_ahead(with(cur.spec, k->effect), *shape_of(k->effect),
+                                           round_stage + "refit with " + std::string(effect_name(k->effect))));
+      if (!next.empty() && next.front()->screen_rms_validation <= (1.0 - o.min_gain) * cur_val)
+        ahead_control = fit_ahead(cur.spec, cur.u, round_stage + "control refit without a new effect");
+    }
     // Whether the current model lags along the sampled path: a refit with inertia whose mass comes
     // out negative (-M a is what a model half a step late leaves). Its validation RMS, once per
     // round (from the round's inertia attempt when there is one).
@@ -604,8 +646,8 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
           if (negative(x.terms)) lag_val = x.rms_validation;
           return lag_val;
         }
-      FitOptions fo = o.refit;
-      fo.stage = "round " + std::to_string(round) + ": inertia refit (does the model lag along the sampled path?)";
+      FitOptions fo = refit_o;
+      fo.stage = round_stage + "inertia refit (does the model lag along the sampled path?)";
       const FitResult f = fit_model(with(cur.spec, Effect::Inertia), train, c, fo, &cur.u);
       if (negative(terms_of(f, Effect::Inertia))) lag_val = rms_on(f, val, c);
       return lag_val;
@@ -614,9 +656,11 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     // effect cannot be what the refit found (too small, a negative mass, within the sampling):
     // such an attempt does not use up one of the round's tries.
     auto attempt = [&](const Candidate& k) -> bool {
-      FitOptions fo = o.refit;
-      fo.stage = "round " + std::to_string(round) + ": refit with " + std::string(effect_name(k.effect));
-      FitResult f = fit_model(with(cur.spec, k.effect), train, c, fo, shape_of(k.effect));
+      FitOptions fo = refit_o;
+      fo.stage = round_stage + "refit with " + std::string(effect_name(k.effect));
+      const auto started = ahead.find(k.effect);
+      FitResult f = started != ahead.end() ? started->second.get()
+                                           : fit_model(with(cur.spec, k.effect), train, c, fo, shape_of(k.effect));
       Attempt a;
       a.effect = k.effect, a.rms_train = f.rms_train, a.rms_validation = rms_on(f, val, c);
       a.terms = terms_of(f, k.effect);
@@ -627,8 +671,8 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
         // is optimisation, not the effect; the effect must beat it by the same margin.
         control_done = true;
         FitOptions co = fo;
-        co.stage = "round " + std::to_string(round) + ": control refit without a new effect";
-        FitResult ctrl = fit_model(cur.spec, train, c, co, &cur.u);
+        co.stage = round_stage + "control refit without a new effect";
+        FitResult ctrl = ahead_control ? ahead_control->get() : fit_model(cur.spec, train, c, co, &cur.u);
         if (ctrl.rms_train < cur.rms_train) {
           cur = std::move(ctrl);
           cur_val = rms_on(cur, val, c);
