@@ -824,6 +824,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     // After screening: one local search from the screened shape on all samples (the shape is
     // found; more samples move it a little).
     fo.polish_only = every > 1;
+    if (every > 1) fo.rel_tol = 1e-5;
     FitResult f = fit_model(cur.spec, full, c, fo, &cur.u);
     if (f.rms_train < cur.rms_train) {
       cur = std::move(f);

@@ -69,7 +69,7 @@ struct RippleSearch {
 };
 
 // The periodogram scans at most this many sliding samples (a fixed pseudo-random subset beyond).
-inline constexpr std::size_t kRippleScan = 6000;
+inline constexpr std::size_t kRippleScan = 3000;
 // r: residual, g: unit friction of the current fit (empty: sgn v). fap: largest false-alarm
 // probability that counts as a ripple.
 RippleSearch ripple_search(const Dataset& d, const EffectContext& c, const std::vector<double>& r,
