@@ -1,11 +1,10 @@
 #include "core/ident/loop.hpp"
 
-#include <future>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <sstream>
 #include <limits>
 #include <map>
