@@ -1,7 +1,8 @@
 // Control benchmarks: root locus of a 10th-order plant, full lead designs (reachable, and with
 // relocation along three paths), the friction loop, and one full recomputation of the design
 // view (locus + design + Bode / Nyquist + describing-function prediction + linear step + both
-// nonlinear loops); frequency responses of a 10th-order loop; the view-rate limit-cycle prediction. Target for the view: < 16 ms.
+// nonlinear loops); frequency responses of a 10th-order loop; the view-rate limit-cycle prediction; the loop and the frame with the
+// measured-velocity feedforward (LoopConfig::feedforward_source). Target for the view: < 16 ms.
 #include <benchmark/benchmark.h>
 
 #include "core/control/design_session.hpp"
@@ -18,6 +19,26 @@ TransferFunction tenth_order() {
 }
 Scenario fig4() {
   return load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
+}
+// The Fig. 4 friction loop with the lead design and the GMS compensator, 1 s of a 1 Hz sine.
+LoopConfig fig4_loop() {
+  LoopConfig c;
+  c.C = {4440.18, 8.47263, 94.05};
+  c.reference = Signal::sine(0.0, 0.01, 1.0);
+  c.comp = Compensation::Gms;
+  c.duration = 1.0;
+  return c;
+}
+// The Design view's default frame on Fig. 4: sliding regime, zeta 0.7 at 60 rad/s, K 1000, two
+// periods of a 2 Hz sine (1 s).
+DesignInputs fig4_frame() {
+  DesignInputs in;
+  in.scenario = fig4();
+  in.regime = Regime::Sliding;
+  in.root = {0.7, 60.0};
+  in.K = 1000.0;
+  in.reference = Signal::sine(0.0, 0.01, 2.0);
+  return in;
 }
 }  // namespace
 
@@ -47,11 +68,7 @@ BENCHMARK(BM_LeadDesignWithRelocation)->Unit(benchmark::kMicrosecond);
 
 static void BM_FrictionLoop1s(benchmark::State& st) {
   const Scenario s = fig4();
-  LoopConfig c;
-  c.C = {4440.18, 8.47263, 94.05};
-  c.reference = Signal::sine(0.0, 0.01, 1.0);
-  c.comp = Compensation::Gms;
-  c.duration = 1.0;
+  const LoopConfig c = fig4_loop();
   for (auto _ : st) benchmark::DoNotOptimize(simulate_loop(s, c).x.back());
   st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -61,15 +78,23 @@ BENCHMARK(BM_FrictionLoop1s)->Unit(benchmark::kMillisecond);
 // its 2-state realisation each step) against the one-section update above.
 static void BM_FrictionLoopPid1s(benchmark::State& st) {
   const Scenario s = fig4();
-  LoopConfig c;
+  LoopConfig c = fig4_loop();
   c.C = {4440.18, 8.47263, 94.05, Section{4.2, 0.0}};
-  c.reference = Signal::sine(0.0, 0.01, 1.0);
-  c.comp = Compensation::Gms;
-  c.duration = 1.0;
   for (auto _ : st) benchmark::DoNotOptimize(simulate_loop(s, c).x.back());
   st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_FrictionLoopPid1s)->Unit(benchmark::kMillisecond);
+
+// The same loop with the GMS compensator driven by the plant's measured velocity
+// (LoopConfig::feedforward_source) instead of the reference.
+static void BM_FrictionLoopMeasuredFeedforward1s(benchmark::State& st) {
+  const Scenario s = fig4();
+  LoopConfig c = fig4_loop();
+  c.feedforward_source = FeedforwardSource::Measured;
+  for (auto _ : st) benchmark::DoNotOptimize(simulate_loop(s, c).x.back());
+  st.counters["steps/s"] = benchmark::Counter(1e5, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_FrictionLoopMeasuredFeedforward1s)->Unit(benchmark::kMillisecond);
 
 static void BM_FrequencyResponse10thOrder(benchmark::State& st) {
   const TransferFunction L = tenth_order();
@@ -132,13 +157,8 @@ BENCHMARK(BM_HuntingDfDefault)->Unit(benchmark::kMillisecond);
 
 // One drag of the Design view with a PI compensator (the hunting prediction added to the frame).
 static void BM_DesignViewFramePI(benchmark::State& st) {
-  DesignInputs in;
-  in.scenario = fig4();
-  in.regime = Regime::Sliding;
-  in.root = {0.7, 60.0};
-  in.K = 1000.0;
+  DesignInputs in = fig4_frame();
   in.type = CompensatorType::PI;
-  in.reference = Signal::sine(0.0, 0.01, 2.0);
   for (auto _ : st) {
     const DesignOutputs out = compute_design(in);
     if (!out.error.empty()) st.SkipWithError(out.error.c_str());
@@ -169,12 +189,7 @@ static void BM_DesignViewFramePIHunting(benchmark::State& st) {
 BENCHMARK(BM_DesignViewFramePIHunting)->Unit(benchmark::kMillisecond);
 
 static void BM_DesignViewFrame(benchmark::State& st) {
-  DesignInputs in;
-  in.scenario = fig4();
-  in.regime = Regime::Sliding;
-  in.root = {0.7, 60.0};
-  in.K = 1000.0;
-  in.reference = Signal::sine(0.0, 0.01, 2.0);  // the view's default: two periods, 1 s
+  const DesignInputs in = fig4_frame();
   for (auto _ : st) {
     const DesignOutputs out = compute_design(in);
     if (!out.error.empty()) st.SkipWithError(out.error.c_str());
@@ -186,12 +201,7 @@ BENCHMARK(BM_DesignViewFrame)->Unit(benchmark::kMillisecond);
 // The same frame with a 2 ms controller sample time: adds the sampled loop's Bode / margins and
 // its z-plane root locus (unit-circle crossings, stable gain intervals).
 static void BM_DesignViewFrameSampled(benchmark::State& st) {
-  DesignInputs in;
-  in.scenario = fig4();
-  in.regime = Regime::Sliding;
-  in.root = {0.7, 60.0};
-  in.K = 1000.0;
-  in.reference = Signal::sine(0.0, 0.01, 2.0);
+  DesignInputs in = fig4_frame();
   in.sample_time = 2e-3;
   for (auto _ : st) {
     const DesignOutputs out = compute_design(in);
@@ -200,6 +210,19 @@ static void BM_DesignViewFrameSampled(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_DesignViewFrameSampled)->Unit(benchmark::kMillisecond);
+
+// The frame with the measured-velocity feedforward on: adds the compensated describing-function
+// prediction on F - F_hat. Target for the view: < 16 ms.
+static void BM_DesignViewFrameMeasuredFeedforward(benchmark::State& st) {
+  DesignInputs in = fig4_frame();
+  in.feedforward_source = FeedforwardSource::Measured;
+  for (auto _ : st) {
+    const DesignOutputs out = compute_design(in);
+    if (!out.error.empty() || !out.limit_cycles_compensated) st.SkipWithError("no compensated prediction");
+    benchmark::DoNotOptimize(out.locus.gains.data());
+  }
+}
+BENCHMARK(BM_DesignViewFrameMeasuredFeedforward)->Unit(benchmark::kMillisecond);
 
 // The z-plane locus of the view's sampled loop alone.
 static void BM_ZRootLocusSampledLoop(benchmark::State& st) {

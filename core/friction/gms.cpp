@@ -1,5 +1,7 @@
 #include "core/friction/gms.hpp"
 
+#include "core/friction/gms_elements.hpp"
+
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -77,12 +79,7 @@ ModelInfo gms_model_info() {
 GmsModel::GmsModel(const ModelParams& p)
     : params_(p), p_(GmsParams::from(p)), n_(p_.alpha.size()) {
   inv_vs_ = 1.0 / p_.S.Vs;
-  // Beyond r_sat, (Fs - Fc) exp(-r^delta) < Fc 2^-54 <= half an ulp of Fc, so Fc + that rounds to
-  // Fc: skipping pow and exp there gives bit-identical results (sliding is the common case).
-  const double gap = p_.S.Fs - p_.S.Fc;
-  r_sat_ = gap > 0.0 ? std::pow(std::log(gap / p_.S.Fc) + 54.0 * std::log(2.0), 1.0 / p_.S.delta)
-                     : 0.0;
-  if (!(r_sat_ > 0.0)) r_sat_ = gap > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+  r_sat_ = gms_elements::saturation_ratio(p_.S);
   sigma_over_k_.resize(n_);
   for (std::size_t i = 0; i < n_; ++i) sigma_over_k_[i] = p_.sigma[i] / p_.k[i];
 }
@@ -93,25 +90,12 @@ void GmsModel::reset(std::span<double> state) const {
   std::fill(state.begin(), state.end(), 0.0);
 }
 
-namespace {
-struct Sums {
-  double force;    // sum of F_i after the step [N]
-  double damping;  // sum of (sigma_i / k_i) (F_i(t + h) - F_i(t)) [N s]
-};
-
-// The per-element update of GmsModel::step; compiled for AVX2 and for the baseline, chosen at load
-// time (no fused multiply-add: -std=c++20 implies -ffp-contract=off; the reduction order depends on the
-// vector width, so traces are reproducible per machine kind).
-__attribute__((target_clones("avx2", "default"))) Sums gms_elements_step(
+__attribute__((target_clones("avx2", "default"))) gms_elements::Sums gms_elements::vector(
     std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
     const double* __restrict k, const double* __restrict sk, double s, double S, double E,
     double vh) {
   double sum_f = 0.0;
   double sum_damp = 0.0;
-  // Branch-free per element, so the loop vectorises (selects, no control flow):
-  //  - keeps slipping: slipping in the direction of v (d s > 0)
-  //  - over the limit already at the start (S dropped while stuck and loaded along v): slips
-  //  - otherwise stick, and a crossing inside the step ends it exactly at the target
 #pragma omp simd reduction(+ : sum_f, sum_damp)
   for (std::size_t i = 0; i < n; ++i) {
     const double f0 = F[i];
@@ -131,46 +115,6 @@ __attribute__((target_clones("avx2", "default"))) Sums gms_elements_step(
   return {sum_f, sum_damp};
 }
 
-// Few elements (the common case: N = 4 in the reference set): a scalar loop with branches. The
-// whole run is then bound by the latency of one step (v -> force -> v), and a predicted branch cuts
-// that chain where a select would not: while every element sticks, the force follows from
-// F_i + k_i v h alone, and S(v) only feeds the (predicted) break-away test; while sliding fast,
-// S = Fc and the relaxation E depend on h only. The arithmetic of each element is that of
-// gms_elements_step, so both paths give the same element forces.
-Sums gms_elements_step_scalar(std::size_t n, double* __restrict F, double* __restrict d,
-                              const double* __restrict alpha, const double* __restrict k,
-                              const double* __restrict sk, double s, double S, double Ch,
-                              double vh) {
-  double sum_f = 0.0;
-  double sum_damp = 0.0;
-  double E = -1.0;  // exp(-C h / S), computed at the first slipping element
-  for (std::size_t i = 0; i < n; ++i) {
-    const double f0 = F[i];
-    const double lim = alpha[i] * S;
-    double f1;
-    if (d[i] * s > 0.0 || s * f0 >= lim) {  // keeps slipping, or over the limit already
-      if (E < 0.0) E = exp_neg(Ch / S);
-      const double target = s * lim;
-      f1 = target + (f0 - target) * E;
-      d[i] = s;
-    } else {
-      const double f_stick = f0 + k[i] * vh;
-      if (s * f_stick >= lim) {  // breaks away inside the step: ends it at the target
-        f1 = s * lim;
-        d[i] = s;
-      } else {
-        f1 = f_stick;
-        d[i] = 0.0;
-      }
-    }
-    sum_damp += sk[i] * (f1 - f0);
-    F[i] = f1;
-    sum_f += f1;
-  }
-  return {sum_f, sum_damp};
-}
-}  // namespace
-
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   const double v = in.v;
   const double h = in.h;
@@ -188,10 +132,10 @@ double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
   double* d = state.data() + n_;
   const auto [sum_f, sum_damp] =
       n_ <= kScalarElements
-          ? gms_elements_step_scalar(n_, F, d, p_.alpha.data(), p_.k.data(),
-                                     sigma_over_k_.data(), s, S, Ch, vh)
-          : gms_elements_step(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s,
-                              S, exp_neg(Ch / S), vh);
+          ? gms_elements::scalar(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
+                                 [&] { return exp_neg(Ch / S); }, vh)
+          : gms_elements::vector(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s,
+                                 S, exp_neg(Ch / S), vh);
   return sum_f + sum_damp * inv_h + p_.sigma2 * v;
 }
 

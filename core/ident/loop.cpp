@@ -614,11 +614,16 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
       });
     };
     const std::string round_stage = "round " + std::to_string(round) + ": ";
+    // Worth a refit at all: explains something of the training residual and hints at a lower
+    // validation RMS.
+    auto worth_a_refit = [&](const Candidate& k) {
+      return k.explained >= o.min_explained && k.screen_rms_validation < cur_val;
+    };
     {
       std::vector<const Candidate*> next;
       for (const auto& k : rd.candidates) {
         if (next.size() == 2) break;
-        if (k.explained < o.min_explained || k.screen_rms_validation >= cur_val) continue;
+        if (!worth_a_refit(k)) continue;
         if (!next.empty() && k.screen_rms_validation > 1.5 * next.front()->screen_rms_validation) break;
         next.push_back(&k);
       }
@@ -743,8 +748,7 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     const int max_attempts = 2 * o.tries_per_round;
     for (const auto& k : rd.candidates) {
       if (tries >= o.tries_per_round || static_cast<int>(rd.attempts.size()) >= max_attempts) break;
-      if (k.explained < o.min_explained) continue;
-      if (k.screen_rms_validation >= cur_val) continue;  // not even a hint on validation
+      if (!worth_a_refit(k)) continue;
       // Far behind an effect already kept: a refit lowers the screening RMS, but not by half.
       if (best && k.screen_rms_validation > 1.5 * best->second.rms_validation) continue;
       // A close second is tried too once one is kept; otherwise the first kept ends the round.

@@ -18,17 +18,13 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
+#include "tests/core/run_cli.hpp"
 
 using namespace gmslab;
 using namespace gmslab::control;
 
 namespace {
-int run_cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmslab");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return gmslab::cli::run(static_cast<int>(argv.size()), argv.data(), {});
-}
+using gmslab::test_util::run_cli;
 
 std::string temp(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("gmslab_design_sim_" + name)).string();

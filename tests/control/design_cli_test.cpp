@@ -10,14 +10,10 @@
 
 #include "app/cli/cli.hpp"
 #include "core/io/atomic_file.hpp"
+#include "tests/core/run_cli.hpp"
 
 namespace {
-int run_cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmslab");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return gmslab::cli::run(static_cast<int>(argv.size()), argv.data(), {});
-}
+using gmslab::test_util::run_cli;
 
 std::string temp_json(const char* name) {
   return (std::filesystem::temp_directory_path() / (std::string("gmslab_design_") + name + ".json")).string();

@@ -25,6 +25,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/session_io.hpp"
+#include "tests/core/run_cli.hpp"
 
 namespace gmslab::control {
 namespace {
@@ -42,12 +43,7 @@ std::string temp_path(const std::string& name) {
       .string();
 }
 
-int run_cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmslab");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return cli::run(static_cast<int>(argv.size()), argv.data(), {});
-}
+using gmslab::test_util::run_cli;
 
 std::string error_of(const std::function<void()>& f) {
   try {

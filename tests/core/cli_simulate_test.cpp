@@ -9,16 +9,12 @@
 #include "app/cli/cli.hpp"
 #include "core/io/atomic_file.hpp"
 #include "test_util.hpp"
+#include "tests/core/run_cli.hpp"
 
 namespace gmslab {
 namespace {
 
-int run_cli(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmslab");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return cli::run(static_cast<int>(argv.size()), argv.data(), {});
-}
+using gmslab::test_util::run_cli;
 
 TEST(CliSimulate, WritesTraceWithUnitsMatchingTheLibrary) {
   const auto out = (std::filesystem::temp_directory_path() / "gmslab_cli_trace.csv").string();

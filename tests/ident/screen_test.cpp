@@ -54,34 +54,39 @@ TEST(IdentScreen, DecimatedKeepsEveryKthSampleAndRebuildsThePath) {
 // of which the periodogram scans 6,000 (on average one in 100 um of travel). An aliasing subset
 // (an even stride on a grid) would show the ripple at a longer wavelength as well; the peak's
 // refinement and fit use all samples. Amplitude 3 x the noise. Expected: the wavelength within
-// 0.5 %, the amplitude within 15 %, significant; the same on a record the scan covers whole.
+// 0.5 %, the amplitude within 15 %, significant; the same on a record the scan covers whole, at
+// position scales 0.05-20 and force scales 0.01-100.
 TEST(IdentRipple, ScanSubsetOfALongRecordFindsAShortRipple) {
-  for (std::size_t n : {std::size_t{30000}, kRippleScan}) {
-    MeasuredRecord r;
-    r.source = "constant-speed strokes";
-    const double h = 1e-3, v = 0.02, L = 3.5 * v * h, A = 0.3, noise = 0.1;
-    const long stroke = 2500;  // samples per stroke (50 mm)
-    std::mt19937 rng(7);
-    std::normal_distribution<double> N(0.0, noise);
-    long m = 0, dir = 1;
-    for (std::size_t k = 0; k < n + 200; ++k) {
-      r.t.push_back(static_cast<double>(k) * h);
-      r.x.push_back(static_cast<double>(m) * v * h);
-      r.F.push_back(0.0);
-      m += dir;
-      if (m >= stroke || m <= 0) dir = -dir;
-    }
-    const Dataset d = prepare_dataset(r);
-    const EffectContext c = make_context(d);
-    std::vector<double> res(d.size());
-    for (std::size_t k = 0; k < d.size(); ++k) res[k] = A * std::sin(2 * std::numbers::pi * d.x[k] / L + 0.4) + N(rng);
-    const RippleSearch s = ripple_search(d, c, res, {});
-    ASSERT_FALSE(s.peaks.empty()) << n << " samples";
-    EXPECT_GT(s.samples, kRippleScan / 2);
-    EXPECT_NEAR(s.peaks[0].wavelength, L, 0.005 * L) << n << " samples";
-    EXPECT_NEAR(s.peaks[0].amplitude, A, 0.15 * A) << n << " samples";
-    EXPECT_LT(s.peaks[0].false_alarm, 1e-6);
-  }
+  // Position scales (speed, stroke and wavelength together) and force scales (amplitude and noise).
+  for (double xs : {0.05, 1.0, 20.0})
+    for (double fs : {1e-2, 1.0, 1e2})
+      for (std::size_t n : {std::size_t{30000}, kRippleScan}) {
+        MeasuredRecord r;
+        r.source = "constant-speed strokes";
+        const double h = 1e-3, v = 0.02 * xs, L = 3.5 * v * h, A = 0.3 * fs, noise = 0.1 * fs;
+        const long stroke = 2500;  // samples per stroke (50 mm at xs = 1)
+        std::mt19937 rng(7);
+        std::normal_distribution<double> N(0.0, noise);
+        long m = 0, dir = 1;
+        for (std::size_t k = 0; k < n + 200; ++k) {
+          r.t.push_back(static_cast<double>(k) * h);
+          r.x.push_back(static_cast<double>(m) * v * h);
+          r.F.push_back(0.0);
+          m += dir;
+          if (m >= stroke || m <= 0) dir = -dir;
+        }
+        const Dataset d = prepare_dataset(r);
+        const EffectContext c = make_context(d);
+        std::vector<double> res(d.size());
+        for (std::size_t k = 0; k < d.size(); ++k) res[k] = A * std::sin(2 * std::numbers::pi * d.x[k] / L + 0.4) + N(rng);
+        const RippleSearch s = ripple_search(d, c, res, {});
+        const std::string where = std::to_string(n) + " samples, x scale " + std::to_string(xs) + ", F scale " + std::to_string(fs);
+        ASSERT_FALSE(s.peaks.empty()) << where;
+        EXPECT_GT(s.samples, kRippleScan / 2) << where;
+        EXPECT_NEAR(s.peaks[0].wavelength, L, 0.005 * L) << where;
+        EXPECT_NEAR(s.peaks[0].amplitude, A, 0.15 * A) << where;
+        EXPECT_LT(s.peaks[0].false_alarm, 1e-6) << where;
+      }
 }
 
 // The loop on long records (8,000 samples) that it screens on every 3rd sample (the study's records
