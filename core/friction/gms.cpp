@@ -90,7 +90,11 @@ void GmsModel::reset(std::span<double> state) const {
   std::fill(state.begin(), state.end(), 0.0);
 }
 
-__attribute__((target_clones("avx2", "default"))) gms_elements::Sums gms_elements::vector(
+namespace {
+
+// The cloned body has internal linkage: clang wants target_clones on every declaration of a
+// function, so the header declares the plain entry point below and the clones stay here.
+__attribute__((target_clones("avx2", "default"))) gms_elements::Sums vector_clones(
     std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
     const double* __restrict k, const double* __restrict sk, double s, double S, double E,
     double vh) {
@@ -113,6 +117,14 @@ __attribute__((target_clones("avx2", "default"))) gms_elements::Sums gms_element
     sum_f += f1;
   }
   return {sum_f, sum_damp};
+}
+
+}  // namespace
+
+gms_elements::Sums gms_elements::vector(std::size_t n, double* __restrict F, double* __restrict d,
+                                        const double* __restrict alpha, const double* __restrict k,
+                                        const double* __restrict sk, double s, double S, double E, double vh) {
+  return vector_clones(n, F, d, alpha, k, sk, s, S, E, vh);
 }
 
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
