@@ -114,6 +114,35 @@ TEST(ElementGridFit, ReachesTheNoiseFloorOnRandomRecordsAcrossScales) {
   EXPECT_GE(within, total - 1);
 }
 
+// A base fit that stays above the floor is fitted again from other basins (LoopOptions' retry),
+// whose design samples the attraction C / Fc more finely than the first one. Record 28 of the base
+// study (5 elements 31-200 um, 5 kHz) has C / Fs = 800 1/s between the first design's levels: its
+// first fit sits in a basin at a third of the truth's C and 26 % too high an Fs (3.2x the floor).
+// Expected from the truth at three force scales (Fs, Fc, C, sigma2, k and the noise scaled
+// together, the motion kept): the retry runs and finds the truth's C and Fs, and the validation
+// RMS is within 1.5x the floor (the truth itself through gmslab's GMS is at 1.36x on this record:
+// the generator integrates the fast relaxation differently).
+TEST(ElementGridFit, RetrySamplesTheAttractionBetweenTheFirstDesignLevels) {
+  for (double scale : {0.01, 1.0, 30.0}) {
+    Truth tr = draw_truth(28);
+    tr.Fs *= scale, tr.Fc *= scale, tr.C *= scale, tr.sigma2 *= scale, tr.noise *= scale;
+    for (auto& k : tr.k) k *= scale;
+    auto [gt, gv] = synthesize_pair(tr, 28, 4000);
+    const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
+    FitSpec spec;
+    spec.elements = tr.elements();
+    LoopOptions lo;
+    lo.max_rounds = 0;  // the base fit (and its retry) only, as gmslab_study base
+    const IdentReport rep = identify(train, val, spec, lo);
+    SCOPED_TRACE("force scale " + std::to_string(scale));
+    EXPECT_TRUE(rep.base_retried);
+    const ModelParams& f = rep.final_fit().friction;
+    EXPECT_NEAR(f.scalar("C"), tr.C, 0.25 * tr.C);
+    EXPECT_NEAR(f.scalar("Fs"), tr.Fs, 0.05 * tr.Fs);
+    EXPECT_LE(rep.rms_after_validation, 1.5 * floor_rms(tr, gv));
+  }
+}
+
 TEST(ElementGridFit, MaxwellSlipRecoversItsBreakAwayDisplacements) {
   // A Maxwell-slip truth is a GMS truth with Fs = Fc and instant attraction.
   Truth tr = draw_truth(42);
