@@ -30,6 +30,14 @@ LoopOptions::LoopOptions() {
 }
 
 namespace {
+
+std::string fmt(double x) {
+  std::ostringstream o;
+  o.precision(3);
+  o << x;
+  return o.str();
+}
+
 // 2 -> "2nd", 12 -> "12th", 23 -> "23rd".
 std::string ordinal(std::size_t n) {
   const std::size_t t = n % 100, u = n % 10;
@@ -172,15 +180,18 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
     fo.starts = 1;
     fo.data_start = false;
     fo.max_evaluations = std::min(refit.max_evaluations, 120);
-    fo.stage = "search " + std::string(effect_name(e));
     // The coarse values' shape refits are independent: all at once, each on its own threads (the
-    // same results as one after the other), taken in order.
+    // same results as one after the other), taken in order. Each names its value in the progress
+    // lines, which interleave.
     std::vector<std::future<FitResult>> fits;
     const FitSpec spec = with(cur.spec, e);
     for (double v : coarse) {
       EffectContext cv = c;
       cv.*field = v;
-      fits.push_back(std::async(std::launch::async, [&, cv] { return fit_model(spec, train, cv, fo, &cur.u); }));
+      FitOptions fv = fo;
+      fv.stage = "search " + std::string(effect_name(e)) + " at " +
+                 (field == &EffectContext::backlash ? fmt(1e6 * v) + " um" : fmt(1e3 * v) + " ms");
+      fits.push_back(std::async(std::launch::async, [&, cv, fv] { return fit_model(spec, train, cv, fv, &cur.u); }));
     }
     double best = std::numeric_limits<double>::infinity();
     std::optional<FitResult> bf;
@@ -1072,13 +1083,6 @@ Series decimated(std::string label, const std::vector<double>& x, const std::vec
 }  // namespace
 
 namespace {
-
-std::string fmt(double x) {
-  std::ostringstream o;
-  o.precision(3);
-  o << x;
-  return o.str();
-}
 
 std::string stage_label(const IdentReport& r, std::size_t i) {
   return i == 0 ? "base " + r.model : "+ " + std::string(effect_name(r.effects_added[i - 1]));
