@@ -151,7 +151,8 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
        << "; closed loop: bandwidth " << f(c["bandwidth_rad_s"])
        << " rad/s, peak " << f(c["peak_db"]) << " dB; Nyquist: N = " << n["encirclements"].get<int>()
        << ", P = " << n["open_rhp_poles"].get<int>() << ", Z = " << n["closed_rhp_poles"].get<int>()
-       << (n["stable"].get<bool>() ? " (stable)" : " (unstable)") << '\n';
+       << (n["marginal"].get<bool>() ? " (marginal: a closed-loop pole on the axis, or not countable)"
+           : n["stable"].get<bool>() ? " (stable)" : " (unstable)") << '\n';
   }
   if (j.contains("limit_cycles")) {
     const auto& lc = j["limit_cycles"];

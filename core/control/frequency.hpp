@@ -19,7 +19,9 @@
 //   refined until arg(1 + L) moves less than 0.3 rad between points, so the count is exact.
 //   N = clockwise encirclements of -1, P = open-loop poles with Re > 0 (those on the axis are
 //   outside the indented contour), Z = N + P closed-loop poles with Re > 0. A closed-loop pole on
-//   the contour (|1 + L| ~ 0 on it) is reported as marginal.
+//   the contour (|1 + L| ~ 0 on it) is reported as marginal, and so is a contour that cannot be
+//   counted: 1 + L not finite in doubles on it (coefficients near the double range), or more than
+//   2,000,000 refinement points.
 // Units: w in rad/s; magnitudes in dB (20 log10); phases in degrees.
 #pragma once
 
@@ -51,7 +53,7 @@ struct Nyquist {
   int axis_poles = 0;       // open-loop poles on the imaginary axis (indented around)
   int encirclements = 0;    // N: clockwise encirclements of -1
   int closed_rhp_poles = 0; // Z = N + P
-  bool marginal = false;    // a closed-loop pole lies on the imaginary axis (N undefined)
+  bool marginal = false;    // a closed-loop pole lies on the imaginary axis, or the contour cannot be counted (N undefined)
   bool stable = false;      // Z == 0 and not marginal
 };
 

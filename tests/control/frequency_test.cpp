@@ -156,6 +156,26 @@ TEST(Frequency, NyquistCountMatchesClosedLoopRoots) {
   EXPECT_GT(with_rhp, 100);
 }
 
+// Loops whose coefficients span the double range. A second-order loop wn^2 / (s (s + wn)) is
+// stable at every scale (closed loop s^2 + wn s + wn^2) and counted so from wn = 1e-100 to 1e150
+// (coefficients up to 1e300). The fuzzer's case (cli_fuzz timeout:
+// a lead design on 7.8e196 / (3 s^2 + 2 s) with wn = 7.8e79) makes 1 + L non-finite on the
+// contour: it is marginal (not counted, not stable) and returns at once instead of refining
+// every segment to the depth limit.
+TEST(Frequency, NyquistOfLoopsNearTheDoubleRangeIsCountedOrMarginal) {
+  for (int e : {-100, -30, 0, 30, 80, 120, 150}) {
+    const double wn = std::pow(10.0, e);
+    const Nyquist ny = nyquist_count(tf({wn * wn}, {1, wn, 0}));
+    EXPECT_FALSE(ny.marginal) << "wn 1e" << e;
+    EXPECT_TRUE(ny.stable) << "wn 1e" << e;
+  }
+  const double KcN = 4.4203301123331135e-36 * 7.777777777777778e196, z = 7.367216853888553e79,
+               p = 1.4734433707777046e81;
+  const Nyquist ny = nyquist_count(tf({KcN, KcN * z}, {3, 3 * p + 2, 2 * p, 0}));
+  EXPECT_TRUE(ny.marginal);
+  EXPECT_FALSE(ny.stable);
+}
+
 TEST(Frequency, BadLoopIsAnInputError) {
   EXPECT_THROW(margins(tf({1, 0, 0}, {1, 1})), gmslab::InputError);
   EXPECT_THROW(frequency_response(tf({1}, {1, 1}), {.points = 1}), gmslab::InputError);
