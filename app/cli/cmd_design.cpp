@@ -283,7 +283,7 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--regime", o->regime, "Scenario plant regime: presliding or sliding")->capture_default_str();
   sub->add_option("--velocity", o->velocity, "Sliding operating velocity v0 [m/s] (default 10 Vs)");
   sub->add_option("--zeta", o->zeta, "Damping ratio of the desired dominant roots, in (0, 1)")->required();
-  sub->add_option("--wn", o->wn, "Natural frequency of the desired dominant roots [rad/s], > 0")->required();
+  sub->add_option("--wn", o->wn, "Natural frequency of the desired dominant roots [rad/s], 1e-12 to 1e12")->required();
   sub->add_option("--K", o->K, "Desired error constant (Kp, Kv or Ka by plant type), > 0");
   sub->add_option("--max-ratio", o->max_ratio, "Bound on p/z for the usable maximum, > 1")->capture_default_str();
   sub->add_option("--margin", o->margin, "Relocation target K (1 + margin), > 0")->capture_default_str();

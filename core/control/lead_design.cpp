@@ -34,8 +34,9 @@ void check_root(const DominantRoot& d) {
   if (!(d.zeta > 0.0 && d.zeta < 1.0))
     throw InputError("zeta = " + num_text(d.zeta) +
                      ": the damping ratio of the dominant roots must be in (0, 1)");
-  if (!(d.wn > 0.0) || !std::isfinite(d.wn))
-    throw InputError("wn = " + num_text(d.wn) + " rad/s: the natural frequency must be > 0");
+  if (!(d.wn >= kMinWn && d.wn <= kMaxWn))
+    throw InputError("wn = " + num_text(d.wn) + " rad/s: the natural frequency must be in [" + num_text(kMinWn) +
+                     ", " + num_text(kMaxWn) + "] rad/s");
 }
 
 LeadLimits lead_limits(const TransferFunction& g, const DominantRoot& d) {

@@ -98,7 +98,10 @@ struct LeadReport {
   std::vector<Relocation> relocations;  // when K_des is given and not reachable
 };
 
-void check_root(const DominantRoot& d);  // throws InputError for zeta/wn out of range
+// The dominant roots' natural frequency [rad/s]: far beyond any mechanism, and inside it the
+// design's polynomials (wn^2 times the plant's coefficients) stay well within doubles.
+inline constexpr double kMinWn = 1e-12, kMaxWn = 1e12;
+void check_root(const DominantRoot& d);  // throws InputError for zeta in (0, 1), wn in [kMinWn, kMaxWn]
 LeadLimits lead_limits(const TransferFunction& g, const DominantRoot& d);
 // The design whose zero is seen from s_d under theta_z (phi < theta_z < pi - beta).
 LeadDesign design_at_zero_angle(const TransferFunction& g, const DominantRoot& d, double theta_z);

@@ -90,7 +90,9 @@ void balance(Eigen::MatrixXd& A) {
       double c = 0.0, r = 0.0;
       for (int j = 0; j < n; ++j)
         if (j != i) c += std::abs(A(j, i)), r += std::abs(A(i, j));
-      if (c == 0.0 || r == 0.0) continue;
+      // Zero: nothing to scale. Not finite (a companion matrix of coefficients that overflow):
+      // the scaling loops below would never end (inf >= 2 inf), and scaling cannot help.
+      if (c == 0.0 || r == 0.0 || !std::isfinite(c) || !std::isfinite(r)) continue;
       double f = 1.0;
       const double s = c + r;
       while (c < 0.5 * r) c *= 2.0, r *= 0.5, f *= 2.0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -241,6 +242,18 @@ TEST(LeadDesignInput, BadDominantRootsAndConstantsAreRejected) {
   EXPECT_THROW(lead_limits(G1, {0.0, 4.0}), gmslab::InputError);
   EXPECT_THROW(lead_limits(G1, {1.0, 4.0}), gmslab::InputError);
   EXPECT_THROW(lead_limits(G1, {0.5, -1.0}), gmslab::InputError);
+  // wn beyond [1e-12, 1e12] rad/s (cli_fuzz: wn = 2.2e119 overflowed the design's polynomials);
+  // the message names the range, and its ends are accepted.
+  for (double wn : {1e-13, 1.1e12, 2.2e119, std::numeric_limits<double>::infinity()}) {
+    try {
+      lead_limits(G1, {0.5, wn});
+      ADD_FAILURE() << "accepted wn = " << wn;
+    } catch (const gmslab::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("must be in [1e-12, 1e+12] rad/s"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(lead_limits(G1, {0.5, kMinWn}));
+  EXPECT_NO_THROW(lead_limits(G1, {0.5, kMaxWn}));
   EXPECT_THROW(design_for_constant(G1, {0.5, 4.0}, -1.0), gmslab::InputError);
   EXPECT_THROW(design_for_constant(G1, {0.5, 4.0}, 8.0), gmslab::InputError);
   EXPECT_THROW(lead_design(tf({1, 0}, {1, 2, 1}), {0.5, 4.0}, 1.0), gmslab::InputError);

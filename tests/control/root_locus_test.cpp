@@ -103,6 +103,20 @@ TEST(Polynomial, RootsOfKnownFactorsAndConjugatePairs) {
               1e-9);
 }
 
+// Coefficients whose ratios overflow (a companion matrix with inf entries): the balancing
+// loop skipped such rows before it could spin forever (inf >= 2 inf); roots() returns its n
+// values. A polynomial with a huge but finite spread still gets its roots: s^2 + 1e150 s + 1 has
+// roots near -1e150 and -1e-150 (product 1, sum -1e150).
+TEST(Polynomial, RootsReturnForCoefficientsThatOverflow) {
+  const Poly over({1e300, 0.0, 1e-300});  // -c0 / c2 = -inf
+  EXPECT_EQ(over.roots().size(), 2u);
+  const auto r = Poly({1.0, 1e150, 1.0}).roots();
+  ASSERT_EQ(r.size(), 2u);
+  const double big = std::min(r[0].real(), r[1].real()), small = std::max(r[0].real(), r[1].real());
+  EXPECT_NEAR(big, -1e150, 1e138);
+  EXPECT_NEAR(small, -1e-150, 1e-162);
+}
+
 TEST(Polynomial, ParseRejectsMalformedCoefficientLists) {
   EXPECT_EQ(parse_polynomial("1 2 0", "--den").degree(), 2);
   EXPECT_EQ(parse_polynomial("1, 2, 0", "--den").coeff(1), 2.0);
