@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <climits>
 #include <cstring>
@@ -150,10 +151,17 @@ int run_identify(const IdentifyOptions& o) {
   else std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
   std::cout << '\n';
   print_ablation(rep.ablation);
+  if (!rep.optimum.verified)
+    std::cout << "  not converged: " << rep.optimum.reason << "; no standard errors\n";
   for (const auto& p : rep.parameters)
-    if (p.effect != "base")
-      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
-                   p.std_error, p.unit.c_str());
+    if (p.effect != "base") {
+      if (std::isfinite(p.std_error))
+        std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+                     p.std_error, p.unit.c_str());
+      else
+        std::fprintf(stdout, "  %s.%s = %.4g %s (no standard error: not converged)\n", p.effect.c_str(),
+                     p.name.c_str(), p.value, p.unit.c_str());
+    }
   for (const auto& p : rep.ripples.peaks)
     std::fprintf(stdout, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
                  p.wavelength * 1e3, p.amplitude, p.false_alarm);

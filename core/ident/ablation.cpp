@@ -102,6 +102,7 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
                       const EffectContext& c, double floor,
                       const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o) {
   AblationResult out;
+  out.table.elements_before = final_fit.spec.elements;
   out.table.ran = true;
   out.table.floor = floor;
   out.table.z_crit = o.z_crit;
@@ -181,6 +182,40 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
     }
     out.table.dropped.push_back(rows[worst]);
     cur = std::move(wo[worst]);
+  }
+  // The element count: the lightest element left out while the data do not resolve it.
+  const ModelInfo& info = model_info(cur.fit.spec.model);
+  const auto alpha = info.column_index("alpha");
+  while (alpha >= 0 && cur.fit.spec.elements >= 2) {
+    const Parameterization par(info, cur.fit.spec.elements, c);
+    if (cur.fit.u.size() != par.size()) break;
+    const ModelParams m = par.unit_model(cur.fit.u);
+    std::size_t light = 0;
+    for (std::size_t i = 1; i < m.elements.size(); ++i)
+      if (m.elements[i][static_cast<std::size_t>(alpha)] < m.elements[light][static_cast<std::size_t>(alpha)]) light = i;
+    const std::vector<double> u = shape_without_element(cur.fit, light, c);
+    if (u.empty()) break;
+    FitSpec spec = cur.fit.spec;
+    spec.elements -= 1;
+    FitOptions f = fo;
+    f.stage = "ablation: " + std::to_string(spec.elements) + " elements";
+    Scored s;
+    s.fit = fit_model(spec, train, c, f, &u);
+    s.res = residual_on(s.fit, val, c);
+    s.rms = rms_of(val, s.res);
+    ElementAblation e;
+    e.elements = spec.elements;
+    e.rms_validation_without = s.rms;
+    e.test = block_test(val, s.res, cur.res, o.blocks);
+    const bool resolvable = e.test.z >= o.z_crit || s.rms * s.rms - cur.rms * cur.rms >= floor * floor;
+    const bool needed = s.rms > o.near_floor * floor;
+    e.dropped = !(resolvable && needed) && s.fit.spec.elements == spec.elements;
+    e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
+                std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+                " N, z = " + fmt(e.test.z);
+    out.table.elements.push_back(e);
+    if (!e.dropped) break;
+    cur = std::move(s);
   }
   // Alternatives the data cannot tell from a credited effect.
   for (auto& r : out.table.rows) {

@@ -23,6 +23,10 @@
 //      that also passed the loop's tests in a round (its attempt verdict "passed, but ..."), the
 //      model with e' in place of e is refitted the same way; when it is not worse by the block
 //      test (z < z_crit), e' is listed as alike: the report names "e (or e')".
+//   5. The element count the same way: the lightest element is left out (the others keep their
+//      stiffness and share; fit.hpp: shape_without_element) and the model refitted; while the
+//      data do not resolve it (the test of 2), the count goes down. An element count found by
+//      thresholds on weights (the grid, the polish) then does not flip on the last bits.
 #pragma once
 
 #include <string>
@@ -53,13 +57,24 @@ struct AblationRow {
   std::vector<Effect> alike;          // alternatives that fit the validation record as well
 };
 
+// One element left out (the lightest), refitted the same way.
+struct ElementAblation {
+  std::size_t elements = 0;           // the count tested (one less than the model had)
+  double rms_validation_without = 0;  // [N]
+  BlockTest test;
+  bool dropped = false;               // the data do not resolve the element: the count went down
+  std::string verdict;
+};
+
 struct Ablation {
   bool ran = false;
+  std::size_t elements_before = 0;  // the element count the loop ended with
   double rms_validation_all = 0;   // the refit with all credited effects [N]
   double floor = 0;                // the floor the sizes are judged against [N]
   double z_crit = 3.0;
   std::vector<AblationRow> rows;     // the credited effects (and, at the end, any left)
   std::vector<AblationRow> dropped;  // not credited, in the order dropped
+  std::vector<ElementAblation> elements;  // the element count tested the same way, lightest first
 };
 
 struct AblationOptions {

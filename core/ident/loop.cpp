@@ -299,6 +299,42 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   return kept;
 }
 
+// Whether the final shape is a minimum of the training RMS: every coordinate of the unit box
+// stepped by +-1e-3 (inside the box) with the linear terms re-solved must not lower the RMS by
+// more than 1e-5 relative (gradient test), and the second difference along each must not be
+// negative (curvature test). Standard errors mean something only there.
+OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  OptimumCheck out;
+  if (f.time_limited) {
+    out.verified = false;
+    out.reason = "the fit was stopped by its time limit";
+    return out;
+  }
+  const Parameterization par(model_info(f.spec.model), f.spec.elements, c);
+  if (f.u.size() != par.size()) return out;
+  const double c0 = refit_linear(f.spec, d, c, f.u).rms_train;
+  const double h = 1e-3;
+  double worst = 0;
+  for (std::size_t i = 0; i < f.u.size(); ++i) {
+    double side[2] = {c0, c0};
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> u = f.u;
+      u[i] += k == 0 ? h : -h;
+      if (u[i] < 0.0 || u[i] > 1.0) continue;
+      side[k] = refit_linear(f.spec, d, c, u).rms_train;
+    }
+    const double drop = (c0 - std::min(side[0], side[1])) / std::max(c0, 1e-300);
+    const bool curved_down = side[0] + side[1] - 2 * c0 < -1e-9 * c0;
+    if ((drop > 1e-5 || curved_down) && drop >= worst) {
+      worst = drop;
+      out.verified = false;
+      out.reason = "a step of 1e-3 of its range in " + par.params()[i].name + " lowers the training RMS by " +
+                   fmt(100 * drop) + " %: not at a minimum";
+    }
+  }
+  return out;
+}
+
 // spec with the additive effects a shape or a soft element could stand in for (offset, inertia,
 // time drift, a force along the stroke; those whose columns do not depend on the friction) added
 // as linear columns: probes for comparing shapes and element ranges fairly.
@@ -339,7 +375,7 @@ FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectCo
 void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const Dataset& train,
                         const Dataset& full, const Dataset& val, const EffectContext& c, double floor,
                         std::size_t every, const LoopOptions& o) {
-  if (cur.spec.effects.empty()) return;
+  if (cur.spec.effects.empty() && cur.spec.elements < 2) return;
   std::vector<std::pair<Effect, Effect>> alternatives;
   for (const auto& rd : rep.rounds)
     if (rd.added)
@@ -351,7 +387,9 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
   ao.min_size = o.min_size;
   AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao);
   rep.ablation = ab.table;
-  if (ab.table.dropped.empty()) {
+  const bool fewer_elements = std::any_of(ab.table.elements.begin(), ab.table.elements.end(),
+                                          [](const ElementAblation& e) { return e.dropped; });
+  if (ab.table.dropped.empty() && !fewer_elements) {
     if (ab.model.rms_train < cur.rms_train && every == 1) cur = ab.model, cur_val = ab.rms_validation;
     rep.stages.back() = cur;
     return;
@@ -370,7 +408,14 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
   cur_val = rms_on(cur, val, c);
   for (const auto& d : ab.table.dropped)
     rep.notes.push_back(std::string(effect_name(d.effect)) + " not named: " + d.verdict);
+  for (const auto& e : ab.table.elements)
+    if (e.dropped) rep.notes.push_back(e.verdict);
+  rep.elements = cur.spec.elements;
   rep.effects_added = cur.spec.effects;
+  if (ab.table.dropped.empty() && rep.stages.size() > 1) {
+    rep.stages.back() = cur;  // the same effects, fewer elements
+    return;
+  }
   std::vector<FitResult> stages{rep.stages.front()};
   if (!cur.spec.effects.empty()) stages.push_back(cur);
   else stages.front() = cur;
@@ -892,6 +937,9 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = cur_val;
   rep.parameters = parameter_estimates(cur, full, c);
+  rep.optimum = check_optimum(cur, full, c);
+  if (!rep.optimum.verified)
+    for (auto& p : rep.parameters) p.std_error = std::numeric_limits<double>::quiet_NaN();
   {
     const auto rv = residual(cur, val, c);
     const auto gv = unit_friction(cur, val, c);
@@ -1030,6 +1078,14 @@ nlohmann::json to_json(const Ablation& a, const std::vector<Effect>& named) {
   for (const auto& r : a.dropped) dropped.push_back(row(r));
   j["rows"] = rows;
   j["dropped"] = dropped;
+  nlohmann::json els = nlohmann::json::array();
+  for (const auto& e : a.elements)
+    els.push_back({{"elements", e.elements},
+                   {"validation_rms_without_N", e.rms_validation_without},
+                   {"z", std::isfinite(e.test.z) ? nlohmann::json(e.test.z) : nlohmann::json("inf")},
+                   {"dropped", e.dropped},
+                   {"verdict", e.verdict}});
+  j["element_count"] = {{"before", a.elements_before}, {"tests", els}};
   return j;
 }
 
@@ -1108,8 +1164,9 @@ nlohmann::json to_json(const IdentReport& r) {
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)
     pars.push_back({{"effect", p.effect}, {"name", p.name}, {"unit", p.unit}, {"value", p.value},
-                    {"std_error", p.std_error}});
+                    {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()}});
   j["parameters"] = pars;
+  j["converged"] = {{"verified_minimum", r.optimum.verified}, {"reason", r.optimum.reason}};
   j["remaining_structure"] = to_json(r.remaining);
   j["notes"] = r.notes;
   j["ablation"] = to_json(r.ablation, r.effects_added);
