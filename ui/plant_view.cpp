@@ -433,7 +433,7 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
   }
   // Time and scale.
   char buf[160];
-  std::snprintf(buf, sizeof buf, "t = %.3f s    displacements magnified: 1 mm shown as %.3g px", pose.t, px_per_m * 1e-3);
+  std::snprintf(buf, sizeof buf, "t = %.3f s    displacements drawn to scale: 1 mm = %.3g px", pose.t, px_per_m * 1e-3);
   dl->AddText({X + 6.0f, Y + 4.0f}, kDimInk, buf);
   dl->AddRectFilled({X + 6.0f, Y + 8.0f + lh}, {X + 20.0f, Y + 8.0f + 2 * lh - 2}, kStick);
   dl->AddText({X + 24.0f, Y + 8.0f + lh}, kInk, "stick");
