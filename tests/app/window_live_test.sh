@@ -5,16 +5,20 @@
 # advances about 3 s (speed 1.00x) and frames keep being drawn.
 #   - presets/two_mass_drive.json on the Plant tab
 #   - presets/fig4_stick_slip.json on the Simulation tab
+# Then, nothing running, input with screenshots (xwd): a right-click on a plot shows its export
+# menu and Return after typing -1 into the mass field shows the rejection (red frame and message),
+# each 0.3 s later with no further input.
 # Usage: window_live_test.sh GMSLAB_EXE SOURCE_DIR
-# Exit 0 pass, 1 fail, 77 skipped (xvfb-run or xdotool missing: Debian xvfb, xdotool; .ci/deps).
+# Exit 0 pass, 1 fail, 77 skipped (a tool missing: Debian xvfb, xauth, xdotool, x11-apps, netpbm;
+# .ci/deps installs them).
 set -uo pipefail
 exe=${1:?usage: window_live_test.sh GMSLAB_EXE SOURCE_DIR}
 src=${2:?usage: window_live_test.sh GMSLAB_EXE SOURCE_DIR}
 
 if [ -z "${GMSLAB_LIVE_INNER:-}" ]; then
-  for tool in xvfb-run xdotool xauth; do
+  for tool in xvfb-run xdotool xauth xwd xwdtopnm python3; do
     if ! command -v "$tool" >/dev/null 2>&1; then
-      echo "SKIP: $tool is not installed (Debian packages xvfb, xauth and xdotool; .ci/deps installs them)"
+      echo "SKIP: $tool is not installed (Debian packages xvfb, xauth, xdotool, x11-apps, netpbm, python3; .ci/deps installs them)"
       exit 77
     fi
   done
@@ -78,6 +82,71 @@ check() {  # check PRESET TAB
   pid=""
 }
 
+# PPM of the whole screen.
+shot() { xwd -root -silent | xwdtopnm 2>/dev/null >"$1"; }
+# count_pixels PPM X0 Y0 X1 Y1 MODE OTHER: in the box, the pixels that differ from OTHER (MODE diff)
+# or are the rejected field's red (MODE red).
+count_pixels() {
+  python3 - "$@" <<'PY'
+import sys
+def ppm(path):
+    d = open(path, 'rb').read()
+    fields, i = [], 0
+    while len(fields) < 4:
+        while d[i:i+1].isspace(): i += 1
+        if d[i:i+1] == b'#':
+            while d[i:i+1] != b'\n': i += 1
+            continue
+        j = i
+        while not d[j:j+1].isspace(): j += 1
+        fields.append(d[i:j]); i = j
+    return int(fields[1]), d[i+1:]
+path, x0, y0, x1, y1, mode = sys.argv[1], *map(int, sys.argv[2:6]), sys.argv[6]
+w, px = ppm(path)
+ow, other = ppm(sys.argv[7]) if mode == 'diff' else (w, None)
+n = 0
+for y in range(y0, y1):
+    for x in range(x0, x1):
+        k = 3 * (y * w + x)
+        r, g, b = px[k], px[k+1], px[k+2]
+        if mode == 'red': n += r > 170 and g < 70 and b < 70
+        else: n += px[k:k+3] != other[k:k+3]
+print(n)
+PY
+}
+
+# Input with nothing running: what a click or a key starts is drawn without waiting for more input.
+interact() {
+  local preset=$1
+  rm -rf "$tmp/home" && mkdir -p "$tmp/home"
+  : >"$tmp/log"
+  env -u GMSLAB_SESSION -u XDG_CONFIG_HOME HOME="$tmp/home" "$exe" --open "$preset" --tab simulation >"$tmp/log" 2>&1 &
+  pid=$!
+  timeout 10 xdotool search --sync --onlyvisible --name "gmslab" >/dev/null 2>&1 || fail "interact: no gmslab window within 10 s"
+  sleep 1.5
+  # A right-click on the forces plot (the 1600x1000 window's Simulation tab) opens its export menu.
+  xdotool mousemove 800 300; sleep 0.5; shot "$tmp/before.ppm"
+  xdotool click 3; sleep 0.3; shot "$tmp/menu.ppm"
+  local changed
+  changed=$(count_pixels "$tmp/menu.ppm" 800 300 1300 420 diff "$tmp/before.ppm")
+  echo "interact: right-click on a plot, no more input: $changed pixels of the menu's box changed"
+  [ "$changed" -ge 2000 ] || fail "interact: the plot's export menu was not drawn 0.3 s after the right-click"
+  # Return after typing -1 into the mass field (row 'mass m [kg]'): the field is marked rejected.
+  # (The first click closes the menu - ImGui 1.86 closes popups on Escape only with keyboard
+  # navigation, which the window does not enable - the second starts typing.)
+  xdotool mousemove 345 354; sleep 0.3; xdotool click 1; sleep 0.3; xdotool click 1; sleep 0.3
+  xdotool key ctrl+a; xdotool type -- "-1"; xdotool key Return; sleep 0.3
+  shot "$tmp/return.ppm"
+  local red
+  red=$(count_pixels "$tmp/return.ppm" 200 335 500 400 red)
+  echo "interact: Return after typing -1 into the mass field, no more input: $red red pixels (frame and message)"
+  [ "$red" -ge 200 ] || fail "interact: no red frame or message on the mass field 0.3 s after Return"
+  kill -TERM "$pid"
+  wait "$pid" || fail "interact: gmslab exited with $? after SIGTERM"
+  pid=""
+}
+
 check "$src/presets/two_mass_drive.json" plant
 check "$src/presets/fig4_stick_slip.json" simulation
+interact "$src/presets/fig4_stick_slip.json"
 echo "PASS"
