@@ -27,6 +27,7 @@ struct Harness {
   ui::AppState s;
   ui::ScopedPlotContext plots;
   std::vector<std::string> pngs;
+  std::vector<Figure> png_figures;
   explicit Harness(const char* preset) {
     dir = fs::temp_directory_path() / ("gmslab_export_" + std::to_string(getpid()));
     fs::remove_all(dir);
@@ -34,6 +35,7 @@ struct Harness {
     uitest::make_headless_imgui(ImVec2(1280, 720));
     ui::SetPlotPngWriter([this](const Figure& f, const std::string& path) {
       pngs.push_back(path);
+      png_figures.push_back(f);
       std::ofstream(path) << f.title;
     });
     ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/" + preset), "");
@@ -112,9 +114,18 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
     std::ifstream svg(h.dir / "Forces_against_time.svg");
     const std::string text((std::istreambuf_iterator<char>(svg)), {});
     EXPECT_NE(text.find("<svg"), std::string::npos);
-    EXPECT_NE(text.find(">Forces against time<"), std::string::npos);
+    // The title drawn once (one text element; the document's <title> aside).
+    std::size_t titles = 0;
+    for (std::size_t at = text.find(">Forces against time</text>"); at != std::string::npos;
+         at = text.find(">Forces against time</text>", at + 1))
+      ++titles;
+    EXPECT_EQ(titles, 1u);
     ASSERT_EQ(h.pngs.size(), 1u);
     EXPECT_EQ(fs::path(h.pngs[0]).filename(), "Position_against_time.png");
+    ASSERT_EQ(h.png_figures.size(), 1u);
+    EXPECT_EQ(h.png_figures[0].title, "Position against time");
+    ASSERT_EQ(h.png_figures[0].panels.size(), 1u);
+    EXPECT_EQ(h.png_figures[0].panels[0].title, "");  // the figure's title only
   }
 }
 #endif
