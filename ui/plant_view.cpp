@@ -822,10 +822,26 @@ void linear_plant_section(PlantPanelState& st) {
 }
 }  // namespace
 
-void draw_plant_panel(PlantPanelState& st, double frame_dt) {
+void draw_plant_panel(PlantPanelState& st, double frame_dt, const std::function<std::vector<PresetChoice>()>& presets) {
   const float left_w = std::min(340.0f, ImGui::GetContentRegionAvail().x * 0.28f);
   ImGui::BeginChild("##plant_controls", ImVec2(left_w, 0), true);
   ImGui::TextUnformatted("Assembled plant preset");
+  if (presets) {  // the presets, listed when the combo opens
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::BeginCombo("##plant_presets", "presets")) {
+      for (const PresetChoice& c : presets())
+        if (ImGui::Selectable(c.label.c_str(), c.path == st.path)) {
+          try {
+            load_plant(st, load_assembly_scenario(c.path), c.path);
+          } catch (const std::exception& e) {
+            st.error = std::string("load failed: ") + e.what();
+          }
+        }
+      ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open a shipped or saved preset in this tab (assembled plants first)");
+  }
   ImGui::SetNextItemWidth(-1);
   ImGui::InputText("##plant_path", &st.path);
   if (ImGui::IsItemHovered())

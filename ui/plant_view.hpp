@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -149,6 +150,12 @@ PlantTabSettings plant_tab_settings(const PlantPanelState& st);  // st.scenario 
 void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t);
 void plant_undo(PlantPanelState& st);
 void plant_redo(PlantPanelState& st);
-void draw_plant_panel(PlantPanelState& st, double frame_dt);
+// A preset the panel's combo offers: its menu label and file.
+struct PresetChoice {
+  std::string label, path;
+};
+// `presets` (called only while the presets combo is open; none: no combo) lists what it offers.
+void draw_plant_panel(PlantPanelState& st, double frame_dt,
+                      const std::function<std::vector<PresetChoice>()>& presets = {});
 
 }  // namespace gmslab::ui
