@@ -1034,8 +1034,10 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt, const std::function<
         dl->AddCircle({origin.x + b.x0 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
         dl->AddCircle({origin.x + b.x1 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
       }
-      ImGui::SetTooltip("Click a part to edit it (left column); drag from a body or the ground to another body to connect them with a %s",
-                        kind);
+      // The hint on the schematic's own header row (after the stick / slip key), not as a tooltip
+      // that would cover the plots' legends below.
+      const std::string hint = std::string("click a part to edit it; drag from a body or the ground to another body: a ") + kind;
+      dl->AddText({origin.x + 130.0f, origin.y + 8.0f + ImGui::GetTextLineHeight()}, kDimInk, hint.c_str());
     }
   }
   {  // the selected block or pad, outlined
