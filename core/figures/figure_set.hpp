@@ -30,8 +30,8 @@ std::vector<std::string> figure_ids();
 Figure make_figure(const std::string& id, const std::string& preset_dir);
 // All series of a figure in long form, one header line and no comment lines (a plain
 // pandas.read_csv or MATLAB readtable reads it): "panel,series,x,y,x_label,y_label", one row per
-// point, each with its panel's axis labels and units ("t [s]", "F_f [N]"; UTF-8). A field with a
-// comma or quote is quoted (RFC 4180). 10 significant digits.
+// point, each with its panel's axis labels and units ("t [s]", "x [um]": the micro prefix as u). A
+// field with a comma or quote is quoted (RFC 4180). 10 significant digits.
 void write_figure_csv(const Figure& f, std::ostream& out);
 
 }  // namespace gmslab

@@ -7,6 +7,7 @@
 #include <imgui.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +108,17 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
     h.frame();
     EXPECT_TRUE(fs::exists(h.dir / "Forces_against_time-2.csv"));
     EXPECT_EQ(fs::file_size(csv), before);
+    // Units in ASCII: the micro prefix as u (the presliding position is in um).
+    ui::RequestPlotExport("Position against time", ui::ExportFormat::Csv);
+    h.frame();
+    {
+      std::ifstream in(h.dir / "Position_against_time.csv", std::ios::binary);
+      const std::string text((std::istreambuf_iterator<char>(in)), {});
+      ASSERT_FALSE(text.empty());
+      EXPECT_TRUE(std::all_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 128; }))
+          << "non-ASCII byte in the CSV";
+      if (std::string(preset) == "fig2a_presliding.json") EXPECT_NE(text.find("[um]"), std::string::npos) << text.substr(0, 300);
+    }
     // SVG and PNG of the same plot.
     ui::RequestPlotExport("Forces against time", ui::ExportFormat::Svg);
     ui::RequestPlotExport("Position against time", ui::ExportFormat::Png);
