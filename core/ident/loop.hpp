@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "core/figures/figure.hpp"
+#include "core/ident/ablation.hpp"
 #include "core/ident/fit.hpp"
 #include "core/ident/structure.hpp"
 #include "core/sim/scenario.hpp"
@@ -146,6 +147,9 @@ struct IdentReport {
   ResidualStructure remaining;              // what the final validation residual still holds;
                                             // remaining.summary is one line for CLI and panel
   std::vector<std::string> notes;           // undecided choices, said in words
+  // Credit by ablation (ablation.hpp): effects_added holds the credited effects only; the table
+  // has the validation RMS with all of them and with each left out, and what was dropped.
+  Ablation ablation;
   // The path between samples: the base fit's friction along the fine path (every interval along
   // the cubic, kFinePath) minus along the adaptive one, RMS over the training record [N];
   // measured only where the attraction is fast (C / Fs x median step >= 0.1), else 0. Above a

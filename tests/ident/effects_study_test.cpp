@@ -79,6 +79,11 @@ Outcome run(unsigned seed, const std::vector<records::EffectSpec>& effects, doub
     for (const auto& a : rd.attempts)
       std::printf("    try %-20s val %.4g size %.3g: %s\n", std::string(effect_name(a.effect)).c_str(), a.rms_validation,
                   a.size / tr.noise, a.verdict.c_str());
+  for (const auto* rows : {&out.rep.ablation.rows, &out.rep.ablation.dropped})
+    for (const auto& a : *rows)
+      std::printf("    ablation %-17s without %.4g N (all %.4g N), z %.3g, size %.3g: %s\n",
+                  std::string(effect_name(a.effect)).c_str(), a.rms_validation_without,
+                  out.rep.ablation.rms_validation_all, a.test.z, a.contribution / tr.noise, a.verdict.c_str());
   return out;
 }
 
