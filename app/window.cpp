@@ -231,7 +231,12 @@ void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl, InputEvents& events) {
     ImGui_ImplGlfw_NewFrame();
     events.hold_presses(ImGui::GetIO());
     ImGui::NewFrame();
-    s.frame_dt = std::clamp(static_cast<double>(ImGui::GetIO().DeltaTime), 1e-4, 0.1);
+    // Runs keep wall-clock pace down to 4 frames per second (a slow projector laptop, a loaded
+    // machine); a longer stall (a suspended process) advances them 0.25 s. The first frame after
+    // a wait (nothing was running: e.g. the click on Run) advances one 60 Hz frame.
+    s.frame_dt = w.kind == ui::FrameWaitKind::Poll
+                     ? std::clamp(static_cast<double>(ImGui::GetIO().DeltaTime), 1e-4, 0.25)
+                     : 1.0 / 60.0;
     ui::draw_frame(s);
     ImGui::Render();
     int fw = 0, fh = 0;

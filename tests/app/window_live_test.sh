@@ -33,6 +33,13 @@ cleanup() {
 }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; [ -f "$tmp/log" ] && sed 's/^/  gmslab: /' "$tmp/log"; exit 1; }
+# keep NAME...: the screenshots $tmp/NAME.ppm copied out of the temporary folder, for the message.
+keep() {
+  local out="${TMPDIR:-/tmp}/gmslab-live-fail-$$" n
+  mkdir -p "$out"
+  for n in "$@"; do cp "$tmp/$n.ppm" "$out/" 2>/dev/null; done
+  echo " (screenshots in $out)"
+}
 
 # field NAME LINE: the value of "NAME" in one status line.
 field() { sed -n "s/.*\"$1\": \\([^,}]*\\).*/\\1/p" <<<"$2" | tr -d '"'; }
@@ -125,22 +132,32 @@ interact() {
   timeout 10 xdotool search --sync --onlyvisible --name "gmslab" >/dev/null 2>&1 || fail "interact: no gmslab window within 10 s"
   sleep 1.5
   # A right-click on the forces plot (the 1600x1000 window's Simulation tab) opens its export menu.
-  xdotool mousemove 800 300; sleep 0.5; shot "$tmp/before.ppm"
-  xdotool click 3; sleep 0.3; shot "$tmp/menu.ppm"
-  local changed
-  changed=$(count_pixels "$tmp/menu.ppm" 800 300 1300 420 diff "$tmp/before.ppm")
-  echo "interact: right-click on a plot, no more input: $changed pixels of the menu's box changed"
-  [ "$changed" -ge 2000 ] || fail "interact: the plot's export menu was not drawn 0.3 s after the right-click"
+  # Each result is looked for in screenshots over 2 s with no further input (the former loop drew
+  # the next frame only on the next event or after 5 s).
+  xdotool mousemove 800 300; sleep 1; shot "$tmp/before.ppm"
+  xdotool click 3
+  local changed=0 waited
+  for waited in 0.2 0.4 0.6 0.8 1.0 1.2 1.4 1.6 1.8 2.0; do
+    sleep 0.2; shot "$tmp/menu.ppm"
+    changed=$(count_pixels "$tmp/menu.ppm" 800 300 1300 420 diff "$tmp/before.ppm")
+    [ "$changed" -ge 2000 ] && break
+  done
+  echo "interact: right-click on a plot, no more input: $changed pixels of the menu's box changed after $waited s"
+  [ "$changed" -ge 2000 ] || fail "interact: the plot's export menu was not drawn within 2 s of the right-click$(keep menu)"
   # Return after typing -1 into the mass field (row 'mass m [kg]'): the field is marked rejected.
   # (The first click closes the menu - ImGui 1.86 closes popups on Escape only with keyboard
   # navigation, which the window does not enable - the second starts typing.)
-  xdotool mousemove 345 354; sleep 0.3; xdotool click 1; sleep 0.3; xdotool click 1; sleep 0.3
-  xdotool key ctrl+a; xdotool type -- "-1"; xdotool key Return; sleep 0.3
-  shot "$tmp/return.ppm"
-  local red
-  red=$(count_pixels "$tmp/return.ppm" 200 335 500 400 red)
-  echo "interact: Return after typing -1 into the mass field, no more input: $red red pixels (frame and message)"
-  [ "$red" -ge 200 ] || fail "interact: no red frame or message on the mass field 0.3 s after Return"
+  xdotool mousemove 345 354; sleep 0.5; xdotool click 1; sleep 0.5; xdotool click 1; sleep 0.5
+  shot "$tmp/typing.ppm"
+  xdotool key ctrl+a; sleep 0.2; xdotool type --delay 50 -- "-1"; sleep 0.3; xdotool key Return
+  local red=0
+  for waited in 0.2 0.4 0.6 0.8 1.0 1.2 1.4 1.6 1.8 2.0; do
+    sleep 0.2; shot "$tmp/return.ppm"
+    red=$(count_pixels "$tmp/return.ppm" 200 335 500 400 red)
+    [ "$red" -ge 200 ] && break
+  done
+  echo "interact: Return after typing -1 into the mass field, no more input: $red red pixels (frame and message) after $waited s"
+  [ "$red" -ge 200 ] || fail "interact: no red frame or message on the mass field within 2 s of Return$(keep typing return)"
   kill -TERM "$pid"
   wait "$pid" || fail "interact: gmslab exited with $? after SIGTERM"
   pid=""
