@@ -77,10 +77,13 @@ void scenario_section(AppState& s, SimPanelState& p) {
   // The unsaved mark has a line of its own (one line, always there) and the window title's star:
   // an edit never moves the fields below.
   const bool edited = has_unsaved_changes(s);
-  if (edited)
-    ImGui::TextColored(ImVec4(0.70f, 0.35f, 0.0f, 1.0f), "* unsaved changes (Ctrl+S saves)");
-  else
+  if (edited) {
+    ImGui::TextColored(ImVec4(0.70f, 0.35f, 0.0f, 1.0f), "* unsaved changes (text below: as loaded)");
+    tip("The scenario differs from its file; the name and description below are the file's. Ctrl+S saves "
+        "(to your own folder for a shipped preset)");
+  } else {
     ImGui::TextDisabled("no unsaved changes");
+  }
   TextWrappedAtSpaces(s.scenario.name);
   if (!s.scenario.description.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kDim);
