@@ -517,7 +517,8 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
                 added.empty() ? "nothing added: no catalog effect is credited by the data" : "effects added: ",
                 added.c_str());
     if (!r.optimum.verified) ImGui::TextColored(red, "Not converged: %s; no standard errors", r.optimum.reason.c_str());
-    ImGui::Text("Base model: %s, %zu elements found", r.model.c_str(), r.final_fit().spec.elements);
+    ImGui::Text("Base model: %s, %zu element%s found", r.model.c_str(), r.final_fit().spec.elements,
+                r.final_fit().spec.elements == 1 ? "" : "s");
     if (r.screen_every > 1) {
       ImGui::SameLine();
       ImGui::TextColored(grey, "(%s)", ident::screen_summary(r).c_str());
