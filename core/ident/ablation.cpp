@@ -132,6 +132,13 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
     kept.rms = rms_of(val, kept.res);
     if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
   }
+  // Every test is against the model the loop ended with (all effects, all elements), not against
+  // the model left after earlier drops: drops whose losses are each below the resolution must not
+  // add up to one the data resolve.
+  const Scored full = cur;
+  auto resolvable = [&](const BlockTest& t, double rms) {
+    return t.z >= o.z_crit || rms * rms - full.rms * full.rms >= floor * floor;
+  };
   for (;;) {
     const auto& effects = cur.fit.spec.effects;
     std::vector<std::future<Scored>> fits;
@@ -144,24 +151,23 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
       AblationRow r;
       r.effect = effects[i];
       r.rms_validation_without = s.rms;
-      r.test = block_test(val, s.res, cur.res, o.blocks);
+      r.test = block_test(val, s.res, full.res, o.blocks);
       r.contribution = contribution_rms(cur.fit, effects[i], train, c);
       // Resolvable: consistent over the time blocks, or a rise of the validation MSE larger than
       // the floor's own variance (an effect confined to a few blocks, e.g. at reversals, leaves
       // the block test without power, but noise, quantisation and the sampled path cannot make
       // the refit without it this much worse).
-      const bool significant =
-          r.test.z >= o.z_crit || s.rms * s.rms - cur.rms * cur.rms >= floor * floor;
+      const bool significant = resolvable(r.test, s.rms);
       const bool big = r.contribution >= o.min_size * floor;
       const bool needed = s.rms > o.near_floor * floor;
       r.credited = significant && big && needed;
       if (r.credited)
-        r.verdict = "credited: without it validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+        r.verdict = "credited: without it validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
                     " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +
                     (r.test.z >= o.z_crit ? std::string()
                                           : "; the MSE rise exceeds the floor's variance (" + fmt(floor * floor) + " N^2)");
       else if (!significant)
-        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
                     " N, z = " + fmt(r.test.z) + " < " + fmt(o.z_crit) +
                     " and an MSE rise below the floor's variance: the refit without it does as well";
       else if (!big)
@@ -206,12 +212,11 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
     ElementAblation e;
     e.elements = spec.elements;
     e.rms_validation_without = s.rms;
-    e.test = block_test(val, s.res, cur.res, o.blocks);
-    const bool resolvable = e.test.z >= o.z_crit || s.rms * s.rms - cur.rms * cur.rms >= floor * floor;
+    e.test = block_test(val, s.res, full.res, o.blocks);
     const bool needed = s.rms > o.near_floor * floor;
-    e.dropped = !(resolvable && needed) && s.fit.spec.elements == spec.elements;
+    e.dropped = !(resolvable(e.test, s.rms) && needed) && s.fit.spec.elements == spec.elements;
     e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
-                std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+                std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
                 " N, z = " + fmt(e.test.z);
     out.table.elements.push_back(e);
     if (!e.dropped) break;

@@ -18,7 +18,9 @@
 //        data are explained down to what noise, quantisation and the sampled path allow
 //        without it).
 //   3. Backward elimination: while some effect is not credited, the one with the lowest z is
-//      dropped (its refit becomes the model) and the rest are tested again.
+//      dropped (its refit becomes the model) and the rest are tested again. Every test compares
+//      with the model the loop ended with (all effects and elements), so that drops whose losses
+//      are each below the resolution cannot add up to one the data resolve.
 //   4. Effects the data cannot tell apart: for each credited effect e and each alternative e'
 //      that also passed the loop's tests in a round (its attempt verdict "passed, but ..."), the
 //      model with e' in place of e is refitted the same way; when it is not worse by the block
