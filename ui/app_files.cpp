@@ -59,6 +59,13 @@ bool has_unsaved_changes(const AppState& s) {
 }
 
 std::string window_title(const AppState& s) {
+  // The Plant tab shows its own assembled preset, not the scenario of the other tabs: the title
+  // names what is shown.
+  if (s.view.tab == "Plant" && s.plant.scenario) {
+    std::string t = "gmslab - " + (s.plant.scenario->name.empty() ? std::string("untitled plant") : s.plant.scenario->name);
+    if (!s.plant.path.empty()) t += "  (" + s.plant.path + ")";
+    return t;
+  }
   std::string t = "gmslab - " + (s.scenario.name.empty() ? std::string("untitled") : s.scenario.name);
   if (has_unsaved_changes(s)) t += " *";
   if (!s.scenario_path.empty()) t += "  (" + s.scenario_path + ")";
