@@ -9,6 +9,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -64,12 +66,57 @@ std::string preset_dir() {
   return GMSLAB_INSTALLED_PRESETS;
 }
 
+// A path argument: str or any os.PathLike (pathlib.Path), as open() takes it. `what` names the
+// argument in the TypeError.
+std::string path_arg(const py::object& o, const char* what) {
+  if (py::isinstance<py::str>(o)) return o.cast<std::string>();
+  if (py::hasattr(o, "__fspath__")) {
+    const py::object p = py::module_::import("os").attr("fspath")(o);
+    if (py::isinstance<py::str>(p)) return p.cast<std::string>();
+  }
+  throw py::type_error(std::string(what) + ": expected a path (str or os.PathLike), got " +
+                       py::str(py::type::of(o).attr("__name__")).cast<std::string>());
+}
+
+// A preset path as given, or, when no such file exists, resolved among the presets (preset_dir):
+// a bare name ("fig2a_presliding" or "fig2a_presliding.json") or "presets/NAME.json" typed from
+// outside the source tree. The error lists the presets there are.
+std::string resolve_preset(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (path.empty() || fs::exists(path, ec)) return path;
+  fs::path p(path);
+  if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
+  if (p.has_parent_path() && p.parent_path() != ".") return path;  // another folder: as given
+  if (p.extension() != ".json") p += ".json";
+  const std::string dir = preset_dir();
+  const fs::path in_presets = fs::path(dir) / p.filename();
+  if (fs::exists(in_presets, ec)) return in_presets.string();
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw IoError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
+                " (presets: " + (list.empty() ? "none" : list) + ")");
+}
+
+Scenario load_scenario_arg(const py::object& o) { return load_scenario(resolve_preset(path_arg(o, "path"))); }
+
 // A scenario checked the way a preset file is (every key, type and range; messages name the key).
 Scenario validated(const Scenario& s, const std::string& where) { return scenario_from_json(to_json(s), where); }
 
 Scenario scenario_arg(const py::object& o) {
-  if (py::isinstance<py::str>(o)) return load_scenario(o.cast<std::string>());
-  return o.cast<Scenario>();
+  if (py::isinstance<Scenario>(o)) return o.cast<Scenario>();
+  return load_scenario_arg(o);
+}
+
+// The step h [s] and the velocities of Model.step / Model.run, checked as the CLI checks run.dt
+// ((0, 1] s) and a drive: finite.
+void check_step(double h, const char* what) {
+  if (!(std::isfinite(h) && h > 0.0 && h <= 1.0))
+    throw InputError(std::string(what) + ": h = " + std::to_string(h) + " s: must be in (0, 1] s (as run.dt)");
 }
 
 // A friction model with its state: build any registry model, step it, read state and elements.
@@ -168,9 +215,13 @@ PYBIND11_MODULE(_gmslab, m) {
       .def("__eq__", [](const Scenario& a, const Scenario& b) { return a == b; })
       .def("__repr__", [](const Scenario& s) { return "<Scenario '" + s.name + "'>"; });
 
-  m.def("load_scenario", &load_scenario, py::arg("path"),
-        "Loads a scenario preset (JSON); InputError names the file and the key path");
-  m.def("save_scenario", [](const Scenario& s, const std::string& path) { save_scenario(validated(s, path), path); },
+  m.def("load_scenario", &load_scenario_arg, py::arg("path"),
+        "Loads a scenario preset (JSON): a path (str or os.PathLike), or a shipped preset's name "
+        "(\"fig2a_presliding\") from any folder; InputError names the file and the key path");
+  m.def("save_scenario", [](const Scenario& s, const py::object& path_obj) {
+    const std::string path = path_arg(path_obj, "path");
+    save_scenario(validated(s, path), path);
+  },
         py::arg("scenario"), py::arg("path"), "Validates and writes the preset atomically");
 
   // ---- simulation ------------------------------------------------------------------------
@@ -234,12 +285,22 @@ PYBIND11_MODULE(_gmslab, m) {
       }), py::arg("model"), "A model from a registry tag (its defaults) or from ModelParams (validated)")
       .def("reset", [](PyModel& p) { p.model->reset(p.state); }, "Back to the virgin state")
       .def("step", [](PyModel& p, double v, double h, double f_other, double mass) {
-        if (!(h > 0.0)) throw InputError("step: h must be > 0 s");
+        check_step(h, "step");
+        if (!std::isfinite(v)) throw InputError("step: v = " + std::to_string(v) + ": the velocity must be finite");
+        if (!std::isfinite(f_other) || !(std::isfinite(mass) && mass >= 0.0))
+          throw InputError("step: f_other must be finite and mass finite and >= 0 kg");
         return p.model->step(p.state, {v, h, f_other, mass});
       }, py::arg("v"), py::arg("h"), py::arg("f_other") = 0.0, py::arg("mass") = 0.0,
            "One step at sliding velocity v [m/s] frozen over h [s]; returns the friction force [N]")
       .def("run", [](PyModel& p, py::array_t<double> v, double h) {
+        check_step(h, "run");
+        if (v.ndim() != 1) throw InputError("run: v must be a 1-D array of velocities [m/s], got " +
+                                            std::to_string(v.ndim()) + "-D");
         auto vin = v.unchecked<1>();
+        for (py::ssize_t i = 0; i < vin.shape(0); ++i)
+          if (!std::isfinite(vin(i)))
+            throw InputError("run: v[" + std::to_string(i) + "] = " + std::to_string(vin(i)) +
+                             ": every velocity must be finite (nothing was stepped)");
         py::array_t<double> out(vin.shape(0));
         auto o = out.mutable_unchecked<1>();
         {
@@ -383,24 +444,41 @@ PYBIND11_MODULE(_gmslab, m) {
         "asymptote_angles [rad], breakaways and crossings as (s, k)");
 
   // ---- identification ------------------------------------------------------------------------
-  m.def("load_record", [](const std::string& path, const std::string& columns) {
-    const auto r = load_measured(path, columns.empty() ? CsvColumns{} : parse_column_map(columns));
+  m.def("load_record", [](const py::object& path_obj, const std::string& columns, const std::string& force) {
+    const std::string path = path_arg(path_obj, "path");
+    CsvColumns cols = columns.empty() ? CsvColumns{} : parse_column_map(columns);
+    cols.force = force;
+    const auto r = load_measured(path, cols);
     py::dict d;
     d["t"] = arr(r.t), d["x"] = arr(r.x), d["F"] = arr(r.F);
     if (!r.v.empty()) d["v"] = arr(r.v);
     if (!r.Fn.empty()) d["Fn"] = arr(r.Fn);
     for (const auto& [n, c] : r.extra) d[py::str(n)] = arr(c);
     return d;
-  }, py::arg("path"), py::arg("columns") = "",
+  }, py::arg("path"), py::arg("columns") = "", py::arg("force") = "",
         "A measured record (CSV in any common dialect, or MATLAB .mat) as a dict of arrays: t [s], x [m], "
-        "F [N], optional v [m/s], Fn [N] and the other numeric columns; columns as --columns");
+        "F [N], optional v [m/s], Fn [N] and the other numeric columns; columns as --columns, force as "
+        "--force (\"friction\" or \"applied\" for a gmslab simulate trace)");
 
-  m.def("identify", [](const std::string& data, const std::string& validate, const std::string& columns,
-                       const std::string& model, const std::string& elements, const std::string& mask,
+  m.def("identify", [](const py::object& data_obj, const py::object& validate_obj, const std::string& columns,
+                       const std::string& model, const py::object& elements_obj, const std::string& mask,
                        const std::string& validate_mask, const std::string& mask_edges, double holdout,
                        const std::string& method, int starts, int max_evals, double min_gain,
-                       const std::string& effects, const std::string& compare, double compare_seconds) {
+                       const std::string& effects, const std::string& compare, double compare_seconds,
+                       const std::string& force) {
+    const std::string data = path_arg(data_obj, "data");
+    const std::string validate = validate_obj.is_none() ? std::string() : path_arg(validate_obj, "validate");
+    // elements: a whole number (2) or a string ("2", "auto"), checked as --elements is.
+    std::string elements;
+    if (py::isinstance<py::bool_>(elements_obj))
+      throw InputError("elements: expected a whole number 1..64 or \"auto\", got a bool");
+    else if (py::isinstance<py::int_>(elements_obj)) elements = py::str(elements_obj).cast<std::string>();
+    else if (py::isinstance<py::str>(elements_obj)) elements = elements_obj.cast<std::string>();
+    else
+      throw InputError("elements: expected a whole number 1..64 or \"auto\", got " +
+                       py::str(py::type::of(elements_obj).attr("__name__")).cast<std::string>());
     ident::IdentifyJob job;
+    job.train.force = job.validation.force = force;
     job.train.path = data;
     job.validation.path = validate;
     job.train.columns = job.validation.columns = columns;
@@ -442,11 +520,11 @@ PYBIND11_MODULE(_gmslab, m) {
     py::dict d = to_py(j);
     d["scenario"] = py::cast(ident::identified_scenario(out->report, out->train));
     return d;
-  }, py::arg("data"), py::arg("validate") = "", py::arg("columns") = "", py::arg("model") = "gms",
-        py::arg("elements") = "4", py::arg("mask") = "", py::arg("validate_mask") = "", py::arg("mask_edges") = "",
+  }, py::arg("data"), py::arg("validate") = py::none(), py::arg("columns") = "", py::arg("model") = "gms",
+        py::arg("elements") = 4, py::arg("mask") = "", py::arg("validate_mask") = "", py::arg("mask_edges") = "",
         py::arg("holdout") = 0.25, py::arg("method") = "bobyqa", py::arg("starts") = 3, py::arg("max_evals") = 500,
         py::arg("min_gain") = 0.03, py::arg("effects") = "", py::arg("compare") = "",
-        py::arg("compare_seconds") = ident::kCompareSeconds,
+        py::arg("compare_seconds") = ident::kCompareSeconds, py::arg("force") = "",
         "Identification as `gmslab identify` (same job and options): returns the report as a dict (the "
         "CLI's report JSON) with 'scenario': the identified model as a Scenario");
 
