@@ -237,8 +237,12 @@ int render_command(const cli::RenderOptions& o) {
   if (!o.data.empty()) panel = ui::find_panel("identify");
   // The auto view of an assembled preset (schema 2) is the Plant view: the one view that shows it.
   const bool auto_view = o.view.empty() || strcasecmp(o.view.c_str(), "auto") == 0;
-  if (auto_view && o.data.empty() && preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2)
+  if (auto_view && o.data.empty() && preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2) {
+    if (o.format == "svg")
+      throw InputError(o.preset + ": --format svg draws the Simulation view's plots, which an assembled preset (schema 2) "
+                       "does not have; use --format png (its Plant view)");
     panel = ui::find_panel("plant");
+  }
   ui::AppState s;
   const bool design_view = std::string(panel->name) == "Design";
   if ((!o.drive.empty() || !o.output.empty() || !o.num.empty() || !o.den.empty() || o.zeta != 0.0 || o.wn != 0.0 ||

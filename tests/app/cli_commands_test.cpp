@@ -123,6 +123,17 @@ TEST(CliCommands, RenderAutoViewOfAssembledPresetIsPlantTitledWithIt) {
     EXPECT_NE(q.out.find("title \"gmslab - " + preset_name(p)), std::string::npos) << p << ": " << q.out;
     EXPECT_EQ(q.out.find(preset_name("fig4_stick_slip.json")), std::string::npos) << p << ": " << q.out;
   }
+  // The Design view of an assembled preset designs on that plant: its title names it too.
+  const Captured design = run_exe(std::string(GMSLAB_EXE) + " render " + preset("two_mass_drive.json") + " --out " +
+                                  png.string() + " --size 640x400 --view design --output x.load --wn 10");
+  ASSERT_EQ(design.rc, 0) << design.err;
+  EXPECT_NE(design.out.find("title \"gmslab - " + preset_name("two_mass_drive.json")), std::string::npos) << design.out;
+  // SVG is the Simulation view's plots: not of an assembled preset (an error naming why, not fig4's plots).
+  const Captured svg = run_exe(std::string(GMSLAB_EXE) + " render " + preset("two_mass_drive.json") + " --out " +
+                               tmp("p.svg").string() + " --format svg");
+  EXPECT_EQ(svg.rc, 2);
+  EXPECT_NE(svg.err.find("--format svg draws the Simulation view's plots"), std::string::npos) << svg.err;
+  EXPECT_FALSE(fs::exists(tmp("p.svg")));
   // An explicit view still decides: the Simulation view of an assembled preset is an error.
   EXPECT_EQ(run_exe(std::string(GMSLAB_EXE) + " render " + preset("two_mass_drive.json") + " --out " +
                     png.string() + " --view simulation")
