@@ -208,6 +208,9 @@ PYBIND11_MODULE(_gmslab, m) {
                       s = scenario_from_json(j, "<scenario>");
                     }, "The drive as a dict (type, signal, spring, damper), as in the preset JSON")
       .def("to_dict", [](const Scenario& s) { return to_py(to_json(s)); }, "The preset JSON as a dict")
+      .def_static("from_dict", [](py::dict d) { return scenario_from_json(from_py(d), "<dict>"); }, py::arg("data"),
+                  "A scenario from a dict in the preset JSON schema (to_dict, an identify report's 'scenario'); "
+                  "validated, InputError names the key")
       .def("validate", [](const Scenario& s) { (void)validated(s, "<scenario>"); },
            "Checks every field as a preset file is checked; raises InputError naming the key and the range")
       .def("stability_limit_dt", [](const Scenario& s) { return stability_limit_dt(s); },
@@ -342,8 +345,8 @@ PYBIND11_MODULE(_gmslab, m) {
     std::string source;
     if (!scenario.is_none()) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
-      const bool path = py::isinstance<py::str>(scenario);
-      source = path ? scenario.cast<std::string>() : std::string();
+      const bool path = !py::isinstance<Scenario>(scenario);  // str, os.PathLike or a preset name
+      source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
       const bool assembled = path && preset_schema_version(parse_json(read_file(source), source)) == 2;
       if (assembled || !drive.empty() || !output.empty()) {
         asc = path ? load_assembly_scenario(source) : assembly_from_scenario(scenario.cast<Scenario>());
@@ -473,6 +476,10 @@ PYBIND11_MODULE(_gmslab, m) {
     if (py::isinstance<py::bool_>(elements_obj))
       throw InputError("elements: expected a whole number 1..64 or \"auto\", got a bool");
     else if (py::isinstance<py::int_>(elements_obj)) elements = py::str(elements_obj).cast<std::string>();
+    else if (py::isinstance<py::float_>(elements_obj) && std::isfinite(elements_obj.cast<double>()) &&
+             elements_obj.cast<double>() == std::round(elements_obj.cast<double>()) &&
+             std::abs(elements_obj.cast<double>()) < 1e6)  // 2.0 (a sweep's range): the whole number
+      elements = std::to_string(static_cast<long>(elements_obj.cast<double>()));
     else if (py::isinstance<py::str>(elements_obj)) elements = elements_obj.cast<std::string>();
     else
       throw InputError("elements: expected a whole number 1..64 or \"auto\", got " +
@@ -518,7 +525,9 @@ PYBIND11_MODULE(_gmslab, m) {
     nlohmann::json j = to_json(out->report);
     j["notes_job"] = out->notes;
     py::dict d = to_py(j);
-    d["scenario"] = py::cast(ident::identified_scenario(out->report, out->train));
+    // A dict (the preset JSON), so the whole report is JSON-serialisable; Scenario.from_dict(d) makes it
+    // a Scenario again.
+    d["scenario"] = to_py(to_json(ident::identified_scenario(out->report, out->train)));
     return d;
   }, py::arg("data"), py::arg("validate") = py::none(), py::arg("columns") = "", py::arg("model") = "gms",
         py::arg("elements") = 4, py::arg("mask") = "", py::arg("validate_mask") = "", py::arg("mask_edges") = "",
@@ -526,7 +535,8 @@ PYBIND11_MODULE(_gmslab, m) {
         py::arg("min_gain") = 0.03, py::arg("effects") = "", py::arg("compare") = "",
         py::arg("compare_seconds") = ident::kCompareSeconds, py::arg("force") = "",
         "Identification as `gmslab identify` (same job and options): returns the report as a dict (the "
-        "CLI's report JSON) with 'scenario': the identified model as a Scenario");
+        "CLI's report JSON, JSON-serialisable) with 'scenario': the identified model as the preset JSON dict "
+        "(gmslab.Scenario.from_dict(report['scenario']) for a Scenario)");
 
   // ---- figures -------------------------------------------------------------------------------
   m.def("figure_ids", &figure_ids, "Ids of the paper's figures, e.g. 'fig2a_presliding'");

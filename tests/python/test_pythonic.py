@@ -1,6 +1,7 @@
 """Python as a Python user expects it: paths as os.PathLike, numbers where numbers are meant,
 Model.run validating its inputs as the command line does, preset names resolved from any folder,
 and gmslab's own trace read back as it is (the friction force as F, force="applied" the applied)."""
+import json
 import os
 import pathlib
 
@@ -12,6 +13,7 @@ from conftest import PRESETS
 
 
 def test_paths_may_be_pathlike(tmp_path):
+    """Path arguments: load_scenario, save_scenario, simulate, design (load_record and identify below)."""
     preset = pathlib.Path(PRESETS) / "fig2a_presliding.json"
     sc = gmslab.load_scenario(preset)
     assert sc == gmslab.load_scenario(str(preset))
@@ -22,6 +24,8 @@ def test_paths_may_be_pathlike(tmp_path):
     tr = gmslab.simulate(sc)
     tr_path = gmslab.simulate(preset)
     assert len(tr_path) > len(tr)
+    d = gmslab.design(0.7, 60.0, scenario=pathlib.Path(PRESETS) / "fig4_stick_slip.json", regime="sliding")
+    assert d == gmslab.design(0.7, 60.0, scenario=os.path.join(PRESETS, "fig4_stick_slip.json"), regime="sliding")
     with pytest.raises(TypeError, match="path: expected a path"):
         gmslab.load_scenario(42)
 
@@ -100,6 +104,13 @@ def test_identify_takes_an_int_element_count_and_a_path(cli, tmp_path):
     as_int = gmslab.identify(out, elements=2, **opts)
     as_str = gmslab.identify(str(out), elements="2", **opts)
     assert as_int["rms_after"] == as_str["rms_after"]
+    assert gmslab.identify(out, elements=2.0, **opts)["rms_after"] == as_int["rms_after"]  # a sweep's range value
+    # The report is JSON (as the CLI writes it); its scenario a preset dict that makes a Scenario again.
+    text = json.dumps(as_int)
+    assert json.loads(text)["scenario"] == as_int["scenario"]
+    sc = gmslab.Scenario.from_dict(as_int["scenario"])
+    assert sc.to_dict() == as_int["scenario"]
+    assert len(gmslab.simulate(sc)) > 1
     for bad in (True, 2.5, [2]):
         with pytest.raises(gmslab.InputError, match="elements: expected a whole number 1..64"):
             gmslab.identify(out, elements=bad, **opts)
