@@ -33,6 +33,7 @@
 #include "core/ident/loop.hpp"
 #include "core/io/measured_file.hpp"
 #include "core/io/scenario_io.hpp"
+#include "core/io/trace_file.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace py = pybind11;
@@ -462,6 +463,16 @@ PYBIND11_MODULE(_gmslab, m) {
         "A measured record (CSV in any common dialect, or MATLAB .mat) as a dict of arrays: t [s], x [m], "
         "F [N], optional v [m/s], Fn [N] and the other numeric columns; columns as --columns, force as "
         "--force (\"friction\" or \"applied\" for a gmslab simulate trace)");
+
+  m.def("load_trace", [](const py::object& path_obj) {
+    const auto cols = load_trace_columns(path_arg(path_obj, "path"));
+    py::dict d;
+    for (const auto& c : cols) d[py::str(c.name)] = arr(c.values);
+    return d;
+  }, py::arg("path"),
+        "A trace file as `gmslab simulate` writes it (.csv, .h5/.hdf5 or .mat; any CSV with a header) as a "
+        "dict of arrays by column name (t_s, x_m, v_mps, F_friction_N, F_applied_N, F1_N, slip1, ...), in file order "
+        "(a .mat: by name)");
 
   m.def("identify", [](const py::object& data_obj, const py::object& validate_obj, const std::string& columns,
                        const std::string& model, const py::object& elements_obj, const std::string& mask,

@@ -637,6 +637,44 @@ MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, cons
   return rec;
 }
 
+std::vector<NamedColumn> parse_csv_columns(std::string_view text, const std::string& file) {
+  if (const auto bad = first_bad_utf8(text))
+    throw InputError(where(file, line_of(text, *bad)) + ": the file is not UTF-8 text (invalid byte sequence)");
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  const CsvDialect dialect = detect(text);
+  std::vector<NamedColumn> cols;
+  std::vector<std::string_view> fields;
+  std::size_t line_no = 0, pos = 0;
+  while (pos < text.size()) {
+    auto nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string_view line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (is_comment(trim(line))) continue;
+    split_fields(line, fields, dialect.separator);
+    if (cols.empty()) {
+      if (all_numbers(fields, dialect.decimal))
+        throw InputError(where(file, line_no) + ": the first row holds numbers; a trace file needs a header row of column names");
+      for (const auto f : fields) cols.push_back({std::string(f), {}});
+      continue;
+    }
+    if (fields.size() != cols.size())
+      throw InputError(where(file, line_no) + ": " + std::to_string(fields.size()) + " fields, but the header has " +
+                       std::to_string(cols.size()) + " (truncated or malformed row)");
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      double d = 0.0;
+      if (!parse_number(fields[c], d, dialect.decimal))
+        throw InputError(where(file, line_no) + ": column '" + cols[c].name + "': '" +
+                         std::string(fields[c].substr(0, 40)) + "' is not a number");
+      cols[c].values.push_back(d);
+    }
+  }
+  if (cols.empty()) throw InputError(file + ": empty; expected a header row and rows of numbers");
+  return cols;
+}
+
 MeasuredRecord load_measured_csv(const std::string& path, const CsvColumns& columns) {
   return parse_measured_csv(read_file(path), path, columns);
 }

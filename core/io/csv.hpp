@@ -100,6 +100,11 @@ struct NamedColumn {
 MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, const CsvColumns& map,
                                    const std::string& file, const std::string& unusable = {});
 
+// Every column of a CSV text with a header row, by its header name, in file order (a trace as
+// gmslab simulate writes it, in any dialect). Every field must be a number; throws InputError
+// naming the file, line and column otherwise.
+std::vector<NamedColumn> parse_csv_columns(std::string_view text, const std::string& file);
+
 // The dialect of a CSV text (separator and decimal mark) as parse_measured_csv reads it.
 CsvDialect detect_dialect(std::string_view text);
 

@@ -116,3 +116,27 @@ def test_identify_takes_an_int_element_count_and_a_path(cli, tmp_path):
             gmslab.identify(out, elements=bad, **opts)
     with pytest.raises(gmslab.InputError, match="elements"):
         gmslab.identify(out, elements=0, **opts)
+
+
+@pytest.mark.parametrize("ext", [".csv", ".h5", ".mat"])
+def test_trace_files_in_every_format(cli, tmp_path, ext):
+    """gmslab simulate --out by extension; load_trace gives the columns by name, load_record reads it as is."""
+    sc = gmslab.load_scenario("fig2d_nondrifting")
+    sc.run.duration = 0.5
+    preset = tmp_path / "short.json"
+    gmslab.save_scenario(sc, preset)
+    out = tmp_path / ("trace" + ext)
+    cli("simulate", str(preset), "--out", str(out))
+    tr = gmslab.simulate(sc)
+    cols = gmslab.load_trace(out)
+    rtol = 1e-9 if ext == ".csv" else 0  # CSV: 10 significant digits; HDF5 and .mat: the doubles
+    for name, want in (("t_s", tr.t), ("x_m", tr.x), ("v_mps", tr.v), ("F_friction_N", tr.friction),
+                       ("F_applied_N", tr.applied), ("F2_N", tr.element_force[:, 1])):
+        np.testing.assert_allclose(cols[name], want, rtol=rtol, atol=0, err_msg=name)
+    np.testing.assert_array_equal(cols["slip3"], tr.element_slip[:, 2].astype(float))
+    if ext == ".csv":
+        assert list(cols)[:5] == ["t_s", "x_m", "v_mps", "F_friction_N", "F_applied_N"]
+    rec = gmslab.load_record(out, force="applied")
+    np.testing.assert_allclose(rec["F"], tr.applied, rtol=rtol, atol=0)
+    bad = cli("simulate", str(preset), "--out", str(tmp_path / "trace.txt"), check=False)
+    assert bad.returncode == 2 and "unknown extension '.txt'" in bad.stderr

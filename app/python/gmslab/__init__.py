@@ -26,6 +26,7 @@ from ._gmslab import (  # noqa: F401
     figure_ids,
     identify,
     load_record,
+    load_trace,
     load_scenario,
     models,
     root_locus,
@@ -36,5 +37,5 @@ from ._gmslab import (  # noqa: F401
 __all__ = [
     "InputError", "InternalError", "IoError", "Model", "ModelParams", "Plant", "RunSettings",
     "Scenario", "SimulationError", "Trace", "design", "figure", "figure_ids", "identify",
-    "load_record", "load_scenario", "models", "root_locus", "save_scenario", "simulate",
+    "load_record", "load_scenario", "load_trace", "models", "root_locus", "save_scenario", "simulate",
 ]
