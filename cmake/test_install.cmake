@@ -3,6 +3,7 @@
 # no C++ standard: the target carries it), and run the installed `gmslab sweep` with no PYTHONPATH
 # (the executable finds its own Python package under the prefix).
 # -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... [-DPYTHON=python3: also the installed module]
+# [-DAPP=ON: the executables were built, so bin/gmslab must be installed and run]
 file(REMOVE_RECURSE "${WORK_DIR}")
 execute_process(COMMAND ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix"
                 RESULT_VARIABLE rc OUTPUT_QUIET)
@@ -39,7 +40,10 @@ if(PYTHON)  # the installed Python package imports and simulates an installed pr
     message(FATAL_ERROR "the installed Python package failed (${rc}): ${where}")
   endif()
 endif()
-if(PYTHON AND EXISTS "${WORK_DIR}/prefix/bin/gmslab")
+if(PYTHON AND APP)
+  if(NOT EXISTS "${WORK_DIR}/prefix/bin/gmslab")
+    message(FATAL_ERROR "not installed: bin/gmslab")
+  endif()
   # The installed executable finds the installed package itself: no PYTHONPATH, and not from the
   # source or build tree (the working directory is an empty folder).
   set(gmslab_exe "${WORK_DIR}/prefix/bin/gmslab")
@@ -70,5 +74,6 @@ if(PYTHON AND EXISTS "${WORK_DIR}/prefix/bin/gmslab")
   if(NOT nrows EQUAL 3 OR NOT nok EQUAL 2)
     message(FATAL_ERROR "installed gmslab sweep: expected a header and 2 ok rows in tiny.csv, got:\n${rows}")
   endif()
+  message(STATUS "installed gmslab sweep, no PYTHONPATH: ${nok} points ok")
 endif()
 file(REMOVE_RECURSE "${WORK_DIR}")

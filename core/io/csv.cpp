@@ -101,6 +101,9 @@ NameInfo split_unit(std::string_view h) {
   return n;
 }
 
+double unit_scale(std::size_t r, std::string_view unit);
+std::string_view quantity_of(std::string_view unit);
+
 // The role a column name names: the longest alias that is the whole name or the name's base
 // (so "F_friction_N" is the friction force in N, "Fn_N" the normal force, "F1_N" no role).
 NameInfo name_info(std::string_view h) {
@@ -120,6 +123,10 @@ NameInfo name_info(std::string_view h) {
         while (!tail.empty() && tail.front() == ' ') tail.remove_prefix(1);
         if (!tail.empty() && tail.front() == '_' && tail.size() > 1 && tail == rest) {
           n.unit = tail.substr(1);
+          // A word followed by _WORD that is no unit names something else ("force_sensor",
+          // "time_stamp", "position_cmd_m"): not this role. A letter's suffix is meant as a unit
+          // ("x_in": an unknown unit, an error).
+          if (a.any_case && unit_scale(r, n.unit) == 0.0 && quantity_of(n.unit).empty()) continue;
         } else if (tail.size() >= 2 && ((tail.front() == '[' && tail.back() == ']') ||
                                          (tail.front() == '(' && tail.back() == ')'))) {
           n.unit = tail.substr(1, tail.size() - 2);

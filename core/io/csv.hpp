@@ -18,7 +18,9 @@
 // F [kN], v [mm/s], ...; values are converted to SI:
 //   t: s, ms, us, µs   x: m, cm, mm, um, µm, nm   F, Fn: N, kN, mN
 //   v: m/s, mm/s, um/s, µm/s, mps, mmps, umps
-// An unknown unit on one of these names is an error naming the accepted units. Columns may also be
+// An unknown unit on one of these names is an error naming the accepted units; a word name followed
+// by _WORD that is no unit ("force_sensor_V", "time_stamp") names something else and is an extra
+// column. Columns may also be
 // mapped explicitly ("t=time,x=Weg_mm,F=F_N"; a mapped name that is a number and not a header
 // name is a 1-based position). A mapped column keeps the unit its header gives, however it was
 // chosen: x=2 on a header "Weg_mm" reads millimetres. Its unit must be one of the role's (x=F_N is

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <mutex>
 
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
@@ -21,6 +22,13 @@ namespace {
 
 constexpr std::size_t kChunkSamples = 1u << 14;  // samples simulated and written at a time
 constexpr hsize_t kHdf5Chunk = 1u << 16;          // HDF5 chunk (samples)
+
+// Debian's libhdf5 (serial) is not thread-safe: every HDF5 call of this file holds this lock (an
+// identification may load a record on a worker thread while another loads one).
+std::mutex& hdf5_lock() {
+  static std::mutex m;
+  return m;
+}
 
 struct ColumnSpec {
   std::string name, unit;
@@ -38,6 +46,15 @@ class ColumnSink {
 class Hdf5Sink final : public ColumnSink {
  public:
   Hdf5Sink(const std::string& path, const std::vector<ColumnSpec>& specs) : path_(path), file_(path), specs_(specs) {
+    const std::lock_guard<std::mutex> lock(hdf5_lock());
+    try {
+      create();
+    } catch (...) {
+      close();  // the destructor does not run for a constructor that throws
+      throw;
+    }
+  }
+  void create() {
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures become IoError, not printed stacks
     // Links in creation order, so a reader lists the columns in the CSV's order.
     const hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
@@ -69,10 +86,14 @@ class Hdf5Sink final : public ColumnSink {
       if (rc < 0) throw IoError(path_ + ": cannot write the unit of '" + s.name + "'");
     }
   }
-  ~Hdf5Sink() override { close(); }
+  ~Hdf5Sink() override {
+    const std::lock_guard<std::mutex> lock(hdf5_lock());
+    close();
+  }
 
   void append(const std::vector<std::vector<double>>& cols, std::size_t k) override {
     if (k == 0) return;
+    const std::lock_guard<std::mutex> lock(hdf5_lock());
     const hsize_t count[1] = {k}, start[1] = {n_}, size[1] = {n_ + k};
     for (std::size_t c = 0; c < dsets_.size(); ++c) {
       herr_t rc = H5Dset_extent(dsets_[c], size);
@@ -96,7 +117,12 @@ class Hdf5Sink final : public ColumnSink {
   }
 
   void finish() override {
-    if (!close()) throw IoError(path_ + ": cannot complete the HDF5 file (disk full?)");
+    bool ok = false;
+    {
+      const std::lock_guard<std::mutex> lock(hdf5_lock());
+      ok = close();
+    }
+    if (!ok) throw IoError(path_ + ": cannot complete the HDF5 file (disk full?)");
     file_.commit();
   }
 
@@ -134,8 +160,8 @@ class MatSink final : public ColumnSink {
   ~MatSink() override {
     if (mat_) Mat_Close(mat_);
   }
-  // matio's append costs per call (it extends every dataset): the samples are gathered into blocks
-  // of kBlock first (kBlock x columns x 8 bytes of memory).
+  // The samples are gathered into blocks of kBlock (fewer appends: each extends every dataset),
+  // kBlock x columns x 8 bytes of memory.
   static constexpr std::size_t kBlock = 1u << 16;
   void append(const std::vector<std::vector<double>>& cols, std::size_t k) override {
     if (buf_.empty()) buf_.resize(specs_.size());
@@ -293,12 +319,13 @@ bool is_hdf5_file(const std::string& path) {
 }
 
 std::vector<NamedColumn> load_hdf5_columns(const std::string& path) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   if (!is_hdf5_file(path)) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw InputError(path + ": cannot open the file (does it exist, is it readable?)");
     throw InputError(path + ": not an HDF5 file (no HDF5 signature at its start)");
   }
+  const std::lock_guard<std::mutex> lock(hdf5_lock());
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   const hid_t fid = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (fid < 0) throw InputError(path + ": not an HDF5 file that can be read");
   std::vector<NamedColumn> out;

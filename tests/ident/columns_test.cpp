@@ -125,6 +125,17 @@ TEST(Columns, LabHeadersAreFoundAndConvertedToSI) {
   expect_scaled(r.v, v.F, 1e-3, "v [mm/s]");
   expect_scaled(r.F, v.x, 1.0, "F_N");
   ASSERT_NE(r.extra_column("F1_N"), nullptr);
+  // A word name followed by a word that is no unit names something else (kept as an extra column);
+  // a letter with an unknown suffix is an unknown unit (an error, below).
+  std::string w = "t_s,position_cmd_m,x_mm,F_N,force_sensor_V,time_stamp\n";
+  for (std::size_t i = 0; i < v.t.size(); ++i)
+    w += num(v.t[i]) + ",0," + num(v.x[i]) + "," + num(v.F[i]) + ",1," + num(v.t[i]) + "\n";
+  const auto rw = load(w);
+  expect_scaled(rw.x, v.x, 1e-3, "x_mm beside position_cmd_m");
+  expect_scaled(rw.F, v.F, 1.0, "F_N beside force_sensor_V");
+  EXPECT_NE(rw.extra_column("position_cmd_m"), nullptr);
+  EXPECT_NE(rw.extra_column("time_stamp"), nullptr);
+  EXPECT_NE(error_of(csv("t_s,x_in,F_N", v)).find("'x_in': unknown unit 'in'"), std::string::npos);
   // An unknown unit in brackets is an error naming it and what is accepted.
   const auto e = error_of(csv("t [s],x [inch],F [N]", v));
   EXPECT_NE(e.find("'x [inch]': unknown unit 'inch'; accepted: x (SI) or x with a unit of m, cm, mm, um"),
