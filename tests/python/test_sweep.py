@@ -51,7 +51,7 @@ def test_grid_sweep_gathers_metrics_reports_failures_and_resumes(client, tmp_pat
             assert r["status"] == "failed"
             assert "plant.mass" in r["error"] and "InputError" in r["error"]
             continue
-        assert r["status"] == "ok"
+        assert r["status"] == "ok" and r["error"] == ""
         sc = gmslab.load_scenario(s["scenario"])
         sc.friction["Fs"] = r["param:friction.Fs"]
         sc.plant.mass = r["param:plant.mass"]
@@ -111,5 +111,12 @@ def test_gmslab_sweep_command(tmp_path):
     p = subprocess.run([exe, "sweep", str(path), "--workers", "2"], capture_output=True, text=True, timeout=300)
     assert p.returncode == 0, p.stderr
     assert "2/2 points, 0 failed" in p.stderr
+    # stderr is a pipe here: progress as lines ("sweep: 1/2 points, ..."), no carriage returns.
+    assert "\r" not in p.stderr
+    lines = [line for line in p.stderr.splitlines() if line.startswith("sweep: ")]
+    assert [line.split(",")[0] for line in lines[:2]] == ["sweep: 1/2 points", "sweep: 2/2 points"], p.stderr
+    assert lines[2].startswith("sweep: 2 points (0 failed) in "), p.stderr  # the summary
     with open(str(tmp_path / "spec.results.csv")) as f:
-        assert len(list(csv.DictReader(f))) == 2
+        table = list(csv.DictReader(f))
+    assert len(table) == 2
+    assert all(r["status"] == "ok" and r["error"] == "" for r in table)  # the column exists with no failure

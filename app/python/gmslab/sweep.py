@@ -186,6 +186,7 @@ def _guarded(spec, index, point):
     try:
         row.update(run_point(spec, point))
         row["status"] = "ok"
+        row["error"] = ""  # every table has the column, empty for a point that ran
     except Exception as e:  # noqa: BLE001 - every failure is reported in the table
         row["status"] = "failed"
         row["error"] = f"{type(e).__name__}: {e}"
@@ -200,6 +201,11 @@ def _write_atomic(path, text):
 
 
 def _progress(done, total, failed, t0, stream):
+    """A bar rewritten in place on a terminal; one line per finished point in a log file or pipe."""
+    if not (hasattr(stream, "isatty") and stream.isatty()):
+        stream.write(f"sweep: {done}/{total} points, {failed} failed, {time.time() - t0:.1f} s\n")
+        stream.flush()
+        return
     width = 30
     filled = int(width * done / max(total, 1))
     stream.write(f"\rsweep [{'#' * filled}{'.' * (width - filled)}] {done}/{total} points, {failed} failed, "
@@ -275,8 +281,8 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
                     log.flush()
                     if progress:
                         _progress(len(rows), len(pts), failed, t0, stream)
-            if progress:
-                stream.write("\n")
+            if progress and hasattr(stream, "isatty") and stream.isatty():
+                stream.write("\n")  # ends the bar
         finally:
             if own is not None:
                 cluster = own.cluster
