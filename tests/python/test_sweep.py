@@ -120,3 +120,21 @@ def test_gmslab_sweep_command(tmp_path):
         table = list(csv.DictReader(f))
     assert len(table) == 2
     assert all(r["status"] == "ok" and r["error"] == "" for r in table)  # the column exists with no failure
+
+
+def test_unreachable_scheduler_is_one_line_and_exit_2_within_the_timeout(tmp_path):
+    """No scheduler listens on 127.0.0.1:1: one line naming the address, exit 2, within --connect-timeout."""
+    import sys
+    import time
+    s = spec(tmp_path)
+    path = tmp_path / "spec.json"
+    path.write_text(json.dumps(s))
+    t0 = time.time()
+    p = subprocess.run([sys.executable, "-m", "gmslab.sweep", str(path), "--scheduler", "tcp://127.0.0.1:1",
+                        "--connect-timeout", "2"], capture_output=True, text=True, timeout=120)
+    elapsed = time.time() - t0
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.count("\n") == 1 and "Traceback" not in p.stderr, p.stderr
+    assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1 within 2 s" in p.stderr
+    assert elapsed < 2 + 8  # the timeout plus interpreter and Dask start-up
+    assert not (tmp_path / "spec.results.csv").exists()

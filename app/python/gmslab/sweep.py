@@ -33,7 +33,8 @@ arguments of gmslab.design / gmslab.identify. Metrics per point:
   design: applicable, K, Kc, z, p, K_max, K_max_usable, phi_deg, design_kind, seconds
   identify: rms_before_validation, rms_after_validation, effects_added, elements, seconds
 
-Command line: python3 -m gmslab.sweep SPEC.json --out results.csv [--scheduler ADDR] [--workers N]
+Command line: python3 -m gmslab.sweep SPEC.json --out results.csv [--scheduler ADDR [--connect-timeout S]]
+[--workers N]
 (also ``gmslab sweep``).
 """
 import argparse
@@ -213,7 +214,11 @@ def _progress(done, total, failed, t0, stream):
     stream.flush()
 
 
-def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=None):
+class SchedulerError(OSError):
+    """The Dask scheduler cannot be reached (the message names its address and the time waited)."""
+
+
+def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=None, connect_timeout=10.0):
     """Runs the sweep; writes OUT (.csv) and OUT's .json twin; returns the rows (one per point).
 
     spec: a dict or a path to the spec JSON. out: the CSV table to write. scheduler: a Dask
@@ -263,7 +268,12 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
         from dask.distributed import Client, LocalCluster, as_completed
         if client is None:
             if scheduler:
-                own = Client(scheduler)
+                try:
+                    own = Client(scheduler, timeout=connect_timeout)
+                except (OSError, TimeoutError) as e:
+                    raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler} within {connect_timeout:g} s "
+                                         f"(--connect-timeout): {type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}"
+                                         ) from None
             else:
                 own = Client(LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1,
                                           processes=True, dashboard_address=None))
@@ -318,13 +328,17 @@ def main(argv=None):
     ap.add_argument("--out", "-o", default=None, help="results table CSV (default: SPEC stem + .results.csv)")
     ap.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
     ap.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: every core)")
+    ap.add_argument("--connect-timeout", type=float, default=10.0,
+                    help="seconds to wait for --scheduler before giving up (default: 10)")
     a = ap.parse_args(argv)
     out = a.out or os.path.splitext(a.spec)[0] + ".results.csv"
     if a.workers is not None and a.workers < 1:
         ap.error("--workers: must be >= 1")
+    if not (a.connect_timeout > 0):
+        ap.error("--connect-timeout: must be > 0 s")
     try:
-        table = run_sweep(a.spec, out, scheduler=a.scheduler, workers=a.workers)
-    except SpecError as e:
+        table = run_sweep(a.spec, out, scheduler=a.scheduler, workers=a.workers, connect_timeout=a.connect_timeout)
+    except (SpecError, SchedulerError) as e:
         print(f"gmslab sweep: {e}", file=sys.stderr)
         return 2
     return 0 if all(r["status"] == "ok" for r in table) else 1
