@@ -99,7 +99,7 @@ std::string resolve_preset(const std::string& path) {
   std::sort(names.begin(), names.end());
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-  throw IoError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
+  throw InputError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
                 " (presets: " + (list.empty() ? "none" : list) + ")");
 }
 

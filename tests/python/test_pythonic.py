@@ -42,7 +42,7 @@ def test_bare_preset_names_resolve_from_any_folder(tmp_path, monkeypatch):
     local.name = "my local copy"
     gmslab.save_scenario(local, tmp_path / "fig2a_presliding.json")
     assert gmslab.load_scenario("fig2a_presliding.json").name == "my local copy"
-    with pytest.raises(gmslab.IoError, match=r"no preset 'fig9_nothing' in .*presets: .*fig2a_presliding"):
+    with pytest.raises(gmslab.InputError, match=r"no preset 'fig9_nothing' in .*presets: .*fig2a_presliding"):
         gmslab.load_scenario("fig9_nothing")
 
 

@@ -138,3 +138,38 @@ def test_unreachable_scheduler_is_one_line_and_exit_2_within_the_timeout(tmp_pat
     assert "cannot reach the Dask scheduler at tcp://127.0.0.1:1 within 2 s" in p.stderr
     assert elapsed < 2 + 8  # the timeout plus interpreter and Dask start-up
     assert not (tmp_path / "spec.results.csv").exists()
+
+
+def test_spec_errors_are_found_before_any_cluster_starts(tmp_path):
+    """Misspelled parameter paths, keys at the wrong level, unknown arguments and missing ones: a
+    SpecError naming the key and the closest known name, raised before a cluster is made (no
+    client is given and none is started: the call returns at once), and exit 2 from the command."""
+    import sys
+    import time
+    base = spec(tmp_path)
+    out = str(tmp_path / "r.csv")
+    cases = [
+        ({**base, "parameters": {"friction.Fss": {"values": [1.0]}}},
+         "parameters.friction.Fss: no such key path in the scenario; did you mean 'friction.Fs'?"),
+        ({"job": "identify", "data": "rec.csv", "parameters": {"starts": {"values": [1]}}},
+         "unknown key 'data'; accepted: job, scenario, design, identify, sample, samples, seed, parameters, "
+         "from_report; did you mean 'identify.data'?"),
+        ({**base, "paramters": {}}, "unknown key 'paramters'; accepted: .*; did you mean 'parameters'?"),
+        ({**base, "job": "design", "design": {"zeta": 0.7, "wm": 60}},
+         "design.wm: unknown argument; accepted: zeta, wn, .*; did you mean 'wn'?"),
+        ({**base, "job": "design", "design": {"zeta": 0.7}}, r"design: missing argument wn \(in \"design\""),
+        ({**base, "parameters": {"zeta": {"values": [0.5]}}},
+         r"parameters.zeta: not a scenario key path \(friction.\*, plant.\*, drive.\*, run.\*\)"),
+        ({**base, "identify": {"data": "x.csv"}}, "identify: arguments of the identify job, but the job is 'simulate'"),
+    ]
+    for s, message in cases:
+        t0 = time.time()
+        with pytest.raises(sweep.SpecError, match=message):
+            sweep.run_sweep(s, out, progress=False)
+        assert time.time() - t0 < 5, s  # no LocalCluster was started
+    assert not os.path.exists(out)
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps(cases[0][0]))
+    p = subprocess.run([sys.executable, "-m", "gmslab.sweep", str(path)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2
+    assert p.stderr.strip() == "gmslab sweep: " + cases[0][1], p.stderr

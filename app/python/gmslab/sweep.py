@@ -40,6 +40,7 @@ Command line: python3 -m gmslab.sweep SPEC.json --out results.csv [--scheduler A
 import argparse
 import copy
 import csv
+import difflib
 import itertools
 import json
 import math
@@ -54,6 +55,79 @@ SCENARIO_ROOTS = ("friction", "plant", "drive", "run", "name", "description")
 
 class SpecError(ValueError):
     """A bad sweep spec: names the key and what is accepted."""
+
+
+SPEC_KEYS = ("job", "scenario", "design", "identify", "sample", "samples", "seed", "parameters", "from_report")
+# The arguments of gmslab.design (besides scenario) and gmslab.identify a spec may fix or vary.
+JOB_ARGS = {
+    "simulate": (),
+    "design": ("zeta", "wn", "num", "den", "regime", "velocity", "K", "max_ratio", "margin", "drive", "output",
+               "compensator", "sample_time"),
+    "identify": ("data", "validate", "columns", "model", "elements", "mask", "validate_mask", "mask_edges", "holdout",
+                 "method", "starts", "max_evals", "min_gain", "effects", "compare", "compare_seconds", "force"),
+}
+REQUIRED_ARGS = {"simulate": (), "design": ("zeta", "wn"), "identify": ("data",)}
+
+
+def _did_you_mean(word, known):
+    m = difflib.get_close_matches(word, list(known), n=1, cutoff=0.5)
+    return f"; did you mean '{m[0]}'?" if m else ""
+
+
+def _paths(node, prefix=""):
+    """Every key path of a scenario dict ("friction.Fs", "friction.elements.0.k", "plant.mass")."""
+    out = []
+    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    for k, v in items:
+        p = f"{prefix}{k}"
+        out.append(p)
+        out += _paths(v, p + ".")
+    return out
+
+
+def check_spec(spec, pts):
+    """Every key, argument and parameter path of the spec, checked before any cluster starts.
+
+    Raises SpecError naming the key, what is accepted and the closest known name."""
+    job = spec.get("job", "simulate")
+    if job not in JOB_ARGS:
+        raise SpecError(f"job: '{job}'; accepted: simulate, design, identify{_did_you_mean(str(job), JOB_ARGS)}")
+    for k in spec:
+        if k in SPEC_KEYS:
+            continue
+        hint = next((f"; did you mean '{sec}.{k}'?" for sec in ("identify", "design") if k in JOB_ARGS[sec]), "")
+        raise SpecError(f"unknown key '{k}'; accepted: {', '.join(SPEC_KEYS)}{hint or _did_you_mean(k, SPEC_KEYS)}")
+    args = JOB_ARGS[job]
+    for section in ("design", "identify"):
+        if section not in spec:
+            continue
+        if section != job:
+            raise SpecError(f"{section}: arguments of the {section} job, but the job is '{job}'")
+        if not isinstance(spec[section], dict):
+            raise SpecError(f"{section}: expected an object of arguments ({', '.join(args)})")
+        for k in spec[section]:
+            if k == "scenario" and section == "design":
+                raise SpecError("design.scenario: the scenario is the spec's top-level 'scenario'")
+            if k not in args:
+                raise SpecError(f"{section}.{k}: unknown argument; accepted: {', '.join(args)}{_did_you_mean(k, args)}")
+    paths = []
+    if spec.get("scenario"):
+        import gmslab
+        paths = _paths(gmslab.load_scenario(spec["scenario"]).to_dict())
+    names = list(pts[0]) if pts else list(spec.get("parameters", {}))
+    for name in names:
+        if name.split(".")[0] in SCENARIO_ROOTS:
+            if paths and name not in paths:
+                raise SpecError(f"parameters.{name}: no such key path in the scenario{_did_you_mean(name, paths)}")
+        elif name not in args:
+            what = "a scenario key path (friction.*, plant.*, drive.*, run.*)" + (
+                f" or an argument of gmslab.{job} ({', '.join(args)})" if args else "")
+            raise SpecError(f"parameters.{name}: not {what}{_did_you_mean(name, list(paths) + list(args))}")
+    given = set(spec.get(job, {})) | set(names)
+    missing = [a for a in REQUIRED_ARGS[job] if a not in given]
+    if missing:
+        raise SpecError(f"{job}: missing argument{'s' if len(missing) > 1 else ''} {', '.join(missing)} "
+                        f"(in \"{job}\": {{...}} or as a parameter)")
 
 
 def _load_json(path, what):
@@ -245,6 +319,7 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
             gmslab.load_scenario(spec["scenario"])
         except gmslab.InputError as e:
             raise SpecError(f"scenario: {e}") from None
+    check_spec(spec, pts)  # unknown keys, parameter paths and arguments: before any cluster starts
     partial = f"{out}.partial.jsonl"
     done = {}
     if os.path.exists(partial):
