@@ -1,4 +1,5 @@
-"""gmslab.sweep on a Dask LocalCluster of 2 workers: a grid of scenario parameters gathered into
+"""gmslab.sweep on a Dask LocalCluster of 2 workers and on a real dask-scheduler with two dask-worker
+processes on 127.0.0.1: a grid of scenario parameters gathered into
 one table whose metrics equal the jobs run directly, a failed point reported with its error while
 the others finish, resumption that redoes only what is missing, a random sample reproducible from
 its seed, and the `gmslab sweep` command."""
@@ -173,3 +174,79 @@ def test_spec_errors_are_found_before_any_cluster_starts(tmp_path):
     p = subprocess.run([sys.executable, "-m", "gmslab.sweep", str(path)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 2
     assert p.stderr.strip() == "gmslab sweep: " + cases[0][1], p.stderr
+
+
+@pytest.fixture(scope="module")
+def real_cluster(tmp_path_factory):
+    """A real dask-scheduler and two dask-worker processes on 127.0.0.1 (not a LocalCluster)."""
+    import shutil
+    import socket
+    import sys
+    import time
+    sched, worker = shutil.which("dask-scheduler"), shutil.which("dask-worker")
+    if not sched or not worker:
+        pytest.skip("dask-scheduler / dask-worker not installed (Debian: python3-distributed)")
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    addr = f"tcp://127.0.0.1:{port}"
+    env = dict(os.environ)  # the workers import gmslab from the same PYTHONPATH as this test
+    logdir = tmp_path_factory.mktemp("dask")
+    procs = [subprocess.Popen([sys.executable, sched, "--host", "127.0.0.1", "--port", str(port),
+                               "--dashboard-address", ":0"], env=env, stdout=subprocess.DEVNULL,
+                              stderr=open(logdir / "scheduler.log", "w"))]
+    try:
+        for i in range(2):
+            procs.append(subprocess.Popen([sys.executable, worker, addr, "--nworkers", "1", "--nthreads", "1",
+                                           "--no-dashboard"], env=env, stdout=subprocess.DEVNULL,
+                                          stderr=open(logdir / f"worker{i}.log", "w")))
+        c = distributed.Client(addr, timeout=30)
+        t0 = time.time()
+        while len(c.scheduler_info()["workers"]) < 2:
+            if time.time() - t0 > 60:
+                pytest.fail("the two dask-worker processes did not connect within 60 s")
+            time.sleep(0.2)
+        c.close()
+        yield addr
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+        for p in procs:
+            try:
+                p.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                p.kill()
+
+
+def test_sweep_on_a_real_scheduler_with_two_workers(real_cluster, tmp_path):
+    """`gmslab sweep --scheduler` on dask-scheduler + 2 dask-worker processes: the same table as the
+    jobs run directly, the failed point reported, both workers still there afterwards."""
+    exe = os.environ.get("GMSLAB_EXE", "")
+    if not exe:
+        pytest.skip("gmslab executable not built")
+    s = spec(tmp_path)
+    path = tmp_path / "spec.json"
+    path.write_text(json.dumps(s))
+    p = subprocess.run([exe, "sweep", str(path), "--scheduler", real_cluster], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 1, p.stderr  # one point (plant.mass -1) fails by design
+    with open(str(tmp_path / "spec.results.csv")) as f:
+        table = list(csv.DictReader(f))
+    assert len(table) == 6
+    for r in table:
+        if float(r["param:plant.mass"]) < 0:
+            assert r["status"] == "failed" and "plant.mass" in r["error"]
+            continue
+        assert r["status"] == "ok" and r["error"] == ""
+        sc = gmslab.load_scenario(s["scenario"])
+        sc.friction["Fs"] = float(r["param:friction.Fs"])
+        sc.plant.mass = float(r["param:plant.mass"])
+        sc.run.duration, sc.run.record_every = 0.3, 20
+        tr = gmslab.simulate(sc)
+        assert int(r["samples"]) == len(tr)
+        assert float(r["friction_max_N"]) == pytest.approx(float(np.abs(tr.friction).max()), rel=1e-15)
+    c = distributed.Client(real_cluster, timeout=30)
+    try:  # the scheduler still has its two worker processes (none was lost to a failed point)
+        assert len(c.scheduler_info()["workers"]) == 2
+    finally:
+        c.close()
