@@ -67,6 +67,42 @@ std::string preset_dir() {
   return GMSLAB_INSTALLED_PRESETS;
 }
 
+// The design dict with its roots as complex numbers, as root_locus gives them: every
+// "closed_loop_poles" ([[re, im], ...]) a complex NumPy array; "s_d", "slow_pole" and a gain
+// point's "s" ([re, im]) a complex. gmslab.to_json turns them back into the CLI's JSON.
+bool is_pair(const py::handle& v) {
+  if (!py::isinstance<py::list>(v)) return false;
+  const auto l = py::reinterpret_borrow<py::list>(v);
+  return l.size() == 2 && (py::isinstance<py::float_>(l[0]) || py::isinstance<py::int_>(l[0])) &&
+         (py::isinstance<py::float_>(l[1]) || py::isinstance<py::int_>(l[1]));
+}
+void complex_roots(py::handle o) {
+  if (py::isinstance<py::list>(o)) {
+    for (const auto& item : py::reinterpret_borrow<py::list>(o)) complex_roots(item);
+    return;
+  }
+  if (!py::isinstance<py::dict>(o)) return;
+  auto d = py::reinterpret_borrow<py::dict>(o);
+  for (const auto& [k, v] : d) {
+    const std::string key = py::str(k);
+    if (key == "closed_loop_poles" && py::isinstance<py::list>(v)) {
+      std::vector<std::complex<double>> roots;
+      bool all = true;
+      for (const auto& r : py::reinterpret_borrow<py::list>(v)) {
+        if (!is_pair(r)) { all = false; break; }
+        const auto l = py::reinterpret_borrow<py::list>(r);
+        roots.emplace_back(l[0].cast<double>(), l[1].cast<double>());
+      }
+      if (all) d[k] = py::array_t<std::complex<double>>(roots.size(), roots.data());
+    } else if ((key == "s_d" || key == "slow_pole" || key == "s") && is_pair(v)) {
+      const auto l = py::reinterpret_borrow<py::list>(v);
+      d[k] = py::cast(std::complex<double>(l[0].cast<double>(), l[1].cast<double>()));
+    } else {
+      complex_roots(v);
+    }
+  }
+}
+
 // A path argument: str or any os.PathLike (pathlib.Path), as open() takes it. `what` names the
 // argument in the TypeError.
 std::string path_arg(const py::object& o, const char* what) {
@@ -390,7 +426,9 @@ PYBIND11_MODULE(_gmslab, m) {
                                                                   K, {max_ratio, margin}, *type, sample_time))
               .json;
     }
-    return to_py(d.json);
+    py::object out = to_py(d.json);
+    complex_roots(out);
+    return out;
   }, py::arg("zeta"), py::arg("wn"), py::arg("num") = py::none(), py::arg("den") = py::none(),
         py::arg("scenario") = py::none(), py::arg("regime") = "presliding", py::arg("velocity") = 0.0,
         py::arg("K") = py::none(), py::arg("max_ratio") = 20.0, py::arg("margin") = 0.1,
