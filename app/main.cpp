@@ -1,5 +1,6 @@
 // gmslab: the window, and every command line command.
 //   gmslab                   opens the window (no display: renders the figure set to ./figures)
+//   gmslab --open PRESET [--tab TAB] [--run]   opens the window on PRESET (a display is needed)
 //   gmslab render|figures    run in the sibling executable gmslab-headless (OSMesa)
 //   gmslab sweep SPEC.json   runs python3 -m gmslab.sweep (Dask; app/python/gmslab/sweep.py)
 //   gmslab <other command>   app/cli (simulate, design, identify, ...)
@@ -14,6 +15,8 @@
 
 #include "app/cli/cli.hpp"
 #include "app/window.hpp"
+#include "core/error.hpp"
+#include "ui/app.hpp"
 
 namespace {
 
@@ -106,10 +109,21 @@ int main(int argc, char** argv) {
   gmslab::cli::Host host;
   host.render = [&](const gmslab::cli::RenderOptions&) { return exec_headless(forward); };
   host.figures = [&](const gmslab::cli::FiguresOptions&) { return exec_headless(forward); };
-  host.window = [] {
-    if (!has_display()) return figures_fallback();
-    const int rc = gmslab::app::run_window(gmslab::app::default_session_path());
-    return rc == gmslab::app::kNoWindow ? figures_fallback() : rc;
+  host.window = [](const gmslab::cli::WindowOptions& o) {
+    if (o.open.empty()) {
+      if (!has_display()) return figures_fallback();
+      const int rc = gmslab::app::run_window(gmslab::app::default_session_path());
+      return rc == gmslab::app::kNoWindow ? figures_fallback() : rc;
+    }
+    // --open: checked before any window (a bad preset or tab: exit 2 with the reason).
+    const gmslab::ui::LaunchRequest launch = gmslab::ui::check_launch({o.open, o.tab, o.run});
+    const char* no_window =
+        "--open needs a display (DISPLAY or WAYLAND_DISPLAY) to open the window; for an image of the view use "
+        "gmslab render PRESET --view TAB --out FILE.png";
+    if (!has_display()) throw gmslab::IoError(no_window);
+    const int rc = gmslab::app::run_window(gmslab::app::default_session_path(), &launch);
+    if (rc == gmslab::app::kNoWindow) throw gmslab::IoError(no_window);
+    return rc;
   };
   return gmslab::cli::run(argc, argv, host);
 }

@@ -11,8 +11,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <limits>
 #include <thread>
+#include <vector>
 
 #include <climits>
 #include <sys/wait.h>
@@ -20,11 +24,13 @@
 
 #include "core/error.hpp"
 #include "core/ident/figure_json.hpp"
+#include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
+#include "ui/frame_policy.hpp"
 #include "ui/identify_panel.hpp"
 #include "ui/plot.hpp"
 #include "ui/style.hpp"
@@ -101,6 +107,17 @@ void initial_state(ui::AppState& s, const std::string& session_path) {
   }
 }
 
+// The Plant tab shows the session's plant, else the two-mass drive preset.
+void initial_plant(ui::AppState& s) {
+  if (s.plant.scenario) return;
+  const std::string preset = ui::presets_dir() + "/two_mass_drive.json";
+  try {
+    ui::load_plant(s.plant, load_assembly_scenario(preset), preset);
+  } catch (const std::exception& e) {
+    s.plant.error = "default plant not loaded: " + std::string(e.what());
+  }
+}
+
 void save(const ui::AppState& s, const std::string& path) {
   if (!s.main.sim) return;
   try {
@@ -111,33 +128,137 @@ void save(const ui::AppState& s, const std::string& path) {
   }
 }
 
-void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl) {
+// Input events seen by the window (GLFW callbacks; ImGui's backend chains to those it also
+// installs), counted so the frame policy knows when one was handled. Key presses are kept until
+// the next frame: ImGui 1.86's GLFW backend only holds the keys' current state, so a key pressed
+// and released between two frames (a quick Return, Ctrl+S from a script) would never be seen.
+struct InputEvents {
+  unsigned long long count = 0;
+  struct Press {
+    int key = 0, mods = 0;
+  };
+  std::vector<Press> presses;  // since the last frame
+  static InputEvents* of(GLFWwindow* w) { return static_cast<InputEvents*>(glfwGetWindowUserPointer(w)); }
+  static void bump(GLFWwindow* w) {
+    if (auto* e = of(w)) ++e->count;
+  }
+  // Each key pressed since the last frame is down in this one (with its modifiers); its release,
+  // already in io, shows in the next frame, which the frame policy draws (kSettleFrames).
+  void hold_presses(ImGuiIO& io) {
+    for (const Press& p : presses) {
+      if (p.key >= 0 && p.key < IM_ARRAYSIZE(io.KeysDown)) io.KeysDown[p.key] = true;
+      io.KeyCtrl |= (p.mods & GLFW_MOD_CONTROL) || p.key == GLFW_KEY_LEFT_CONTROL || p.key == GLFW_KEY_RIGHT_CONTROL;
+      io.KeyShift |= (p.mods & GLFW_MOD_SHIFT) || p.key == GLFW_KEY_LEFT_SHIFT || p.key == GLFW_KEY_RIGHT_SHIFT;
+      io.KeyAlt |= (p.mods & GLFW_MOD_ALT) || p.key == GLFW_KEY_LEFT_ALT || p.key == GLFW_KEY_RIGHT_ALT;
+    }
+    presses.clear();
+  }
+  void install(GLFWwindow* w) {
+    glfwSetWindowUserPointer(w, this);
+    glfwSetMouseButtonCallback(w, [](GLFWwindow* w, int, int, int) { bump(w); });
+    glfwSetScrollCallback(w, [](GLFWwindow* w, double, double) { bump(w); });
+    glfwSetKeyCallback(w, [](GLFWwindow* w, int key, int, int action, int mods) {
+      bump(w);
+      if (auto* e = of(w); e && action == GLFW_PRESS) e->presses.push_back({key, mods});
+    });
+    glfwSetCharCallback(w, [](GLFWwindow* w, unsigned) { bump(w); });
+    glfwSetCursorPosCallback(w, [](GLFWwindow* w, double, double) { bump(w); });
+    glfwSetCursorEnterCallback(w, [](GLFWwindow* w, int) { bump(w); });
+    glfwSetWindowFocusCallback(w, [](GLFWwindow* w, int) { bump(w); });
+    glfwSetFramebufferSizeCallback(w, [](GLFWwindow* w, int, int) { bump(w); });
+    glfwSetWindowRefreshCallback(w, [](GLFWwindow* w) { bump(w); });
+  }
+};
+
+// GMSLAB_UI_STATUS=FILE: one line of ui::ui_status_json appended per wall second.
+struct StatusReport {
+  using clock = std::chrono::steady_clock;
+  std::string path;
+  clock::time_point next = clock::now() + std::chrono::seconds(1);
+  double seconds_left() const {
+    if (path.empty()) return std::numeric_limits<double>::infinity();
+    return std::chrono::duration<double>(next - clock::now()).count();
+  }
+  void maybe_write(const ui::AppState& s, long long frames) {
+    if (path.empty() || clock::now() < next) return;
+    next += std::chrono::seconds(1);
+    if (next < clock::now()) next = clock::now() + std::chrono::seconds(1);  // after a stall: no burst
+    if (std::FILE* f = std::fopen(path.c_str(), "a")) {
+      std::fprintf(f, "%s\n", ui::ui_status_json(s, frames).c_str());
+      std::fclose(f);
+    } else {
+      std::fprintf(stderr, "gmslab: GMSLAB_UI_STATUS: cannot append to %s: %s (status reports stop)\n", path.c_str(),
+                   std::strerror(errno));
+      path.clear();
+    }
+  }
+};
+
+void loop(GLFWwindow* win, ui::AppState& s, const Gl& gl, InputEvents& events) {
   using clock = std::chrono::steady_clock;
   auto next = clock::now();
   s.keys = {GLFW_KEY_S, GLFW_KEY_F5};
   std::string title;
+  unsigned long long seen = 0;
+  int frames_since_input = 0;  // the first frames settle like after an event
+  long long frames = 0;
+  long long fps_frames = 0;
+  auto fps_until = clock::now() + std::chrono::seconds(1);
+  StatusReport report;
+  if (const char* p = std::getenv("GMSLAB_UI_STATUS"); p && *p) report.path = p;
   while (!glfwWindowShouldClose(win) && !g_quit) {
     if (std::string t = ui::window_title(s); t != title) glfwSetWindowTitle(win, (title = t).c_str());
-    // Idle: wait for input instead of spinning; running: one frame per 1/60 s.
-    // Idle: sleep until input (a blinking text cursor or a background identification wakes it
-    // 4 times a second, nothing else does); running: one frame per 1/60 s.
-    if (s.running)
-      glfwPollEvents();
-    else
-      glfwWaitEventsTimeout(ImGui::GetIO().WantTextInput || ui::identify_busy(s.identify) ? 0.25 : 5.0);
+    // The one frame policy (ui/frame_policy.hpp): poll while anything runs or after input, else wait.
+    const ui::FrameWait w = ui::frame_wait(ui::frame_activity(s), frames_since_input, report.seconds_left());
+    switch (w.kind) {
+      case ui::FrameWaitKind::Poll: glfwPollEvents(); break;
+      case ui::FrameWaitKind::Timeout: glfwWaitEventsTimeout(w.timeout_s); break;
+      case ui::FrameWaitKind::Wait:
+        // Until input; woken twice a second only to see SIGINT / SIGTERM (a signal does not end
+        // GLFW's wait), drawing nothing then.
+        do glfwWaitEventsTimeout(0.5);
+        while (events.count == seen && !g_quit && !glfwWindowShouldClose(win));
+        break;
+    }
+    if (events.count != seen) {
+      seen = events.count;
+      frames_since_input = 0;
+    } else if (frames_since_input < ui::kSettleFrames) {
+      ++frames_since_input;
+    }
+    const auto frame_start = clock::now();
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    events.hold_presses(ImGui::GetIO());
     ImGui::NewFrame();
-    s.frame_dt = std::clamp(static_cast<double>(ImGui::GetIO().DeltaTime), 1e-4, 0.1);
+    // Runs keep wall-clock pace down to 4 frames per second (a slow projector laptop, a loaded
+    // machine); a longer stall (a suspended process) advances them 0.25 s. The first frame after
+    // a wait (nothing was running: e.g. the click on Run) advances one 60 Hz frame.
+    s.frame_dt = w.kind == ui::FrameWaitKind::Poll
+                     ? std::clamp(static_cast<double>(ImGui::GetIO().DeltaTime), 1e-4, 0.25)
+                     : 1.0 / 60.0;
     ui::draw_frame(s);
     ImGui::Render();
-    int w = 0, h = 0;
-    glfwGetFramebufferSize(win, &w, &h);
-    gl.viewport(0, 0, w, h);
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(win, &fw, &fh);
+    gl.viewport(0, 0, fw, fh);
     gl.clear_color(0.95f, 0.95f, 0.96f, 1.0f);
     gl.clear(kColorBufferBit);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    const auto frame_end = clock::now();
     glfwSwapBuffers(win);
+    ++frames;
+    s.perf.frame_ms = std::max(1e-3, std::chrono::duration<double, std::milli>(frame_end - frame_start).count());
+    if (frame_end >= fps_until) {  // frames drawn in the last wall second
+      s.perf.fps = static_cast<int>(frames - fps_frames);
+      fps_frames = frames;
+      fps_until = frame_end + std::chrono::seconds(1);
+    }
+    report.maybe_write(s, frames);
+    if (w.kind != ui::FrameWaitKind::Poll) {
+      next = clock::now();  // a frame after a wait is drawn at once
+      continue;
+    }
     next += std::chrono::microseconds(16667);  // cap at 60 fps where vsync is absent (Xvfb)
     const auto now = clock::now();
     if (next > now)
@@ -155,7 +276,7 @@ std::string default_session_path() {
   return std::string(home && *home ? home : ".") + "/.config/gmslab/session.json";
 }
 
-int run_window(const std::string& session_path) {
+int run_window(const std::string& session_path, const ui::LaunchRequest* launch) {
   glfwSetErrorCallback(glfw_error);
   if (!glfwInit()) return kNoWindow;
   // GL 3.2 core: the ImGui OpenGL3 backend then draws draw lists beyond 65536 vertices
@@ -193,6 +314,9 @@ int run_window(const std::string& session_path) {
   float sx = 1.0f, sy = 1.0f;
   glfwGetWindowContentScale(win, &sx, &sy);
   ui::setup_style(17.0f * std::max(1.0f, sy));
+  // Installed before ImGui's, which chain to them.
+  InputEvents events;
+  events.install(win);
   ImGui_ImplGlfw_InitForOpenGL(win, true);
   ImGui_ImplOpenGL3_Init(glsl);
   if (!(ImGui::GetIO().BackendFlags & ImGuiBackendFlags_RendererHasVtxOffset))
@@ -202,7 +326,15 @@ int run_window(const std::string& session_path) {
   std::signal(SIGTERM, on_signal);
   ui::AppState s;
   initial_state(s, session_path);
-  loop(win, s, gl);
+  initial_plant(s);
+  if (launch) {
+    try {
+      ui::apply_launch(s, *launch);
+    } catch (const std::exception& e) {
+      s.report(ui::Panel::Simulation, e, "--open failed");
+    }
+  }
+  loop(win, s, gl, events);
   save(s, session_path);
 
   ImGui_ImplOpenGL3_Shutdown();

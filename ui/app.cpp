@@ -3,8 +3,11 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <strings.h>
 
 #include <filesystem>
 
@@ -14,6 +17,7 @@
 #include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
 #include "ui/plant_view.hpp"
 #include "ui/plot.hpp"
@@ -236,6 +240,11 @@ void apply_pending(AppState& s) {
   if (s.pending.redo) s.pending.redo = false, redo(s);
   PendingRequests p = std::move(s.pending);
   s.pending = {};
+  // A note on the status line is about the last action: a new one replaces it (errors stay until
+  // their panel clears them). The requests below set their own notes.
+  const bool any_request = p.scenario || p.friction || p.plant || p.compare || p.clear_compare || p.reset || p.run ||
+                           p.pause || !p.load_path.empty() || !p.save_path.empty() || p.rerun;
+  if (any_request && !s.status_kind && !p.from_history) s.note("");  // an undo / redo has just said so
   // Every edit is recorded for undo (a drag gesture once); a run that had finished reruns with it.
   const bool edits = !p.load_path.empty() || p.scenario || p.friction || p.plant || p.compare || p.clear_compare;
   const bool gesture = ImGui::GetCurrentContext() != nullptr && ImGui::IsAnyItemActive();
@@ -374,9 +383,9 @@ void draw_frame(AppState& s) {
   ImGui::Begin("gmslab", nullptr, flags);
   draw_menu_bar(s);
   handle_shortcuts(s);
-  // The panels above, the status line (when there is one) below.
-  const float status_h = s.status.empty() ? 0.0f
-                                          : ImGui::CalcTextSize(s.status.c_str()).y + ImGui::GetStyle().ItemSpacing.y;
+  // The panels above, the status line (when there is one, or the frame time is measured) below.
+  const bool perf = s.perf.frame_ms > 0.0;
+  const float status_h = s.status.empty() && !perf ? 0.0f : ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
   ImGui::BeginChild("##tabs", ImVec2(0, -status_h), false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   if (ImGui::BeginTabBar("##panels")) {
     for (const PanelEntry& e : panels()) {
@@ -400,10 +409,113 @@ void draw_frame(AppState& s) {
   if (!s.status.empty())
     ImGui::TextColored(s.status_kind ? ImVec4(0.75f, 0.10f, 0.10f, 1.0f) : ImVec4(0.35f, 0.35f, 0.38f, 1.0f), "%s",
                        s.status.c_str());
+  if (perf) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "frame %.1f ms, %d fps", s.perf.frame_ms, s.perf.fps);
+    const float w = ImGui::CalcTextSize(buf).x;
+    if (!s.status.empty()) ImGui::SameLine();
+    ImGui::SetCursorPosX(std::max(ImGui::GetCursorPosX(), ImGui::GetWindowContentRegionMax().x - w));
+    ImGui::TextDisabled("%s", buf);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Time to build and draw the last frame, and frames drawn in the last second (an idle window "
+                        "draws only on input)");
+  }
   draw_file_dialogs(s);
   ImGui::End();
   apply_pending(s);
   advance(s);
+}
+
+FrameActivity frame_activity(AppState& s) {
+  FrameActivity a;
+  a.sim_running = s.running && s.main.sim;
+  a.plant_running = s.plant.running && s.plant.sim && s.view.tab == "Plant";
+  a.identifying = identify_busy(s.identify);
+  a.animating = s.select_tab > 0 || (s.view.tab == "Design" && s.design.dirty) || s.browser.open_request;
+  a.text_input = ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantTextInput;
+  return a;
+}
+
+ActiveRun active_run(const AppState& s) {
+  if (s.view.tab == "Plant") return {s.plant.running && s.plant.sim, s.plant.sim ? s.plant.sim->time() : 0.0};
+  return {s.running && s.main.sim, s.main.sim ? s.main.sim->time() : 0.0};
+}
+
+std::string ui_status_json(const AppState& s, long long frames) {
+  std::string tab = s.view.tab;
+  for (char& c : tab) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const ActiveRun r = active_run(s);
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "{\"frames\": %lld, \"tab\": \"%s\", \"running\": %s, \"run_time_s\": %.6g}", frames,
+                tab.c_str(), r.running ? "true" : "false", std::isfinite(r.time_s) ? r.time_s : 0.0);
+  return buf;
+}
+
+std::string resolve_preset(const std::string& preset) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (preset.empty()) throw InputError("--open: no preset given; name a preset file, e.g. --open presets/two_mass_drive.json");
+  if (fs::is_regular_file(preset, ec)) return preset;
+  const fs::path dir = presets_dir();
+  for (const fs::path& p : {dir / preset, dir / (preset + ".json")})
+    if (preset.find('/') == std::string::npos && fs::is_regular_file(p, ec)) return p.string();
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw InputError("--open '" + preset + "': no such file" +
+                   (preset.find('/') == std::string::npos ? ", and no preset of that name in " + dir.string() : "") +
+                   "; give a preset file's path or the name of a shipped preset (" +
+                   (list.empty() ? std::string("none found") : list) + ")");
+}
+
+namespace {
+const char* const kLaunchTabs[] = {"Simulation", "Figures", "Design", "Identify", "Plant"};
+}  // namespace
+
+LaunchRequest check_launch(const LaunchRequest& r) {
+  LaunchRequest out = r;
+  out.preset = resolve_preset(r.preset);
+  int schema = 1;
+  try {
+    schema = preset_schema_version(parse_json(read_file(out.preset), out.preset));
+    if (schema == 2) (void)AssemblySimulation(load_assembly_scenario(out.preset));
+    else (void)Simulation(load_scenario(out.preset));
+  } catch (const InputError& e) {
+    throw InputError(std::string("--open: ") + e.what());
+  }
+  if (r.tab.empty()) {
+    out.tab = schema == 2 ? "Plant" : "Simulation";
+  } else {
+    out.tab.clear();
+    for (const char* t : kLaunchTabs)
+      if (strcasecmp(t, r.tab.c_str()) == 0) out.tab = t;
+    if (out.tab.empty())
+      throw InputError("--tab '" + r.tab + "': no such tab; use simulation, figures, design, identify or plant");
+  }
+  if (schema == 2 && out.tab == "Simulation")
+    throw InputError("--open '" + out.preset + "' is an assembled plant (schema_version 2): the Simulation tab runs "
+                     "one-body scenarios; open it with --tab plant (or --tab design)");
+  if (r.run && out.tab != "Simulation" && out.tab != "Plant")
+    throw InputError("--run starts the Simulation or Plant tab's run; the " + out.tab +
+                     " tab has none: drop --run or use --tab simulation or --tab plant");
+  return out;
+}
+
+void apply_launch(AppState& s, const LaunchRequest& r) {
+  const int schema = preset_schema_version(parse_json(read_file(r.preset), r.preset));
+  if (schema != 2) {
+    load_scenario_into(s, load_scenario(r.preset), r.preset);
+    mark_clean(s);
+  }
+  if (schema == 2 || r.tab == "Plant") load_plant(s.plant, load_assembly_scenario(r.preset), r.preset);
+  s.view.tab = r.tab;
+  s.select_tab = 2;
+  if (r.run && r.tab == "Plant") s.plant.running = true;
+  if (r.run && r.tab == "Simulation") s.running = true;
+  s.note("opened " + r.preset + (r.run ? " (running)" : ""));
 }
 
 }  // namespace gmslab::ui

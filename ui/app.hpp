@@ -19,6 +19,7 @@
 #include "core/sim/phases.hpp"
 #include "core/sim/scenario.hpp"
 #include "core/sim/simulation.hpp"
+#include "ui/frame_policy.hpp"
 #include "ui/panel_state.hpp"
 #include "ui/plant_view.hpp"
 
@@ -101,6 +102,13 @@ struct AppState {
   // The Simulation panel's error: a rejected load, save or edit, or why the run stopped.
   std::string error;
   double frame_dt = 1.0 / 60.0;     // wall-clock seconds of this frame (host sets it)
+  // What the window measures of itself (the host sets it; 0: not measured, nothing shown): the
+  // time to build and draw the last frame [ms] and the frames drawn in the last wall second. Shown
+  // at the right of the status line.
+  struct FramePerf {
+    double frame_ms = 0.0;
+    int fps = 0;
+  } perf;
   std::size_t max_steps_per_frame = 400000;  // keeps the window responsive
   // Memory bound of each live run's trace (main and overlay) [bytes]: a longer run is kept as
   // min/max per time bucket (TraceOptions, core/sim/simulation.hpp). Set before loading.
@@ -161,5 +169,42 @@ Session make_session(const AppState& s);
 void restore_session(AppState& s, const Session& session);
 // One frame: draws the main window with its panels (full display), then apply_pending + advance.
 void draw_frame(AppState& s);
+
+// What changes in the next frame without input, for the frame policy (ui/frame_policy.hpp): the
+// Simulation run, the Plant run while its tab is shown, an identification at work (collecting a
+// finished one), a design waiting for its computation or a tab being selected (animating), a text
+// field with the keyboard (ImGui's io, when there is a context).
+FrameActivity frame_activity(AppState& s);
+
+// The run the active tab shows: the Plant tab's on the Plant tab, else the Simulation tab's.
+struct ActiveRun {
+  bool running = false;
+  double time_s = 0.0;  // its simulated time (0 without a run)
+};
+ActiveRun active_run(const AppState& s);
+// One line of the window's status report (GMSLAB_UI_STATUS): {"frames": N, "tab": "plant",
+// "running": true, "run_time_s": T} - frames drawn so far, the active tab (lower case), the active
+// run (active_run) - without the newline.
+std::string ui_status_json(const AppState& s, long long frames);
+
+// What `gmslab --open PRESET [--tab TAB] [--run]` asks of the window.
+struct LaunchRequest {
+  std::string preset;  // a path, or a shipped preset's name ("two_mass_drive" or "two_mass_drive.json")
+  std::string tab;     // simulation | design | plant | identify (any case); "": the preset's own tab
+  bool run = false;    // start the run of that tab (Simulation or Plant)
+};
+// The preset's file: `preset` when it exists, else presets_dir()/preset[.json]. Throws InputError
+// naming the path tried and the shipped presets.
+std::string resolve_preset(const std::string& preset);
+// Checks the request without a window (throws InputError naming what is wrong and how to fix it):
+// the preset loads; the tab is one of the four; an assembled plant (schema_version 2) opens in the
+// Plant or Design tab; --run goes with the Simulation or Plant tab. Returns the request with the
+// preset's path resolved and the tab named as in the tab bar ("Plant"; default: Plant for an
+// assembled plant, else Simulation).
+LaunchRequest check_launch(const LaunchRequest& r);
+// Opens a checked request: a one-body scenario becomes the Simulation tab's scenario (and the
+// Plant tab's plant when that tab is asked for), an assembled plant the Plant tab's; selects the
+// tab; starts its run when asked. Throws InputError when the preset does not load.
+void apply_launch(AppState& s, const LaunchRequest& checked);
 
 }  // namespace gmslab::ui

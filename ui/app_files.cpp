@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -171,6 +174,55 @@ void handle_shortcuts(AppState& s) {
   if (pressed(s.keys.f5)) s.pending.rerun = true;
 }
 
+namespace {
+// "Fig. 2A..." -> {2, 'A'}; "Fig. 4 ..." -> {4, ' '}; no figure: {INT_MAX, ' '}.
+std::pair<int, char> figure_of(const std::string& name) {
+  int fig = 0;
+  char panel = ' ';
+  int used = 0;
+  if (std::sscanf(name.c_str(), "Fig. %d%n", &fig, &used) == 1 && used > 0) {
+    const char c = static_cast<std::size_t>(used) < name.size() ? name[static_cast<std::size_t>(used)] : ' ';
+    if (c >= 'A' && c <= 'Z') panel = c;
+    return {fig, panel};
+  }
+  return {INT_MAX, ' '};
+}
+
+// Natural order: runs of digits compare as numbers.
+bool natural_less(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    const bool da = std::isdigit(static_cast<unsigned char>(a[i])), db = std::isdigit(static_cast<unsigned char>(b[j]));
+    if (da && db) {
+      std::size_t i2 = i, j2 = j;
+      while (i2 < a.size() && std::isdigit(static_cast<unsigned char>(a[i2]))) ++i2;
+      while (j2 < b.size() && std::isdigit(static_cast<unsigned char>(b[j2]))) ++j2;
+      const std::string na = a.substr(i, i2 - i), nb = b.substr(j, j2 - j);
+      const std::string ta = na.substr(std::min(na.find_first_not_of('0'), na.size() - 1));
+      const std::string tb = nb.substr(std::min(nb.find_first_not_of('0'), nb.size() - 1));
+      if (ta.size() != tb.size()) return ta.size() < tb.size();
+      if (ta != tb) return ta < tb;
+      i = i2, j = j2;
+      continue;
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i, ++j;
+  }
+  return a.size() - i < b.size() - j;
+}
+}  // namespace
+
+bool preset_before(const PresetEntry& a, const PresetEntry& b) {
+  const auto fa = figure_of(a.name), fb = figure_of(b.name);
+  if (fa != fb) return fa < fb;
+  if (fa.first == INT_MAX && a.name != b.name) return natural_less(a.name, b.name);
+  const bool ca = a.name.find("protocol") != std::string::npos, cb = b.name.find("protocol") != std::string::npos;
+  if (ca != cb) return cb;
+  const std::string sa = fs::path(a.path).stem().string(), sb = fs::path(b.path).stem().string();
+  if (sa != sb) return natural_less(sa, sb);
+  return a.path < b.path;
+}
+
 std::vector<PresetEntry> list_presets() {
   std::vector<PresetEntry> out;
   for (const bool shipped : {true, false}) {
@@ -192,7 +244,7 @@ std::vector<PresetEntry> list_presets() {
       }
       found.push_back(std::move(e));
     }
-    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+    std::sort(found.begin(), found.end(), preset_before);
     out.insert(out.end(), found.begin(), found.end());
   }
   return out;

@@ -50,8 +50,12 @@ struct PresetEntry {
   bool shipped = false;
   bool plant = false;  // schema 2: an assembled plant, opened in the Plant tab
 };
-// Shipped presets then the user's saved scenarios, each sorted by file name. Unreadable files
+// Shipped presets then the user's saved scenarios, each in preset_before order. Unreadable files
 // are listed with the reason as their description.
 std::vector<PresetEntry> list_presets();
+// The menu's order: by the figure a preset's name starts with ("Fig. 2A: ...": figure 2, panel A;
+// a comparison "... protocol ..." after the figure's own preset), then presets that name no
+// figure; ties by file name with numbers compared as numbers (x1, x16, x100).
+bool preset_before(const PresetEntry& a, const PresetEntry& b);
 
 }  // namespace gmslab::ui

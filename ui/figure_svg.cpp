@@ -114,8 +114,9 @@ std::string figure_svg(const Figure& f, int width, int height) {
                   " data-px1=\"%.17g\" data-py0=\"%.17g\" data-py1=\"%.17g\"",
                   xr.lo, xr.hi, yr.lo, yr.hi, px0, px1, py0, py1);
     o += "<g class=\"panel\" id=\"panel" + std::to_string(k) + "\"" + attrs + ">\n";
-    std::string head = p.letter.empty() ? p.title : p.letter + "  " + p.title;
-    o += "<text x=\"" + num(px0) + "\" y=\"" + num(top + 0.8 * font) + "\" font-weight=\"bold\">" + esc(head) + "</text>\n";
+    std::string head = p.letter.empty() ? p.title : p.title.empty() ? p.letter : p.letter + "  " + p.title;
+    if (!head.empty())
+      o += "<text x=\"" + num(px0) + "\" y=\"" + num(top + 0.8 * font) + "\" font-weight=\"bold\">" + esc(head) + "</text>\n";
     // Grid and ticks.
     const Ticks tx = nice_ticks(xr.lo, xr.hi, std::max(3, static_cast<int>((px1 - px0) / (7.0 * font))));
     const Ticks ty = nice_ticks(yr.lo, yr.hi, std::max(3, static_cast<int>((py1 - py0) / (3.0 * font))));

@@ -32,8 +32,8 @@ LineStyle line_style(Series::Style s) {
 
 void draw_panel(const Panel& p, std::size_t index, ImVec2 size, bool interactive, std::optional<YRange> y) {
   PlotOptions opt;
-  opt.title = p.title.c_str();
-  opt.letter = p.letter.c_str();
+  opt.title = p.title.empty() ? nullptr : p.title.c_str();  // none: no title line
+  opt.letter = p.letter.empty() ? nullptr : p.letter.c_str();
   opt.paper = true;
   opt.interactive = interactive;
   ImGui::PushID(static_cast<int>(index));

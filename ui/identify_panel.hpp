@@ -31,7 +31,8 @@ void identify_start(IdentifyState& st, const IdentifyInputs& in);
 // next frame; a run in progress is left alone) by identify_settings / apply_identify_settings
 // (ui/panel_state.hpp), as the session does.
 // The EMPS benchmark's files when ../shared/data/emps (or $GMSLAB_SHARED/data/emps) has them:
-// training DATA_EMPS.csv, validation DATA_EMPS_PULSES.csv; nullopt otherwise.
+// training DATA_EMPS.csv, validation DATA_EMPS_PULSES.csv, mask edges pulse_code:0.005:0.060 (the
+// README's command); nullopt otherwise.
 std::optional<IdentifyInputs> emps_example();
 bool identify_busy(IdentifyState& st);
 void identify_cancel(IdentifyState& st);

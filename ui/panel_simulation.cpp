@@ -74,11 +74,20 @@ void scenario_section(AppState& s, SimPanelState& p) {
     ImGui::SetTooltip("Save the scenario as edited to\n%s\n(shipped presets are never overwritten; an existing "
                       "file is replaced only after you confirm; File > Save as... picks another path)",
                       target.c_str());
+  // The unsaved mark has a line of its own (one line, always there) and the window title's star:
+  // an edit never moves the fields below.
   const bool edited = has_unsaved_changes(s);
-  TextWrappedAtSpaces(s.scenario.name + (edited ? "  * unsaved changes" : ""));
+  if (edited) {
+    ImGui::TextColored(ImVec4(0.70f, 0.35f, 0.0f, 1.0f), "* unsaved changes (text below: as loaded)");
+    tip("The scenario differs from its file; the name and description below are the file's. Ctrl+S saves "
+        "(to your own folder for a shipped preset)");
+  } else {
+    ImGui::TextDisabled("no unsaved changes");
+  }
+  TextWrappedAtSpaces(s.scenario.name);
   if (!s.scenario.description.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kDim);
-    TextWrappedAtSpaces((edited ? "As loaded: " : "") + s.scenario.description);
+    TextWrappedAtSpaces(s.scenario.description);
     ImGui::PopStyleColor();
   }
 }

@@ -1,5 +1,6 @@
 #include "ui/panels.hpp"
 
+#include "ui/app_files.hpp"
 #include "ui/design_view.hpp"
 #include "ui/identify_panel.hpp"
 #include "ui/panel_figures.hpp"
@@ -29,7 +30,16 @@ const std::vector<PanelEntry>& panels() {
          s.forward_error(Panel::Identify);
        }},
       {"Plant", "The assembled plant as a schematic (bodies, springs, dampers, contacts, drives), animated while it runs",
-       [](AppState& s) { draw_plant_panel(s.plant, s.frame_dt); }},
+       [](AppState& s) {
+         draw_plant_panel(s.plant, s.frame_dt, [] {
+           // Assembled plants first, then one-body scenarios (loaded as one body), each in menu order.
+           std::vector<PresetChoice> plants, bodies;
+           for (const PresetEntry& e : list_presets())
+             (e.plant ? plants : bodies).push_back({e.plant ? e.name : e.name + "  (one body)", e.path});
+           plants.insert(plants.end(), bodies.begin(), bodies.end());
+           return plants;
+         });
+       }},
       // Add panels here (see ui/panels.hpp), e.g. {"Design", "...", draw_design_panel},
   };
   return list;

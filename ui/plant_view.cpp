@@ -287,13 +287,53 @@ std::string signal_label(const Signal& s, const char* unit) {
 }
 }  // namespace
 
-void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
-                double px_per_m) {
+PlantDrawn draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
+                      double px_per_m) {
   const float lh = ImGui::GetTextLineHeight();
   auto dx = [&](int body) {
     if (body < 0) return 0.0f;
     const double d = pose.x[static_cast<std::size_t>(body)] * px_per_m;
     return static_cast<float>(std::clamp(d, -0.45 * l.width, 0.45 * l.width));
+  };
+  PlantDrawn drawn;
+  for (std::size_t i = 0; i < a.bodies.size(); ++i) {  // where the bodies are drawn (labels avoid them)
+    const Box& b = l.bodies[i];
+    const float o = dx(static_cast<int>(i));
+    drawn.bodies.push_back({X + b.x0 + o, Y + b.y0, X + b.x1 + o, Y + b.y1});
+  }
+  // The header rows (time, scale, stick / slip key) are taken too.
+  const Box header{X, Y, X + l.width, Y + 8.0f + 2.0f * lh};
+  // A label of one or more lines, centred on cx (or right-aligned at cx) with its top at y; where it
+  // would overlap a body, the header or a label placed before, it moves by half lines (first
+  // towards `dir`: -1 up, +1 down, then the other way) to the nearest free place.
+  auto place = [&](float cx, float y, const std::vector<std::pair<std::string, ImU32>>& lines, bool right_aligned,
+                   float dir) {
+    float w = 0.0f;
+    for (const auto& ln : lines) w = std::max(w, ImGui::CalcTextSize(ln.first.c_str()).x);
+    const float h = lh * static_cast<float>(lines.size());
+    const float x0 = right_aligned ? cx - w : cx - 0.5f * w;
+    auto free_at = [&](float top) {
+      const Box b{x0, top, x0 + w, top + h};
+      auto hits = [&](const Box& o) { return b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1; };
+      if (hits(header)) return false;
+      for (const Box& o : drawn.bodies)
+        if (hits(o)) return false;
+      for (const Box& o : drawn.labels)
+        if (hits(o)) return false;
+      return true;
+    };
+    float top = y;
+    for (int k = 1; k <= 16 && !free_at(top); ++k) {
+      const float step = 0.5f * lh * static_cast<float>((k + 1) / 2);
+      top = y + (k % 2 == 1 ? dir : -dir) * step;
+    }
+    if (!free_at(top)) top = y;  // nowhere free nearby: where it was meant to go
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const float lw = ImGui::CalcTextSize(lines[i].first.c_str()).x;
+      const float lx = right_aligned ? cx - lw : cx - 0.5f * lw;
+      dl->AddText({lx, top + lh * static_cast<float>(i)}, lines[i].second, lines[i].first.c_str());
+    }
+    drawn.labels.push_back({x0, top, x0 + w, top + h});
   };
   // Ground: floor and left wall, hatched.
   const float fy = Y + l.floor_y;
@@ -316,7 +356,7 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
       dl->AddLine(pa, ua, col, 1.5f);
       dl->AddLine(pb, ub, col, 1.5f);
       damper ? dashpot(dl, ua, ub, col, amp) : zigzag(dl, ua, ub, col, amp);
-      text_centered(dl, 0.5f * (ua.x + ub.x), ua.y - lh - 4.0f, kDimInk, label);
+      place(0.5f * (ua.x + ub.x), ua.y - lh - 4.0f, {{label, kDimInk}}, false, -1.0f);
     } else {
       if (ib == kGround && k.bx > l.wall_x + 1.0f) {  // a post on the floor
         dl->AddLine({pb.x, pb.y - 8.0f}, {pb.x, fy}, kInk, 2.0f);
@@ -327,7 +367,8 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
       std::string text = label;
       if (ImGui::CalcTextSize(text.c_str()).x > std::abs(pb.x - pa.x) - 4.0f && text.find(' ') != std::string::npos)
         text = text.substr(text.find(' ') + 1);
-      text_centered(dl, 0.5f * (pa.x + pb.x), damper ? pa.y + amp + 2.0f : pa.y - amp - lh - 2.0f, kDimInk, text);
+      place(0.5f * (pa.x + pb.x), damper ? pa.y + amp + 2.0f : pa.y - amp - lh - 2.0f, {{text, kDimInk}}, false,
+            damper ? 1.0f : -1.0f);
     }
   };
   for (std::size_t i = 0; i < a.springs.size(); ++i) {
@@ -357,12 +398,10 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
     if (c.b == kGround) {
       // Under the floor, staggered so neighbours do not overlap.
       const float ly = fy + 18.0f + static_cast<float>(j % 2) * 2.2f * lh;
-      text_centered(dl, 0.5f * (p0.x + p1.x), ly, kInk, label);
-      text_centered(dl, 0.5f * (p0.x + p1.x), ly + lh, col, force);
+      place(0.5f * (p0.x + p1.x), ly, {{label, kInk}, {force, col}}, false, 1.0f);
     } else {  // left of the pad, right-aligned (the body below reaches further right)
       const float lx = X + l.bodies[c.a].x0 + off - 8.0f;
-      dl->AddText({lx - ImGui::CalcTextSize(label.c_str()).x, p0.y - lh}, kInk, label.c_str());
-      dl->AddText({lx - ImGui::CalcTextSize(force.c_str()).x, p0.y}, col, force.c_str());
+      place(lx, p0.y - lh, {{label, kInk}, {force, col}}, true, -1.0f);
     }
   }
   // Bodies.
@@ -407,10 +446,12 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
       arrow(dl, {pt.x + 8.0f, pt.y}, {pt.x + 34.0f, pt.y}, kDrive);
       std::string l1 = d.name + ": " + num(d.pull_spring, "N/m");
       if (d.pull_damper > 0.0) l1 += ", " + num(d.pull_damper, "N s/m");
-      text_centered(dl, 0.5f * (s.x + pt.x), s.y - 8.0f - 2.0f * lh, kInk, l1);
-      text_centered(dl, 0.5f * (s.x + pt.x), s.y - 8.0f - lh, kDrive,
-                    (d.point_velocity ? "v_p " : "x_p ") + signal_label(d.signal, d.point_velocity ? "m/s" : "m") +
-                        (pose.t > 0.0 ? ", F = " + num(pose.drive_force[i], "N") : std::string()));
+      place(0.5f * (s.x + pt.x), s.y - 8.0f - 2.0f * lh,
+            {{l1, kInk},
+             {(d.point_velocity ? "v_p " : "x_p ") + signal_label(d.signal, d.point_velocity ? "m/s" : "m") +
+                  (pose.t > 0.0 ? ", F = " + num(pose.drive_force[i], "N") : std::string()),
+              kDrive}},
+            false, -1.0f);
     } else {
       const bool force = d.kind == DrivePart::Kind::Force;
       const double f = pose.drive_force[i];
@@ -427,18 +468,21 @@ void draw_plant(ImDrawList* dl, float X, float Y, const PlantLayout& l, const As
       const char* what = force ? "F " : d.kind == DrivePart::Kind::Displacement ? "x " : "v ";
       const char* unit = force ? "N" : d.kind == DrivePart::Kind::Displacement ? "m" : "m/s";
       std::string l1 = d.name + ": " + what + signal_label(d.signal, unit);
-      text_centered(dl, s.x, s.y - 8.0f - 2.0f * lh, kInk, l1);
-      if (pose.t > 0.0) text_centered(dl, s.x, s.y - 8.0f - lh, kDrive, "F = " + num(f, "N"));
+      if (pose.t > 0.0)
+        place(s.x, s.y - 8.0f - 2.0f * lh, {{l1, kInk}, {"F = " + num(f, "N"), kDrive}}, false, -1.0f);
+      else
+        place(s.x, s.y - 8.0f - 2.0f * lh, {{l1, kInk}}, false, -1.0f);
     }
   }
   // Time and scale.
   char buf[160];
-  std::snprintf(buf, sizeof buf, "t = %.3f s    displacements magnified: 1 mm shown as %.3g px", pose.t, px_per_m * 1e-3);
+  std::snprintf(buf, sizeof buf, "t = %.3f s    displacements drawn to scale: 1 mm = %.3g px", pose.t, px_per_m * 1e-3);
   dl->AddText({X + 6.0f, Y + 4.0f}, kDimInk, buf);
   dl->AddRectFilled({X + 6.0f, Y + 8.0f + lh}, {X + 20.0f, Y + 8.0f + 2 * lh - 2}, kStick);
   dl->AddText({X + 24.0f, Y + 8.0f + lh}, kInk, "stick");
   dl->AddRectFilled({X + 74.0f, Y + 8.0f + lh}, {X + 88.0f, Y + 8.0f + 2 * lh - 2}, kSlip);
   dl->AddText({X + 92.0f, Y + 8.0f + lh}, kInk, "slip");
+  return drawn;
 }
 
 
@@ -822,10 +866,26 @@ void linear_plant_section(PlantPanelState& st) {
 }
 }  // namespace
 
-void draw_plant_panel(PlantPanelState& st, double frame_dt) {
+void draw_plant_panel(PlantPanelState& st, double frame_dt, const std::function<std::vector<PresetChoice>()>& presets) {
   const float left_w = std::min(340.0f, ImGui::GetContentRegionAvail().x * 0.28f);
   ImGui::BeginChild("##plant_controls", ImVec2(left_w, 0), true);
   ImGui::TextUnformatted("Assembled plant preset");
+  if (presets) {  // the presets, listed when the combo opens
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::BeginCombo("##plant_presets", "presets")) {
+      for (const PresetChoice& c : presets())
+        if (ImGui::Selectable(c.label.c_str(), c.path == st.path)) {
+          try {
+            load_plant(st, load_assembly_scenario(c.path), c.path);
+          } catch (const std::exception& e) {
+            st.error = std::string("load failed: ") + e.what();
+          }
+        }
+      ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open a shipped or saved preset in this tab (assembled plants first)");
+  }
   ImGui::SetNextItemWidth(-1);
   ImGui::InputText("##plant_path", &st.path);
   if (ImGui::IsItemHovered())
@@ -966,7 +1026,7 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
   dl->AddRectFilled(origin, {origin.x + avail.x, origin.y + canvas_h}, IM_COL32(255, 255, 255, 255));
   const double mag = st.magnification > 0.0f ? st.magnification * 1e3 : auto_magnification(l, st.sim->trace());
   const PlantPose pose = pose_of(*st.sim);
-  draw_plant(dl, origin.x, origin.y, l, a, pose, mag);
+  st.canvas_drawn = draw_plant(dl, origin.x, origin.y, l, a, pose, mag);
   st.canvas_x = origin.x, st.canvas_y = origin.y, st.canvas_layout = l, st.canvas_pose = pose, st.canvas_mag = mag;
   ImGui::InvisibleButton("##plant_canvas", ImVec2(avail.x, canvas_h));
   {  // click: select a part; drag from a body (or ground) to another: connect them
@@ -1018,8 +1078,10 @@ void draw_plant_panel(PlantPanelState& st, double frame_dt) {
         dl->AddCircle({origin.x + b.x0 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
         dl->AddCircle({origin.x + b.x1 + o, origin.y + b.cy()}, 4.0f, kDrive, 0, 2.0f);
       }
-      ImGui::SetTooltip("Click a part to edit it (left column); drag from a body or the ground to another body to connect them with a %s",
-                        kind);
+      // The hint on the schematic's own header row (after the stick / slip key), not as a tooltip
+      // that would cover the plots' legends below.
+      const std::string hint = std::string("click a part to edit it; drag from a body or the ground to another body: a ") + kind;
+      dl->AddText({origin.x + 130.0f, origin.y + 8.0f + ImGui::GetTextLineHeight()}, kDimInk, hint.c_str());
     }
   }
   {  // the selected block or pad, outlined

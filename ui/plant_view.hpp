@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,9 +72,17 @@ PlantPose pose_of(const AssemblySimulation& sim);
 // smallest body column (1 when nothing moved).
 double auto_magnification(const PlantLayout& l, const AssemblyTrace& tr);
 
-// Paints the schematic into `dl` with its top left at (x0, y0).
-void draw_plant(ImDrawList* dl, float x0, float y0, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
-                double px_per_m);
+// Where draw_plant put the bodies (as moved by the pose) and the labels of the parts (names,
+// values, forces), in the draw list's pixels.
+struct PlantDrawn {
+  std::vector<Box> bodies, labels;
+};
+// Paints the schematic into `dl` with its top left at (x0, y0). Each part's label goes where it
+// belongs (springs above, dampers below, ground contacts under the floor, drives above their
+// arrow) and moves by half lines to the nearest place where it overlaps no body, no header row and
+// no label placed before.
+PlantDrawn draw_plant(ImDrawList* dl, float x0, float y0, const PlantLayout& l, const Assembly& a, const PlantPose& pose,
+                      double px_per_m);
 
 // Editing: a part of the plant, what the mouse hits, and the edits (pure data; the panel applies an
 // edit only when the edited plant validates, with undo / redo).
@@ -132,6 +141,7 @@ struct PlantPanelState {
   PlantLayout canvas_layout;
   PlantPose canvas_pose;
   double canvas_mag = 1.0;
+  PlantDrawn canvas_drawn;
   std::string error;
 };
 
@@ -149,6 +159,12 @@ PlantTabSettings plant_tab_settings(const PlantPanelState& st);  // st.scenario 
 void apply_plant_tab_settings(PlantPanelState& st, const PlantTabSettings& t);
 void plant_undo(PlantPanelState& st);
 void plant_redo(PlantPanelState& st);
-void draw_plant_panel(PlantPanelState& st, double frame_dt);
+// A preset the panel's combo offers: its menu label and file.
+struct PresetChoice {
+  std::string label, path;
+};
+// `presets` (called only while the presets combo is open; none: no combo) lists what it offers.
+void draw_plant_panel(PlantPanelState& st, double frame_dt,
+                      const std::function<std::vector<PresetChoice>()>& presets = {});
 
 }  // namespace gmslab::ui

@@ -661,7 +661,8 @@ Figure plot_figure(const Building& b) {
   const std::string title = b.opt.title ? b.opt.title : "plot";
   f.id = title;
   f.title = title;
-  Panel p{b.opt.letter ? b.opt.letter : "", title, b.ax.shown, b.ay.shown, {}};
+  // The title once: the figure's (the panel's own title stays empty).
+  Panel p{b.opt.letter ? b.opt.letter : "", "", b.ax.shown, b.ay.shown, {}};
   for (const auto& s : b.series) {
     Series out;
     out.label = s.label;

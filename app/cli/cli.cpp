@@ -77,6 +77,12 @@ Cli::Cli(Host host)
   app_.name("gmslab");  // help and errors say "gmslab", also when run as gmslab-headless
   app_.set_version_flag("--version", "gmslab 0.1.0");
   app_.require_subcommand(0, 1);
+  auto* open = app_.add_option("--open", window_.open,
+                               "Open the window on this preset (a path, or a shipped preset's name such as two_mass_drive)");
+  app_.add_option("--tab", window_.tab, "With --open: the tab to show (default: Plant for an assembled plant, else Simulation)")
+      ->check(CLI::IsMember({"simulation", "figures", "design", "identify", "plant"}, CLI::ignore_case))
+      ->needs(open);
+  app_.add_flag("--run", window_.run, "With --open: start the run of the Simulation or Plant tab")->needs(open);
 
   register_simulate(app_, action_);
 
@@ -179,6 +185,7 @@ struct ParseOrder : CLI::App {
 
 int Cli::run(int argc, char** argv) {
   action_ = nullptr;
+  window_ = WindowOptions{};
   ParseOrder::clear(app_);
   try {
     app_.parse(argc, argv);
@@ -218,8 +225,11 @@ int Cli::run(int argc, char** argv) {
     return exit_code(ErrorKind::Input);
   }
   try {
+    if (action_ && (!window_.open.empty() || !window_.tab.empty() || window_.run))
+      throw InputError("--open, --tab and --run open the window; they do not go with a command (put them alone: "
+                       "gmslab --open PRESET [--tab TAB] [--run])");
     if (!action_) {
-      if (host_.window) return host_.window();
+      if (host_.window) return host_.window(window_);
       std::cerr << app_.help();
       return 2;
     }

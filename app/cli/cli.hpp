@@ -47,10 +47,17 @@ void add_figures_options(CLI::App& sub, FiguresOptions& o);
 // Parses "1600x1000"; throws InputError naming the option on bad input.
 void parse_size(const std::string& text, int& w, int& h);
 
+// The window's options (no command): gmslab [--open PRESET [--tab TAB] [--run]].
+struct WindowOptions {
+  std::string open;  // a preset to open ("": the restored session); a path or a shipped preset's name
+  std::string tab;   // simulation | figures | design | identify | plant ("": the preset's own tab)
+  bool run = false;  // start the run of that tab
+};
+
 struct Host {
   std::function<int(const RenderOptions&)> render;
   std::function<int(const FiguresOptions&)> figures;
-  std::function<int()> window;  // no command given
+  std::function<int(const WindowOptions&)> window;  // no command given
 };
 
 // The action a command registers; run() calls it after a successful parse. A command keeps its
@@ -91,6 +98,7 @@ class Cli {
   Action action_;
   RenderOptions render_;
   FiguresOptions figures_;
+  WindowOptions window_;
 };
 
 // The closest of `known` to `word` (edit distance at most max(2, |word| / 3)), or "".

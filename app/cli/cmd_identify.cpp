@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <climits>
 #include <cstring>
@@ -28,6 +29,22 @@ extern char** environ;
 namespace gmslab::cli {
 
 namespace {
+
+// The ablation table: validation RMS with all named effects and with each left out (and what
+// was dropped), so a user sees why each effect is named.
+void print_ablation(const ident::Ablation& a) {
+  if (!a.ran) return;
+  std::fprintf(stdout, "  ablation (validation RMS with all named effects %.4g N; floor %.3g N):\n",
+               a.rms_validation_all, a.floor);
+  auto row = [](const ident::AblationRow& r) {
+    std::fprintf(stdout, "    without %-20s %11.4g N  z %7.3g  contribution %9.3g N  %s\n",
+                 std::string(ident::effect_name(r.effect)).c_str(), r.rms_validation_without, r.test.z,
+                 r.contribution, r.credited ? "credited" : "dropped");
+  };
+  for (const auto& r : a.rows) row(r);
+  for (const auto& r : a.dropped) row(r);
+}
+
 
 // The job's own fields and defaults (core/ident/job.hpp), plus what only the CLI has.
 struct IdentifyOptions {
@@ -130,14 +147,22 @@ int run_identify(const IdentifyOptions& o) {
   std::cout << "), validation " << val.source << " (" << val.used() << ")\n";
   std::cout << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
             << " elements; validation RMS " << rep.rms_before_validation << " -> "
-            << rep.rms_after_validation << " N; effects added:";
-  for (auto e : rep.effects_added) std::cout << ' ' << ident::effect_name(e);
-  if (rep.effects_added.empty()) std::cout << " none";
+            << rep.rms_after_validation << " N; ";
+  if (rep.effects_added.empty()) std::cout << "nothing added: no catalog effect is credited by the data";
+  else std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
   std::cout << '\n';
+  print_ablation(rep.ablation);
+  if (!rep.optimum.verified)
+    std::cout << "  not converged: " << rep.optimum.reason << "; no standard errors\n";
   for (const auto& p : rep.parameters)
-    if (p.effect != "base")
-      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
-                   p.std_error, p.unit.c_str());
+    if (p.effect != "base") {
+      if (std::isfinite(p.std_error))
+        std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+                     p.std_error, p.unit.c_str());
+      else
+        std::fprintf(stdout, "  %s.%s = %.4g %s (no standard error: not converged)\n", p.effect.c_str(),
+                     p.name.c_str(), p.value, p.unit.c_str());
+    }
   for (const auto& p : rep.ripples.peaks)
     std::fprintf(stdout, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
                  p.wavelength * 1e3, p.amplitude, p.false_alarm);

@@ -373,14 +373,34 @@ Figure make_figure(const std::string& id, const std::string& preset_dir) {
   throw InputError("unknown figure '" + id + "' (known: " + known + ")");
 }
 
+namespace {
+// One CSV field: quoted (RFC 4180) when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& v) {
+  if (v.find_first_of(",\"\r\n") == std::string::npos) return v;
+  std::string q = "\"";
+  for (char c : v) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + '"';
+}
+}  // namespace
+
+// The micro sign (U+00B5) and Greek mu (U+03BC) as "u": the unit prefix in ASCII ("x [um]").
+static std::string ascii_micro(std::string v) {
+  for (const char* mu : {"\xC2\xB5", "\xCE\xBC"})
+    for (std::size_t at = v.find(mu); at != std::string::npos; at = v.find(mu, at)) v.replace(at, 2, "u");
+  return v;
+}
+
 void write_figure_csv(const Figure& f, std::ostream& out) {
-  out << "panel,series,x,y\n";
+  out << "panel,series,x,y,x_label,y_label\n";
   out << std::setprecision(10);
   for (const auto& p : f.panels) {
-    out << "# panel " << p.letter << ": x = " << p.x_label << ", y = " << p.y_label << '\n';
-    for (const auto& s : p.series)
+    const std::string panel = csv_field(p.letter);
+    const std::string labels = csv_field(ascii_micro(p.x_label)) + ',' + csv_field(ascii_micro(p.y_label));
+    for (const auto& s : p.series) {
+      const std::string series = csv_field(s.label);
       for (std::size_t k = 0; k < s.x.size(); ++k)
-        out << p.letter << ',' << s.label << ',' << s.x[k] << ',' << s.y[k] << '\n';
+        out << panel << ',' << series << ',' << s.x[k] << ',' << s.y[k] << ',' << labels << '\n';
+    }
   }
 }
 

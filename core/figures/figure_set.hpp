@@ -28,9 +28,10 @@ std::vector<std::string> figure_ids();
 // Builds one figure; presets are read from `preset_dir`. Throws InputError for an unknown id or a
 // bad preset (naming the file and key).
 Figure make_figure(const std::string& id, const std::string& preset_dir);
-// All series of a figure in long form: header "panel,series,x,y", then per panel a comment line
-// "# panel P: x = <x label with unit>, y = <y label with unit>" and one row per point. Labels
-// contain no commas. 10 significant digits.
+// All series of a figure in long form, one header line and no comment lines (a plain
+// pandas.read_csv or MATLAB readtable reads it): "panel,series,x,y,x_label,y_label", one row per
+// point, each with its panel's axis labels and units ("t [s]", "x [um]": the micro prefix as u). A
+// field with a comma or quote is quoted (RFC 4180). 10 significant digits.
 void write_figure_csv(const Figure& f, std::ostream& out);
 
 }  // namespace gmslab

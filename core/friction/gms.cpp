@@ -1,4 +1,5 @@
 #include "core/friction/gms.hpp"
+#include "core/simd_path.hpp"
 
 #include "core/friction/gms_elements.hpp"
 
@@ -92,9 +93,9 @@ void GmsModel::reset(std::span<double> state) const {
 
 namespace {
 
-// The cloned body has internal linkage: clang wants target_clones on every declaration of a
-// function, so the header declares the plain entry point below and the clones stay here.
-__attribute__((target_clones("avx2", "default"))) gms_elements::Sums vector_clones(
+// The loop is compiled twice, for AVX2 and for the baseline, and the CPU (or a test,
+// core/simd_path.hpp) chooses per call.
+[[gnu::always_inline]] inline gms_elements::Sums vector_body(
     std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
     const double* __restrict k, const double* __restrict sk, double s, double S, double E,
     double vh) {
@@ -119,12 +120,27 @@ __attribute__((target_clones("avx2", "default"))) gms_elements::Sums vector_clon
   return {sum_f, sum_damp};
 }
 
+
+__attribute__((target("avx2"))) gms_elements::Sums vector_avx2(
+    std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
+    const double* __restrict k, const double* __restrict sk, double s, double S, double E,
+    double vh) {
+  return vector_body(n, F, d, alpha, k, sk, s, S, E, vh);
+}
+
+gms_elements::Sums vector_baseline(std::size_t n, double* __restrict F, double* __restrict d,
+                                   const double* __restrict alpha, const double* __restrict k,
+                                   const double* __restrict sk, double s, double S, double E, double vh) {
+  return vector_body(n, F, d, alpha, k, sk, s, S, E, vh);
+}
+
 }  // namespace
 
 gms_elements::Sums gms_elements::vector(std::size_t n, double* __restrict F, double* __restrict d,
                                         const double* __restrict alpha, const double* __restrict k,
                                         const double* __restrict sk, double s, double S, double E, double vh) {
-  return vector_clones(n, F, d, alpha, k, sk, s, S, E, vh);
+  return use_avx2() ? vector_avx2(n, F, d, alpha, k, sk, s, S, E, vh)
+                    : vector_baseline(n, F, d, alpha, k, sk, s, S, E, vh);
 }
 
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {

@@ -57,7 +57,7 @@ inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d, co
 }
 
 // Many elements: branch-free (selects only), so the loop vectorises; compiled for AVX2 and for the
-// baseline, chosen at load time (gms.cpp). E = exp(-C h / S). No fused multiply-add
+// baseline, chosen per call (gms.cpp, core/simd_path.hpp). E = exp(-C h / S). No fused multiply-add
 // (-std=c++20 implies -ffp-contract=off); the reduction order depends on the vector width, so
 // traces are reproducible per machine kind.
 Sums vector(std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,

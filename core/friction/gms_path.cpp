@@ -1,4 +1,5 @@
 #include "core/friction/gms_path.hpp"
+#include "core/simd_path.hpp"
 
 #include "core/friction/gms_elements.hpp"
 
@@ -54,7 +55,7 @@ void GmsPathRunner::run(const GmsPath& path, std::span<const double> alpha,
                         double* element_rows, std::span<double> total) const {
   const std::size_t n = alpha.size();
   std::vector<double> F(n, 0.0), d(n, 0.0);
-  const bool vec = n > GmsModel::kScalarElements;
+  const bool vec = n > GmsModel::kScalarElements || simd_path().vector_elements;
   if (!total.empty()) total[0] = 0.0;
   std::size_t j = 0;
   for (std::size_t kk = 1; kk < path.samples; ++kk) {

@@ -1,4 +1,5 @@
 #include "core/ident/element_fit.hpp"
+#include "core/ident/ablation.hpp"
 
 #include <limits>
 #include <algorithm>
@@ -714,9 +715,18 @@ FitResult fit_elements_auto(const FitSpec& spec, const Dataset& train, const Dat
     val.push_back(rms_on(fits.back(), validation, c));
     if (fits.back().spec.elements < n) break;  // the grid holds no more distinct elements
   }
-  const double best = *std::min_element(val.begin(), val.end());
+  // The fewest elements the validation record cannot tell from the best count: the block test of
+  // ablation.hpp (validation MSE difference over time blocks, z < 3) and within 2 % of the best
+  // RMS. A bare 2 % rule picks by a hair where counts fit alike (a change of the last bits moved
+  // the choice on study records); the block test asks whether the data resolve the difference.
+  const std::size_t ib = static_cast<std::size_t>(std::min_element(val.begin(), val.end()) - val.begin());
+  std::vector<std::vector<double>> res(fits.size());
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    res[i] = predict(fits[i], validation, c);
+    for (std::size_t k = 0; k < validation.size(); ++k) res[i][k] = validation.F[k] - res[i][k];
+  }
   std::size_t pick = 0;
-  while (val[pick] > 1.02 * best) ++pick;
+  while (pick < ib && !(val[pick] <= 1.02 * val[ib] || block_test(validation, res[pick], res[ib]).z < 3.0)) ++pick;
   FitResult r = fits[pick];
   for (const auto& f : fits) r.evaluations += f.evaluations - g.evaluations;
   r.evaluations -= fits[pick].evaluations - g.evaluations;

@@ -579,6 +579,51 @@ FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectCo
   return make_result(spec, par, ev, u, th, rms, 1);
 }
 
+std::vector<double> shape_without_element(const FitResult& f, std::size_t row, const EffectContext& c) {
+  const ModelInfo& info = model_info(f.spec.model);
+  const auto alpha = info.column_index("alpha");
+  if (f.spec.elements < 2 || row >= f.spec.elements || alpha < 0) return {};
+  const Parameterization from(info, f.spec.elements, c), to(info, f.spec.elements - 1, c);
+  if (f.u.size() != from.size()) return {};
+  const ModelParams m = from.unit_model(f.u);  // normalised weights, k = kappa x weight
+  // The new first row's weight is fixed at the parameterization's own value: the others are
+  // expressed against it (the normalisation restores the shares).
+  const std::size_t first = row == 0 ? 1 : 0;
+  // The raw (unnormalised) weight of the first row: from any searched weight and the shares.
+  const std::vector<double> mid(to.size(), 0.5);
+  const ModelParams base = to.unit_model(mid);
+  double fixed = 1.0;
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    const auto& p = to.params()[i];
+    if (p.scalar < 0 && p.column == alpha && p.row > 0) {
+      const double share = base.elements[static_cast<std::size_t>(p.row)][static_cast<std::size_t>(alpha)];
+      if (share > 0) fixed = to.value(i, 0.5) * base.elements.front()[static_cast<std::size_t>(alpha)] / share;
+      break;
+    }
+  }
+  const double a_first = m.elements[first][static_cast<std::size_t>(alpha)];
+  std::vector<double> u(to.size(), 0.5);
+  std::size_t si = 0;
+  std::vector<double> scalars;
+  for (std::size_t i = 0; i < from.size(); ++i)
+    if (from.params()[i].scalar >= 0) scalars.push_back(f.u[i]);
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    const auto& p = to.params()[i];
+    if (p.scalar >= 0) {
+      u[i] = si < scalars.size() ? scalars[si++] : 0.5;
+      continue;
+    }
+    const std::size_t r_old = static_cast<std::size_t>(p.row) + (static_cast<std::size_t>(p.row) >= row ? 1 : 0);
+    const auto& cells = m.elements[r_old];
+    const double w = cells[static_cast<std::size_t>(alpha)];
+    double v = cells[static_cast<std::size_t>(p.column)];
+    if (p.column == alpha) v = w / a_first * fixed;
+    else if (info.columns[static_cast<std::size_t>(p.column)].unit == "N/m") v = w > 0 ? v / w : v;  // kappa
+    u[i] = to.box(i, v);
+  }
+  return u;
+}
+
 std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectContext& c) {
   const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
   Evaluator ev(r.spec, par, d, c);

@@ -152,6 +152,10 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
 // Re-solves only the linear coefficients for spec at a fixed shape u (screening).
 FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const std::vector<double>& u);
+// The shape of f with element `row` removed (the others keep their stiffness and their share of
+// the friction level), as unit-box coordinates of the model with one element less; empty when f's
+// model has no element weights or a single element.
+std::vector<double> shape_without_element(const FitResult& f, std::size_t row, const EffectContext& c);
 // The fitted force along any record (e.g. validation); same normalisations (c) as the fit.
 std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectContext& c);
 // The friction model's unit-force-level output g along d for the fitted shape.

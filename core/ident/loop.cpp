@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <Eigen/Dense>
 
+#include "core/ident/ablation.hpp"
 #include "core/ident/element_fit.hpp"
 #include "core/ident/evidence.hpp"
 #include "core/ident/parallel.hpp"
@@ -298,19 +299,40 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   return kept;
 }
 
-// RMS of an effect's contribution sum_j theta_j c_j over the used samples [N].
-double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
-  const auto g = unit_friction(f, d, c);
-  const auto m = effect_matrix(e, d, c, g);
-  const auto ts = terms_of(f, e);
-  double s = 0, n = 0;
-  for (std::size_t k = 0; k < d.size(); ++k) {
-    if (!d.use[k]) continue;
-    double v = 0;
-    for (std::size_t j = 0; j < m.size() && j < ts.size(); ++j) v += ts[j].value * m[j][k];
-    s += v * v, n += 1;
+// Whether the final shape is a minimum of the training RMS: every coordinate of the unit box
+// stepped by +-1e-3 (inside the box) with the linear terms re-solved must not lower the RMS by
+// more than 1e-5 relative (gradient test), and the second difference along each must not be
+// negative (curvature test). Standard errors mean something only there.
+OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  OptimumCheck out;
+  if (f.time_limited) {
+    out.verified = false;
+    out.reason = "the fit was stopped by its time limit";
+    return out;
   }
-  return n > 0 ? std::sqrt(s / n) : 0.0;
+  const Parameterization par(model_info(f.spec.model), f.spec.elements, c);
+  if (f.u.size() != par.size()) return out;
+  const double c0 = refit_linear(f.spec, d, c, f.u).rms_train;
+  const double h = 1e-3;
+  double worst = 0;
+  for (std::size_t i = 0; i < f.u.size(); ++i) {
+    double side[2] = {c0, c0};
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> u = f.u;
+      u[i] += k == 0 ? h : -h;
+      if (u[i] < 0.0 || u[i] > 1.0) continue;
+      side[k] = refit_linear(f.spec, d, c, u).rms_train;
+    }
+    const double drop = (c0 - std::min(side[0], side[1])) / std::max(c0, 1e-300);
+    const bool curved_down = side[0] + side[1] - 2 * c0 < -1e-9 * c0;
+    if ((drop > 1e-5 || curved_down) && drop >= worst) {
+      worst = drop;
+      out.verified = false;
+      out.reason = "a step of 1e-3 of its range in " + par.params()[i].name + " lowers the training RMS by " +
+                   fmt(100 * drop) + " %: not at a minimum";
+    }
+  }
+  return out;
 }
 
 // spec with the additive effects a shape or a soft element could stand in for (offset, inertia,
@@ -344,6 +366,60 @@ bool residual_mass_positive(const FitResult& f, const Dataset& d, const EffectCo
 }
 FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectContext& c) {
   return with_additive_probes(f.spec, residual_mass_positive(f, d, c));
+}
+
+// The named effects are those the ablation credits (ablation.hpp): refits without each, from the
+// final shape with the loop's refit budget, on the record the loop decided on; validation by the
+// block test. A dropped effect's gain goes to the refit: the model without it is the final one
+// (polished on all samples when the loop screened), and the stages and effects are those named.
+void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const Dataset& train,
+                        const Dataset& full, const Dataset& val, const EffectContext& c, double floor,
+                        std::size_t every, const LoopOptions& o) {
+  if (cur.spec.effects.empty() && cur.spec.elements < 2) return;
+  std::vector<std::pair<Effect, Effect>> alternatives;
+  for (const auto& rd : rep.rounds)
+    if (rd.added)
+      for (const auto& a : rd.attempts)
+        if (a.effect != *rd.added && a.verdict.rfind("passed", 0) == 0) alternatives.emplace_back(*rd.added, a.effect);
+  AblationOptions ao;
+  ao.refit = o.refit;
+  ao.refit.stage = "ablation";
+  ao.min_size = o.min_size;
+  AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao);
+  rep.ablation = ab.table;
+  const bool fewer_elements = std::any_of(ab.table.elements.begin(), ab.table.elements.end(),
+                                          [](const ElementAblation& e) { return e.dropped; });
+  if (ab.table.dropped.empty() && !fewer_elements) {
+    if (ab.model.rms_train < cur.rms_train && every == 1) cur = ab.model, cur_val = ab.rms_validation;
+    rep.stages.back() = cur;
+    return;
+  }
+  FitResult f = std::move(ab.model);
+  if (every > 1) {
+    FitOptions fo = o.refit;
+    fo.stage = "final refit of the credited model";
+    fo.polish_only = true;
+    fo.rel_tol = 1e-5;
+    FitResult p = fit_model(f.spec, full, c, fo, &f.u);
+    f.rms_train = rms_on(f, full, c);
+    if (p.rms_train < f.rms_train) f = std::move(p);
+  }
+  cur = std::move(f);
+  cur_val = rms_on(cur, val, c);
+  for (const auto& d : ab.table.dropped)
+    rep.notes.push_back(std::string(effect_name(d.effect)) + " not named: " + d.verdict);
+  for (const auto& e : ab.table.elements)
+    if (e.dropped) rep.notes.push_back(e.verdict);
+  rep.elements = cur.spec.elements;
+  rep.effects_added = cur.spec.effects;
+  if (ab.table.dropped.empty() && rep.stages.size() > 1) {
+    rep.stages.back() = cur;  // the same effects, fewer elements
+    return;
+  }
+  std::vector<FitResult> stages{rep.stages.front()};
+  if (!cur.spec.effects.empty()) stages.push_back(cur);
+  else stages.front() = cur;
+  rep.stages = std::move(stages);
 }
 
 }  // namespace
@@ -848,10 +924,22 @@ IdentReport identify(const Dataset& train_in, const Dataset& val_in, const FitSp
     }
   }
   if (every == 1 && !rep.range_widened) widen_element_range(false);
+  {
+    // The floor the credit is judged against: noise, and the quantisation and sampling shares
+    // through the final model (a base fit far from the data overstates the sampling share).
+    NoiseEstimate at_final = noise_data;
+    const auto f = friction_force(cur, full);
+    add_quantisation(at_final, full, c, f);
+    add_sampling(at_final, full, f, friction_force(cur, full, true));
+    credit_by_ablation(rep, cur, cur_val, train, full, val, c, at_final.floor(), every, o);
+  }
   rep.context = c;
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = cur_val;
   rep.parameters = parameter_estimates(cur, full, c);
+  rep.optimum = check_optimum(cur, full, c);
+  if (!rep.optimum.verified)
+    for (auto& p : rep.parameters) p.std_error = std::numeric_limits<double>::quiet_NaN();
   {
     const auto rv = residual(cur, val, c);
     const auto gv = unit_friction(cur, val, c);
@@ -962,6 +1050,45 @@ std::vector<std::string> parse_model_list(std::string_view spec) {
   return out;
 }
 
+nlohmann::json to_json(const Ablation& a, const std::vector<Effect>& named) {
+  nlohmann::json j;
+  j["ran"] = a.ran;
+  j["test"] = "refit from the final shape with the refit budget, without each effect; credited when the "
+              "validation MSE difference over time blocks has z >= " + fmt(a.z_crit) +
+              ", the contribution is at least half the floor and the model without it is above 1.15x the floor";
+  j["validation_rms_all_N"] = a.rms_validation_all;
+  j["floor_N"] = a.floor;
+  j["named"] = named_effects(a, named);
+  auto row = [](const AblationRow& r) {
+    nlohmann::json alike = nlohmann::json::array();
+    for (Effect e : r.alike) alike.push_back(std::string(effect_name(e)));
+    return nlohmann::json{{"effect", std::string(effect_name(r.effect))},
+                          {"validation_rms_without_N", r.rms_validation_without},
+                          {"mse_difference_N2", r.test.mse_difference},
+                          {"std_error_N2", r.test.std_error},
+                          {"z", std::isfinite(r.test.z) ? nlohmann::json(r.test.z) : nlohmann::json("inf")},
+                          {"blocks", r.test.blocks},
+                          {"contribution_N", r.contribution},
+                          {"credited", r.credited},
+                          {"alike", alike},
+                          {"verdict", r.verdict}};
+  };
+  nlohmann::json rows = nlohmann::json::array(), dropped = nlohmann::json::array();
+  for (const auto& r : a.rows) rows.push_back(row(r));
+  for (const auto& r : a.dropped) dropped.push_back(row(r));
+  j["rows"] = rows;
+  j["dropped"] = dropped;
+  nlohmann::json els = nlohmann::json::array();
+  for (const auto& e : a.elements)
+    els.push_back({{"elements", e.elements},
+                   {"validation_rms_without_N", e.rms_validation_without},
+                   {"z", std::isfinite(e.test.z) ? nlohmann::json(e.test.z) : nlohmann::json("inf")},
+                   {"dropped", e.dropped},
+                   {"verdict", e.verdict}});
+  j["element_count"] = {{"before", a.elements_before}, {"tests", els}};
+  return j;
+}
+
 nlohmann::json to_json(const IdentReport& r) {
   nlohmann::json j;
   j["base_model"] = r.model;
@@ -1037,10 +1164,12 @@ nlohmann::json to_json(const IdentReport& r) {
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)
     pars.push_back({{"effect", p.effect}, {"name", p.name}, {"unit", p.unit}, {"value", p.value},
-                    {"std_error", p.std_error}});
+                    {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()}});
   j["parameters"] = pars;
+  j["converged"] = {{"verified_minimum", r.optimum.verified}, {"reason", r.optimum.reason}};
   j["remaining_structure"] = to_json(r.remaining);
   j["notes"] = r.notes;
+  j["ablation"] = to_json(r.ablation, r.effects_added);
   j["base_fit"] = fit_json(r.stages.front());
   j["final_model"] = fit_json(r.final_fit());
   const auto& c = r.context;
@@ -1085,7 +1214,13 @@ Series decimated(std::string label, const std::vector<double>& x, const std::vec
 namespace {
 
 std::string stage_label(const IdentReport& r, std::size_t i) {
-  return i == 0 ? "base " + r.model : "+ " + std::string(effect_name(r.effects_added[i - 1]));
+  if (i == 0) return "base " + r.model;
+  // The effects this stage has that the one before lacks (one per round; the credited set after
+  // an ablation dropped some).
+  std::string s;
+  for (Effect e : r.stages[i].spec.effects)
+    if (!contains(r.stages[i - 1].spec.effects, e)) s += (s.empty() ? "+ " : " + ") + std::string(effect_name(e));
+  return s.empty() ? "refit" : s;
 }
 
 // Mean residual in signed-velocity bins over the used samples (empty bins skipped).

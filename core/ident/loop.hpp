@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "core/figures/figure.hpp"
+#include "core/ident/ablation.hpp"
 #include "core/ident/fit.hpp"
 #include "core/ident/structure.hpp"
 #include "core/sim/scenario.hpp"
@@ -110,7 +111,8 @@ inline constexpr double kCompareSeconds = 60.0;
 
 // A parameter of the final model with its standard error from the linearised least squares at
 // the fitted shape (the shape itself held fixed; residual taken as white: a lower bound when
-// structure remains). Scalars of the measurement effects (tau, T, b) and ripple wavelengths get
+// structure remains), scaled by the training residual; NaN when the fit is not at a verified
+// minimum (IdentReport::optimum). Scalars of the measurement effects (tau, T, b) and ripple wavelengths get
 // theirs from the derivative of their columns.
 struct ParameterEstimate {
   std::string effect, name, unit;
@@ -118,6 +120,13 @@ struct ParameterEstimate {
 };
 
 // One model of a comparison: fitted on the same training record, with the same effects.
+// Whether the final fit sits at a verified minimum of the training cost (loop.cpp:
+// check_optimum). Where it does not, the parameters carry no standard error (NaN).
+struct OptimumCheck {
+  bool verified = true;
+  std::string reason;  // why not (empty when verified)
+};
+
 struct ModelComparison {
   std::string model;           // registry tag
   std::size_t elements = 0;    // element count used (0: the model has none)
@@ -146,6 +155,10 @@ struct IdentReport {
   ResidualStructure remaining;              // what the final validation residual still holds;
                                             // remaining.summary is one line for CLI and panel
   std::vector<std::string> notes;           // undecided choices, said in words
+  // Credit by ablation (ablation.hpp): effects_added holds the credited effects only; the table
+  // has the validation RMS with all of them and with each left out, and what was dropped.
+  Ablation ablation;
+  OptimumCheck optimum;                     // standard errors only where verified
   // The path between samples: the base fit's friction along the fine path (every interval along
   // the cubic, kFinePath) minus along the adaptive one, RMS over the training record [N];
   // measured only where the attraction is fast (C / Fs x median step >= 0.1), else 0. Above a

@@ -1,4 +1,5 @@
 #include "core/ident/structure.hpp"
+#include "core/simd_path.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -165,9 +166,9 @@ struct PeriodogramSums {
   double v[10];  // C0 S0 C1 S1 C2 S2 bs bc bgs bgc
 };
 // One frequency's sums over the scan samples, and the phase recurrence to the next frequency.
-// Compiled for AVX2 and the baseline, chosen at load time (the reduction order depends on the
-// vector width: results are reproducible per machine kind, as the GMS element step).
-__attribute__((target_clones("avx2", "default"))) PeriodogramSums periodogram_sums(
+// Compiled for AVX2 and the baseline, chosen per call (core/simd_path.hpp; the reduction order
+// depends on the vector width, as in the GMS element step).
+[[gnu::always_inline]] inline PeriodogramSums periodogram_body(
     std::size_t ns, double* __restrict pc, double* __restrict ps, const double* __restrict pcr,
     const double* __restrict psr, const double* __restrict pg, const double* __restrict pr) {
   double C0 = 0, S0 = 0, C1 = 0, S1 = 0, C2 = 0, S2 = 0, bs = 0, bc = 0, bgs = 0, bgc = 0;
@@ -181,6 +182,22 @@ __attribute__((target_clones("avx2", "default"))) PeriodogramSums periodogram_su
     ps[q] = ss * pcr[q] + cc * psr[q];
   }
   return {{C0, S0, C1, S1, C2, S2, bs, bc, bgs, bgc}};
+}
+__attribute__((target("avx2"))) PeriodogramSums periodogram_avx2(
+    std::size_t ns, double* __restrict pc, double* __restrict ps, const double* __restrict pcr,
+    const double* __restrict psr, const double* __restrict pg, const double* __restrict pr) {
+  return periodogram_body(ns, pc, ps, pcr, psr, pg, pr);
+}
+PeriodogramSums periodogram_baseline(
+    std::size_t ns, double* __restrict pc, double* __restrict ps, const double* __restrict pcr,
+    const double* __restrict psr, const double* __restrict pg, const double* __restrict pr) {
+  return periodogram_body(ns, pc, ps, pcr, psr, pg, pr);
+}
+PeriodogramSums periodogram_sums(
+    std::size_t ns, double* __restrict pc, double* __restrict ps, const double* __restrict pcr,
+    const double* __restrict psr, const double* __restrict pg, const double* __restrict pr) {
+  return use_avx2() ? periodogram_avx2(ns, pc, ps, pcr, psr, pg, pr)
+                    : periodogram_baseline(ns, pc, ps, pcr, psr, pg, pr);
 }
 }  // namespace
 

@@ -26,7 +26,7 @@ Captured run(std::vector<std::string> args) {
   cli::Host host;
   host.render = [](const cli::RenderOptions&) { return 0; };
   host.figures = [](const cli::FiguresOptions&) { return 0; };
-  host.window = [] { return 0; };
+  host.window = [](const cli::WindowOptions&) { return 0; };
   cli::Cli c(host);
   args.insert(args.begin(), "gmslab-headless");  // as the sibling executable is called
   std::vector<char*> argv;

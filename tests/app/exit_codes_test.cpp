@@ -112,6 +112,29 @@ TEST(ExitCodes, Render) {
   EXPECT_EQ(run(kExe + " render " + kPreset + " --size 10x10 --out " + t("c.png")), 2);
 }
 
+TEST(ExitCodes, OpenChecksThePresetAndTabBeforeAnyWindow) {
+  Tmp t;
+  std::string err;
+  // No window is opened for a bad request (DISPLAY unset: the checks come first all the same).
+  const std::string open = "env -u DISPLAY -u WAYLAND_DISPLAY " + kExe + " --open ";
+  EXPECT_EQ(run(open + "no_such_preset", &err), 2);
+  EXPECT_NE(err.find("--open 'no_such_preset': no such file"), std::string::npos) << err;
+  EXPECT_EQ(run(open + "two_mass_drive --tab plot", &err), 2);
+  EXPECT_NE(err.find("--tab"), std::string::npos) << err;
+  EXPECT_EQ(run(open + "two_mass_drive --tab simulation", &err), 2);
+  EXPECT_NE(err.find("--tab plant"), std::string::npos) << err;
+  EXPECT_EQ(run(open + "fig4_stick_slip --tab identify --run", &err), 2);
+  EXPECT_NE(err.find("drop --run"), std::string::npos) << err;
+  EXPECT_EQ(run("env -u DISPLAY " + kExe + " --tab plant", &err), 2);  // --tab needs --open
+  EXPECT_NE(err.find("--open"), std::string::npos) << err;
+  EXPECT_EQ(run(open + "fig4_stick_slip simulate " + kPreset + " --out " + t("a.csv"), &err), 2);
+  EXPECT_NE(err.find("do not go with a command"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(t("a.csv")));
+  // A good request without a display: exit 1 and how to get an image instead.
+  EXPECT_EQ(run(open + "two_mass_drive --run", &err), 1);
+  EXPECT_NE(err.find("needs a display"), std::string::npos) << err;
+}
+
 TEST(ExitCodes, Figures) {
   Tmp t;
   std::string err;

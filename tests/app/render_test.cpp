@@ -134,9 +134,9 @@ TEST(FiguresCommand, WritesPngAndCsvForEachRequestedFigure) {
   std::ifstream csv(dir + "/fig2a_presliding.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header, "panel,series,x,y");
+  EXPECT_EQ(header, "panel,series,x,y,x_label,y_label");
   std::size_t rows = 0;
-  for (std::string line; std::getline(csv, line);) rows += !line.empty() && line[0] != '#';
+  for (std::string line; std::getline(csv, line); ++rows) ASSERT_NE(line.rfind('#', 0), 0u) << "comment line: " << line;
   EXPECT_GT(rows, 1000u);
   EXPECT_NE(run(std::string(GMSLAB_EXE) + " figures --out " + dir + " --only no_such_figure"), 0);
 }

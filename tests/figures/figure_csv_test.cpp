@@ -30,15 +30,21 @@ const Csv& csv_of(const std::string& id) {
   Csv out;
   std::string line;
   std::getline(ss, line);
-  EXPECT_EQ(line, "panel,series,x,y");
+  EXPECT_EQ(line, "panel,series,x,y,x_label,y_label");
   while (std::getline(ss, line)) {
-    if (line.rfind("#", 0) == 0) continue;
+    // One header, then rows only: a plain pandas.read_csv / MATLAB readtable reads the file.
+    EXPECT_NE(line.rfind("#", 0), 0u) << id << ": comment line " << line;
     std::stringstream ls(line);
-    std::string panel, series, x, y;
+    std::string panel, series, x, y, x_label, y_label;
     std::getline(ls, panel, ',');
     std::getline(ls, series, ',');
     std::getline(ls, x, ',');
     std::getline(ls, y, ',');
+    std::getline(ls, x_label, ',');
+    std::getline(ls, y_label);
+    // Every row carries its panel's axis labels with units.
+    if (x_label.find('[') == std::string::npos || y_label.find('[') == std::string::npos)
+      ADD_FAILURE() << id << ": row without labels and units: " << line;
     auto& s = out[panel][series];
     s.x.push_back(std::stod(x));
     s.y.push_back(std::stod(y));

@@ -37,7 +37,7 @@ gmslab::cli::Cli& cli() {
   static gmslab::cli::Cli c{gmslab::cli::Host{
       [](const gmslab::cli::RenderOptions& o) { return size_only(o.size); },
       [](const gmslab::cli::FiguresOptions& o) { return size_only(o.size); },
-      [] { return 0; }}};
+      [](const gmslab::cli::WindowOptions&) { return 0; }}};
   return c;
 }
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/ident/loop.hpp"
-#include "tests/ident/random_records.hpp"
+#include "tests/ident/study_cases.hpp"
 
 using namespace gmslab;
 using namespace gmslab::ident;
@@ -25,19 +25,6 @@ int records_per_case(int ci) {
   return s ? std::max(1, std::atoi(s)) : ci;
 }
 
-// Scales cycled through by the seed: Fs and break-away displacements at the ends of their ranges.
-records::DrawRanges ranges(unsigned seed) {
-  records::DrawRanges r;
-  switch (seed % 4) {
-    case 0: r.fs_lo = 0.1, r.fs_hi = 0.3, r.xba_lo = 0.5e-6, r.xba_hi = 5e-6; break;
-    case 1: r.fs_lo = 300, r.fs_hi = 1000, r.xba_lo = 20e-6, r.xba_hi = 200e-6; break;
-    case 2: r.fs_lo = 0.1, r.fs_hi = 1000, r.xba_lo = 0.5e-6, r.xba_hi = 200e-6; break;
-    default: r.fs_lo = 3, r.fs_hi = 30, r.xba_lo = 2e-6, r.xba_hi = 50e-6; break;
-  }
-  r.n_hi = 4;  // the base fit below is asked for 4 elements
-  return r;
-}
-
 struct Outcome {
   std::vector<std::string> added;
   IdentReport rep;
@@ -48,7 +35,7 @@ struct Outcome {
 // max_floor > 0: records whose floor exceeds max_floor x the noise are not identified (returns
 // floor only): an effect of a few times the noise would lie below what the data can resolve.
 Outcome run(unsigned seed, const std::vector<records::EffectSpec>& effects, double max_floor = 0) {
-  records::Truth tr = records::draw_truth(seed, ranges(seed));
+  records::Truth tr = records::draw_truth(seed, study::ranges(seed));
   tr.effects = effects;
   auto [tg, vg] = records::synthesize_pair(tr, seed, 3000);
   if (max_floor > 0 && records::floor_rms(tr, vg) > max_floor * tr.noise) {
@@ -58,8 +45,7 @@ Outcome run(unsigned seed, const std::vector<records::EffectSpec>& effects, doub
     return skip;
   }
   const Dataset train = prepare_dataset(tg.record), val = prepare_dataset(vg.record);
-  LoopOptions o;
-  o.base.starts = 2;
+  const LoopOptions o = study::study_options();
   FitSpec spec;
   Outcome out;
   out.rep = identify(train, val, spec, o);
@@ -79,6 +65,11 @@ Outcome run(unsigned seed, const std::vector<records::EffectSpec>& effects, doub
     for (const auto& a : rd.attempts)
       std::printf("    try %-20s val %.4g size %.3g: %s\n", std::string(effect_name(a.effect)).c_str(), a.rms_validation,
                   a.size / tr.noise, a.verdict.c_str());
+  for (const auto* rows : {&out.rep.ablation.rows, &out.rep.ablation.dropped})
+    for (const auto& a : *rows)
+      std::printf("    ablation %-17s without %.4g N (all %.4g N), z %.3g, size %.3g: %s\n",
+                  std::string(effect_name(a.effect)).c_str(), a.rms_validation_without,
+                  out.rep.ablation.rms_validation_all, a.test.z, a.contribution / tr.noise, a.verdict.c_str());
   return out;
 }
 
@@ -109,7 +100,7 @@ TEST(IdentStudy, OneEffectIsNamedFirst) {
     for (std::size_t j = 0; j < (all ? std::size(kinds) : ci_kinds); ++j) {
       Outcome o;
       for (;; ++skipped) {
-        const double size = 2.0 + 8.0 * ((seed * 37u) % 100) / 100.0;  // 2..10 x noise
+        const double size = study::one_effect_size(seed);  // 2..10 x noise
         o = run(seed++, {{kinds[j], size}}, 2.0);
         if (o.floor <= 2.0 * o.truth.noise) break;
       }

@@ -3,18 +3,23 @@
 // presets/two_mass_drive.json), drawn by ui::draw_frame as the window and the headless renderer
 // draw them, at 1280x720 and 1600x1000 with the renderer's font size: every boxed legend meets at
 // most 2 % of the drawn segments of its plot (ui::TakeLegendStats counts them). Built only with the
-// app (ImGui).
+// app (ImGui). The Identify tab's report figure after the EMPS example is checked the same way.
 #if __has_include(<imgui.h>)
 #include <gtest/gtest.h>
 #include <imgui.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <chrono>
+#include <cstdio>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/app_frame.hpp"
+#include "ui/identify_panel.hpp"
 #include "ui/plant_view.hpp"
 #include "ui/style.hpp"
 
@@ -78,5 +83,47 @@ TEST(LegendViews, BoxedLegendsHideAtMostTwoPercentOfTheirPlot) {
       }
     }
   EXPECT_GT(boxed, 0) << "no boxed legend was drawn: the test checks nothing";
+}
+
+// The Identify tab's report figure after the EMPS example (panels A-D), as the other views.
+TEST(LegendViews, IdentifyReportLegendsHideAtMostTwoPercentOfTheirPlot) {
+  const auto example = ui::emps_example();
+  if (!example) GTEST_SKIP() << "EMPS data not found (../shared/data/emps or $GMSLAB_SHARED/data/emps)";
+  ui::IdentifyState done;
+  ui::identify_start(done, *example);
+  while (ui::identify_busy(done)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_NE(ui::identify_report(done), nullptr) << ui::identify_error(done);
+  int boxed = 0;
+  for (const auto& [w, h] : {std::pair{1280, 720}, std::pair{1600, 1000}}) {
+    ImGuiContext* ctx = ImGui::CreateContext();
+    {
+      ui::ScopedPlotContext plots;
+      ui::setup_style(std::clamp(17.0f * static_cast<float>(h) / 1000.0f, 12.0f, 26.0f));
+      ImGuiIO& io = ImGui::GetIO();
+      io.DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
+      io.IniFilename = nullptr;
+      unsigned char* px = nullptr;
+      int tw = 0, th = 0;
+      io.Fonts->GetTexDataAsRGBA32(&px, &tw, &th);
+      ui::AppState s;
+      ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"), "");
+      ui::apply_identify_settings(s.identify, ui::identify_settings(done));
+      s.identify.result = std::make_unique<ui::IdentifyResult>(*done.result);
+      s.view.tab = "Identify";
+      for (int i = 0; i < 3; ++i) uitest::draw_app_frame(s, uitest::kNoMouse, false);
+      ui::TakeLegendStats();
+      uitest::draw_app_frame(s, uitest::kNoMouse, false);
+      for (const ui::LegendStat& st : ui::TakeLegendStats()) {
+        SCOPED_TRACE("Identify " + std::to_string(w) + "x" + std::to_string(h) + ": '" + st.plot + "'");
+        std::printf("Identify %dx%d '%s': %zu of %zu segments under the legend\n", w, h, st.plot.c_str(), st.hidden,
+                    st.segments);
+        ++boxed;
+        EXPECT_LE(static_cast<double>(st.hidden), 0.02 * static_cast<double>(st.segments))
+            << st.hidden << " of " << st.segments << " segments under the legend";
+      }
+    }
+    ImGui::DestroyContext(ctx);
+  }
+  EXPECT_GE(boxed, 8) << "the report's four panels at two sizes";
 }
 #endif

@@ -7,6 +7,7 @@
 #include <imgui.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -27,6 +28,7 @@ struct Harness {
   ui::AppState s;
   ui::ScopedPlotContext plots;
   std::vector<std::string> pngs;
+  std::vector<Figure> png_figures;
   explicit Harness(const char* preset) {
     dir = fs::temp_directory_path() / ("gmslab_export_" + std::to_string(getpid()));
     fs::remove_all(dir);
@@ -34,6 +36,7 @@ struct Harness {
     uitest::make_headless_imgui(ImVec2(1280, 720));
     ui::SetPlotPngWriter([this](const Figure& f, const std::string& path) {
       pngs.push_back(path);
+      png_figures.push_back(f);
       std::ofstream(path) << f.title;
     });
     ui::load_scenario_into(s, load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/" + preset), "");
@@ -105,6 +108,17 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
     h.frame();
     EXPECT_TRUE(fs::exists(h.dir / "Forces_against_time-2.csv"));
     EXPECT_EQ(fs::file_size(csv), before);
+    // Units in ASCII: the micro prefix as u (the presliding position is in um).
+    ui::RequestPlotExport("Position against time", ui::ExportFormat::Csv);
+    h.frame();
+    {
+      std::ifstream in(h.dir / "Position_against_time.csv", std::ios::binary);
+      const std::string text((std::istreambuf_iterator<char>(in)), {});
+      ASSERT_FALSE(text.empty());
+      EXPECT_TRUE(std::all_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 128; }))
+          << "non-ASCII byte in the CSV";
+      if (std::string(preset) == "fig2a_presliding.json") EXPECT_NE(text.find("[um]"), std::string::npos) << text.substr(0, 300);
+    }
     // SVG and PNG of the same plot.
     ui::RequestPlotExport("Forces against time", ui::ExportFormat::Svg);
     ui::RequestPlotExport("Position against time", ui::ExportFormat::Png);
@@ -112,9 +126,18 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
     std::ifstream svg(h.dir / "Forces_against_time.svg");
     const std::string text((std::istreambuf_iterator<char>(svg)), {});
     EXPECT_NE(text.find("<svg"), std::string::npos);
-    EXPECT_NE(text.find(">Forces against time<"), std::string::npos);
+    // The title drawn once (one text element; the document's <title> aside).
+    std::size_t titles = 0;
+    for (std::size_t at = text.find(">Forces against time</text>"); at != std::string::npos;
+         at = text.find(">Forces against time</text>", at + 1))
+      ++titles;
+    EXPECT_EQ(titles, 1u);
     ASSERT_EQ(h.pngs.size(), 1u);
     EXPECT_EQ(fs::path(h.pngs[0]).filename(), "Position_against_time.png");
+    ASSERT_EQ(h.png_figures.size(), 1u);
+    EXPECT_EQ(h.png_figures[0].title, "Position against time");
+    ASSERT_EQ(h.png_figures[0].panels.size(), 1u);
+    EXPECT_EQ(h.png_figures[0].panels[0].title, "");  // the figure's title only
   }
 }
 #endif

@@ -177,6 +177,10 @@ def points(spec):
         if sample != "random":
             raise SpecError("from_report: draws parameters at random; needs \"sample\": \"random\"")
         rep = _load_json(spec["from_report"], "identification report")
+        conv = rep.get("converged", {})
+        if conv and not conv.get("verified_minimum", True):
+            raise SpecError("from_report: %s is not at a verified minimum (%s): it has no standard errors "
+                            "to draw from; identify again with a larger budget" % (spec["from_report"], conv.get("reason", "")))
         for p in rep.get("parameters", []):
             if p.get("effect") == "base" and p.get("std_error") and math.isfinite(p["std_error"]):
                 mean, sd = float(p["value"]), float(p["std_error"])

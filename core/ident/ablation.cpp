@@ -1,0 +1,257 @@
+#include "core/ident/ablation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <limits>
+
+#include "core/ident/parallel.hpp"
+
+namespace gmslab::ident {
+
+namespace {
+
+std::vector<double> residual_on(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  auto p = predict(f, d, c);
+  for (std::size_t k = 0; k < d.size(); ++k) p[k] = d.F[k] - p[k];
+  return p;
+}
+
+double rms_of(const Dataset& d, const std::vector<double>& r) {
+  double s = 0, n = 0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) s += r[k] * r[k], n += 1;
+  return n > 0 ? std::sqrt(s / n) : 0.0;
+}
+
+std::string fmt(double x) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3g", x);
+  return b;
+}
+
+FitSpec without(FitSpec s, Effect e) {
+  s.effects.erase(std::remove(s.effects.begin(), s.effects.end(), e), s.effects.end());
+  return s;
+}
+
+FitSpec replaced(FitSpec s, Effect e, Effect by) {
+  std::replace(s.effects.begin(), s.effects.end(), e, by);
+  return s;
+}
+
+struct Scored {
+  FitResult fit;
+  std::vector<double> res;  // validation residual
+  double rms = 0;
+};
+
+}  // namespace
+
+BlockTest block_test(const Dataset& d, const std::vector<double>& ra, const std::vector<double>& rb,
+                     std::size_t blocks) {
+  BlockTest t;
+  std::vector<double> diff;
+  for (std::size_t k = 0; k < d.size() && k < ra.size() && k < rb.size(); ++k)
+    if (d.use[k]) diff.push_back(ra[k] * ra[k] - rb[k] * rb[k]);
+  if (diff.empty()) return t;
+  const std::size_t B = std::clamp<std::size_t>(std::min(blocks, diff.size() / 20), 2, std::max<std::size_t>(2, blocks));
+  if (diff.size() < B) return t;
+  std::vector<double> m(B, 0.0);
+  for (std::size_t b = 0; b < B; ++b) {
+    const std::size_t lo = b * diff.size() / B, hi = (b + 1) * diff.size() / B;
+    double s = 0;
+    for (std::size_t k = lo; k < hi; ++k) s += diff[k];
+    m[b] = s / static_cast<double>(hi - lo);
+  }
+  double mean = 0;
+  for (double x : m) mean += x;
+  mean /= static_cast<double>(B);
+  double var = 0;
+  for (double x : m) var += (x - mean) * (x - mean);
+  var /= static_cast<double>(B - 1);
+  t.blocks = B;
+  t.mse_difference = mean;
+  t.std_error = std::sqrt(var / static_cast<double>(B));
+  if (t.std_error > 0) t.z = mean / t.std_error;
+  else t.z = mean > 0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return t;
+}
+
+double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
+  const auto g = unit_friction(f, d, c);
+  std::vector<double> g2 = g;
+  if (e == Effect::DwellStiction) g2.insert(g2.end(), g.begin(), g.end());  // sensitivity ~ g
+  std::vector<const LinearTerm*> ts;
+  for (const auto& t : f.terms)
+    if (t.effect == effect_name(e)) ts.push_back(&t);
+  std::vector<double> sum(d.size(), 0.0), col(d.size(), 0.0);
+  std::size_t j = 0;
+  for (const auto& column : effect_columns(e)) {
+    if (j >= ts.size()) break;
+    std::fill(col.begin(), col.end(), 0.0);
+    column.fill(d, c, g2, col);
+    for (std::size_t k = 0; k < d.size(); ++k) sum[k] += ts[j]->value * col[k];
+    ++j;
+  }
+  return rms_of(d, sum);
+}
+
+AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
+                      const EffectContext& c, double floor,
+                      const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o) {
+  AblationResult out;
+  out.table.elements_before = final_fit.spec.elements;
+  out.table.ran = true;
+  out.table.floor = floor;
+  out.table.z_crit = o.z_crit;
+  FitOptions fo = serialised_progress(o.refit);
+  fo.data_start = false;
+  const std::vector<double> warm = final_fit.u;
+  // Every refit starts from the final shape with the same options: a pure function of its inputs,
+  // so they run at once (two at a time on two cores) with the results of one after the other.
+  auto refit = [&](FitSpec spec, std::string stage) {
+    FitOptions f = fo;
+    f.stage = std::move(stage);
+    return std::async(std::launch::async, [&train, &val, &c, &warm, spec = std::move(spec), f = std::move(f)] {
+      Scored s;
+      s.fit = fit_model(spec, train, c, f, &warm);
+      s.res = residual_on(s.fit, val, c);
+      s.rms = rms_of(val, s.res);
+      return s;
+    });
+  };
+  auto all = refit(final_fit.spec, "ablation: refit with all effects");
+  Scored cur = all.get();
+  // The refit never replaces a better final fit (same spec, the budget's own optimisation).
+  {
+    Scored kept;
+    kept.fit = final_fit;
+    kept.res = residual_on(final_fit, val, c);
+    kept.rms = rms_of(val, kept.res);
+    if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
+  }
+  for (;;) {
+    const auto& effects = cur.fit.spec.effects;
+    std::vector<std::future<Scored>> fits;
+    for (Effect e : effects)
+      fits.push_back(refit(without(cur.fit.spec, e), "ablation: refit without " + std::string(effect_name(e))));
+    std::vector<AblationRow> rows;
+    std::vector<Scored> wo;
+    for (std::size_t i = 0; i < effects.size(); ++i) {
+      Scored s = fits[i].get();
+      AblationRow r;
+      r.effect = effects[i];
+      r.rms_validation_without = s.rms;
+      r.test = block_test(val, s.res, cur.res, o.blocks);
+      r.contribution = contribution_rms(cur.fit, effects[i], train, c);
+      // Resolvable: consistent over the time blocks, or a rise of the validation MSE larger than
+      // the floor's own variance (an effect confined to a few blocks, e.g. at reversals, leaves
+      // the block test without power, but noise, quantisation and the sampled path cannot make
+      // the refit without it this much worse).
+      const bool significant =
+          r.test.z >= o.z_crit || s.rms * s.rms - cur.rms * cur.rms >= floor * floor;
+      const bool big = r.contribution >= o.min_size * floor;
+      const bool needed = s.rms > o.near_floor * floor;
+      r.credited = significant && big && needed;
+      if (r.credited)
+        r.verdict = "credited: without it validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+                    " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +
+                    (r.test.z >= o.z_crit ? std::string()
+                                          : "; the MSE rise exceeds the floor's variance (" + fmt(floor * floor) + " N^2)");
+      else if (!significant)
+        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+                    " N, z = " + fmt(r.test.z) + " < " + fmt(o.z_crit) +
+                    " and an MSE rise below the floor's variance: the refit without it does as well";
+      else if (!big)
+        r.verdict = "not credited: contribution " + fmt(r.contribution) + " N below " + fmt(o.min_size) +
+                    " x the floor (" + fmt(floor) + " N)";
+      else
+        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N is within " + fmt(o.near_floor) +
+                    " x the floor (" + fmt(floor) + " N)";
+      rows.push_back(std::move(r));
+      wo.push_back(std::move(s));
+    }
+    std::size_t worst = rows.size();
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      if (!rows[i].credited && (worst == rows.size() || rows[i].test.z < rows[worst].test.z)) worst = i;
+    if (worst == rows.size()) {
+      out.table.rows = std::move(rows);
+      break;
+    }
+    out.table.dropped.push_back(rows[worst]);
+    cur = std::move(wo[worst]);
+  }
+  // The element count: the lightest element left out while the data do not resolve it.
+  const ModelInfo& info = model_info(cur.fit.spec.model);
+  const auto alpha = info.column_index("alpha");
+  while (alpha >= 0 && cur.fit.spec.elements >= 2) {
+    const Parameterization par(info, cur.fit.spec.elements, c);
+    if (cur.fit.u.size() != par.size()) break;
+    const ModelParams m = par.unit_model(cur.fit.u);
+    std::size_t light = 0;
+    for (std::size_t i = 1; i < m.elements.size(); ++i)
+      if (m.elements[i][static_cast<std::size_t>(alpha)] < m.elements[light][static_cast<std::size_t>(alpha)]) light = i;
+    const std::vector<double> u = shape_without_element(cur.fit, light, c);
+    if (u.empty()) break;
+    FitSpec spec = cur.fit.spec;
+    spec.elements -= 1;
+    FitOptions f = fo;
+    f.stage = "ablation: " + std::to_string(spec.elements) + " elements";
+    Scored s;
+    s.fit = fit_model(spec, train, c, f, &u);
+    s.res = residual_on(s.fit, val, c);
+    s.rms = rms_of(val, s.res);
+    ElementAblation e;
+    e.elements = spec.elements;
+    e.rms_validation_without = s.rms;
+    e.test = block_test(val, s.res, cur.res, o.blocks);
+    const bool resolvable = e.test.z >= o.z_crit || s.rms * s.rms - cur.rms * cur.rms >= floor * floor;
+    const bool needed = s.rms > o.near_floor * floor;
+    e.dropped = !(resolvable && needed) && s.fit.spec.elements == spec.elements;
+    e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
+                std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " + fmt(cur.rms) +
+                " N, z = " + fmt(e.test.z);
+    out.table.elements.push_back(e);
+    if (!e.dropped) break;
+    cur = std::move(s);
+  }
+  // Alternatives the data cannot tell from a credited effect.
+  for (auto& r : out.table.rows) {
+    std::vector<Effect> alts;
+    for (const auto& [e, alt] : alternatives)
+      if (e == r.effect && alt != r.effect &&
+          std::find(cur.fit.spec.effects.begin(), cur.fit.spec.effects.end(), alt) == cur.fit.spec.effects.end() &&
+          std::find(alts.begin(), alts.end(), alt) == alts.end())
+        alts.push_back(alt);
+    std::vector<std::future<Scored>> fits;
+    for (Effect alt : alts)
+      fits.push_back(refit(replaced(cur.fit.spec, r.effect, alt), "ablation: " + std::string(effect_name(alt)) +
+                                                                      " in place of " + std::string(effect_name(r.effect))));
+    for (std::size_t i = 0; i < alts.size(); ++i) {
+      const Scored s = fits[i].get();
+      if (block_test(val, s.res, cur.res, o.blocks).z < o.z_crit) r.alike.push_back(alts[i]);
+    }
+  }
+  out.table.rms_validation_all = cur.rms;
+  out.rms_validation = cur.rms;
+  out.model = std::move(cur.fit);
+  return out;
+}
+
+std::string named_effects(const Ablation& a, const std::vector<Effect>& named) {
+  std::string s;
+  for (Effect e : named) {
+    s += (s.empty() ? "" : " ") + std::string(effect_name(e));
+    for (const auto& r : a.rows)
+      if (r.effect == e && !r.alike.empty()) {
+        s += " (or";
+        for (Effect x : r.alike) s += " " + std::string(effect_name(x));
+        s += ")";
+      }
+  }
+  return s;
+}
+
+}  // namespace gmslab::ident

@@ -1,0 +1,108 @@
+// gmslab identification: credit by ablation. An effect the residual loop added is named only when
+// the data need it:
+//
+//   1. The final model (all effects E) and, for each e in E, the model without e are refitted from
+//      the same warm start (the final shape) with the same options and budget, so what a refit
+//      gains by optimisation alone counts for both.
+//   2. Block test on the validation record: the used samples are cut into B contiguous blocks
+//      (B = 20, fewer on short records: at least 20 samples a block); per block the mean of
+//      r_without^2 - r_all^2. With D the mean over the blocks and s their standard deviation,
+//      z = D / (s / sqrt(B)). Blocks, not samples, so that a residual correlated over time does
+//      not inflate z. The effect is credited when all hold:
+//        z >= z_crit (3: a one-sided t-test with B - 1 degrees of freedom at p < 0.004), or
+//        the validation MSE without it exceeds the MSE with it by the floor's variance or more
+//        (floor^2: a rise that noise, quantisation and the sampled path cannot make; an effect
+//        confined to a few blocks, e.g. after reversals, leaves the block test without power),
+//        its contribution (RMS of its terms on training) >= min_size x the floor, and
+//        the model without it leaves more than near_floor x the floor on validation (else the
+//        data are explained down to what noise, quantisation and the sampled path allow
+//        without it).
+//   3. Backward elimination: while some effect is not credited, the one with the lowest z is
+//      dropped (its refit becomes the model) and the rest are tested again.
+//   4. Effects the data cannot tell apart: for each credited effect e and each alternative e'
+//      that also passed the loop's tests in a round (its attempt verdict "passed, but ..."), the
+//      model with e' in place of e is refitted the same way; when it is not worse by the block
+//      test (z < z_crit), e' is listed as alike: the report names "e (or e')".
+//   5. The element count the same way: the lightest element is left out (the others keep their
+//      stiffness and share; fit.hpp: shape_without_element) and the model refitted; while the
+//      data do not resolve it (the test of 2), the count goes down. An element count found by
+//      thresholds on weights (the grid, the polish) then does not flip on the last bits.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/ident/fit.hpp"
+
+namespace gmslab::ident {
+
+// Validation difference of two fits, in blocks of time.
+struct BlockTest {
+  double mse_difference = 0;  // D: mean over blocks of mean(r_a^2 - r_b^2) [N^2]
+  double std_error = 0;       // s / sqrt(B) [N^2]
+  double z = 0;               // D / std_error (+inf when every block differs alike and D > 0)
+  std::size_t blocks = 0;
+};
+// r_a, r_b: residuals on d (all samples; unused ones are skipped).
+BlockTest block_test(const Dataset& d, const std::vector<double>& r_a, const std::vector<double>& r_b,
+                     std::size_t blocks = 20);
+
+struct AblationRow {
+  Effect effect = Effect::Offset;
+  double rms_validation_without = 0;  // validation RMS of the refit without the effect [N]
+  BlockTest test;                     // without against with all
+  double contribution = 0;            // RMS of the effect's terms on training [N]
+  bool credited = false;
+  std::string verdict;
+  std::vector<Effect> alike;          // alternatives that fit the validation record as well
+};
+
+// One element left out (the lightest), refitted the same way.
+struct ElementAblation {
+  std::size_t elements = 0;           // the count tested (one less than the model had)
+  double rms_validation_without = 0;  // [N]
+  BlockTest test;
+  bool dropped = false;               // the data do not resolve the element: the count went down
+  std::string verdict;
+};
+
+struct Ablation {
+  bool ran = false;
+  std::size_t elements_before = 0;  // the element count the loop ended with
+  double rms_validation_all = 0;   // the refit with all credited effects [N]
+  double floor = 0;                // the floor the sizes are judged against [N]
+  double z_crit = 3.0;
+  std::vector<AblationRow> rows;     // the credited effects (and, at the end, any left)
+  std::vector<AblationRow> dropped;  // not credited, in the order dropped
+  std::vector<ElementAblation> elements;  // the element count tested the same way, lightest first
+};
+
+struct AblationOptions {
+  FitOptions refit;           // the refits (warm start only: data_start is turned off)
+  double z_crit = 3.0;        // block-test threshold [-]
+  double min_size = 0.5;      // contribution / floor below which an effect is not credited [-]
+  double near_floor = 1.15;   // validation RMS without the effect / floor at or below which the
+                              // effect is not needed [-]
+  std::size_t blocks = 20;
+};
+
+struct AblationResult {
+  FitResult model;  // the refit with the credited effects
+  double rms_validation = 0;
+  Ablation table;
+};
+
+// alternatives: for each effect of final_fit.spec.effects, the effects that also passed in its
+// round (may be empty).
+AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
+                      const EffectContext& c, double floor,
+                      const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o);
+
+// RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].
+double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c);
+
+// "offset (or direction_asymmetry)": the named effects with the alternatives the data cannot
+// tell from them.
+std::string named_effects(const Ablation& a, const std::vector<Effect>& named);
+
+}  // namespace gmslab::ident

@@ -1,0 +1,93 @@
+// The CI records of the residual-loop study (effects_study_test.cpp) as a list, so that other tests
+// (stability_test.cpp) run the loop on the same records: seeds, scales and effect sizes chosen
+// exactly as the study chooses them, records whose floor exceeds twice the noise drawn again.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/ident/loop.hpp"
+#include "tests/ident/random_records.hpp"
+
+namespace gmslab::study {
+
+// Scales cycled through by the seed: Fs and break-away displacements at the ends of their ranges.
+inline records::DrawRanges ranges(unsigned seed) {
+  records::DrawRanges r;
+  switch (seed % 4) {
+    case 0: r.fs_lo = 0.1, r.fs_hi = 0.3, r.xba_lo = 0.5e-6, r.xba_hi = 5e-6; break;
+    case 1: r.fs_lo = 300, r.fs_hi = 1000, r.xba_lo = 20e-6, r.xba_hi = 200e-6; break;
+    case 2: r.fs_lo = 0.1, r.fs_hi = 1000, r.xba_lo = 0.5e-6, r.xba_hi = 200e-6; break;
+    default: r.fs_lo = 3, r.fs_hi = 30, r.xba_lo = 2e-6, r.xba_hi = 50e-6; break;
+  }
+  r.n_hi = 4;  // the base fit is asked for 4 elements
+  return r;
+}
+
+struct Case {
+  unsigned seed = 0;
+  std::vector<records::EffectSpec> effects;
+};
+
+struct Record {
+  records::Truth truth;
+  records::Generated train, validation;
+  double floor = 0;  // generator's floor_rms on validation [N]
+};
+
+inline Record make_record(const Case& k) {
+  Record r;
+  r.truth = records::draw_truth(k.seed, ranges(k.seed));
+  r.truth.effects = k.effects;
+  auto [tg, vg] = records::synthesize_pair(r.truth, k.seed, 3000);
+  r.train = std::move(tg), r.validation = std::move(vg);
+  r.floor = records::floor_rms(r.truth, r.validation);
+  return r;
+}
+
+// The options every study record is identified with.
+inline ident::LoopOptions study_options() {
+  ident::LoopOptions o;
+  o.base.starts = 2;
+  return o;
+}
+
+// One effect at 2..10 x the noise (size from the seed); the first five kinds in CI.
+inline double one_effect_size(unsigned seed) { return 2.0 + 8.0 * ((seed * 37u) % 100) / 100.0; }
+
+// The CI subset: three effect-free records, five with one effect, three with two.
+inline std::vector<Case> ci_cases() {
+  using records::GenEffect;
+  std::vector<Case> out;
+  for (unsigned s = 1000; s < 1003; ++s) out.push_back({s, {}});
+  const GenEffect one[] = {GenEffect::Offset, GenEffect::DirectionAsymmetry, GenEffect::TimeShift,
+                           GenEffect::Inertia, GenEffect::PositionRipple};
+  unsigned seed = 2000;
+  for (GenEffect e : one)
+    for (;; ++seed) {
+      Case k{seed, {{e, one_effect_size(seed)}}};
+      const Record r = make_record(k);
+      if (r.floor <= 2.0 * r.truth.noise) {
+        out.push_back(k);
+        ++seed;
+        break;
+      }
+    }
+  const std::pair<GenEffect, GenEffect> two[] = {{GenEffect::Offset, GenEffect::TimeShift},
+                                                 {GenEffect::Inertia, GenEffect::DirectionAsymmetry},
+                                                 {GenEffect::PositionRipple, GenEffect::Offset}};
+  seed = 3000;
+  for (const auto& [a, b] : two)
+    for (;; ++seed) {
+      Case k{seed, {{a, 6.0}, {b, 6.0}}};
+      const Record r = make_record(k);
+      if (r.floor <= 2.0 * r.truth.noise) {
+        out.push_back(k);
+        ++seed;
+        break;
+      }
+    }
+  return out;
+}
+
+}  // namespace gmslab::study
