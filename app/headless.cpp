@@ -9,6 +9,8 @@
 #include <imgui.h>
 #include <stb_image_write.h>
 
+#include <strings.h>
+
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
@@ -30,6 +32,7 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
+#include "ui/app_files.hpp"
 #include "ui/figure_view.hpp"
 #include "ui/identify_panel.hpp"
 #include "ui/panels.hpp"
@@ -232,6 +235,14 @@ int render_command(const cli::RenderOptions& o) {
   if (!o.data.empty() && std::string(panel->name) != "Identify" && o.view != "auto")
     throw InputError("--data: only the identify view runs an identification (use --view identify)");
   if (!o.data.empty()) panel = ui::find_panel("identify");
+  // The auto view of an assembled preset (schema 2) is the Plant view: the one view that shows it.
+  const bool auto_view = o.view.empty() || strcasecmp(o.view.c_str(), "auto") == 0;
+  if (auto_view && o.data.empty() && preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2) {
+    if (o.format == "svg")
+      throw InputError(o.preset + ": --format svg draws the Simulation view's plots, which an assembled preset (schema 2) "
+                       "does not have; use --format png (its Plant view)");
+    panel = ui::find_panel("plant");
+  }
   ui::AppState s;
   const bool design_view = std::string(panel->name) == "Design";
   if ((!o.drive.empty() || !o.output.empty() || !o.num.empty() || !o.den.empty() || o.zeta != 0.0 || o.wn != 0.0 ||
@@ -344,7 +355,8 @@ int render_command(const cli::RenderOptions& o) {
   const auto& rgba = off.render([&] { draw_app(s); }, 4);
   write_png(o.out, w, h, rgba);
   std::cout << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "
-            << (plant_view && !assembled ? s.plant.sim->time() : s.main.sim->time()) << " s)\n";
+            << (plant_view && !assembled ? s.plant.sim->time() : s.main.sim->time()) << " s, title \""
+            << ui::window_title(s) << "\")\n";
   return 0;
 }
 

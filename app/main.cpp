@@ -50,17 +50,26 @@ int exec_headless(std::vector<std::string> args) {
   return 127;
 }
 
-// Replaces this process with python3 -m gmslab.sweep ARGS, the module found next to this
-// executable (build/python) or installed; returns only on failure.
+#ifndef GMSLAB_PYTHON_FROM_BIN
+#define GMSLAB_PYTHON_FROM_BIN "../lib/python3/dist-packages"
+#endif
+
+// Replaces this process with python3 -m gmslab.sweep ARGS, the package this executable belongs to
+// put first on PYTHONPATH: build/python next to it in a build tree, else the installed package
+// (GMSLAB_PYTHON_FROM_BIN: relative to the executable's folder, so any install prefix works).
+// Returns only on failure.
 int exec_sweep(int argc, char** argv) {
   char buf[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
   if (n > 0) {
-    std::string self(buf, static_cast<std::size_t>(n));
-    const std::string dir = self.substr(0, self.rfind('/') + 1) + "python";
-    if (access((dir + "/gmslab/sweep.py").c_str(), R_OK) == 0) {
+    const std::string self(buf, static_cast<std::size_t>(n));
+    const std::string bin = self.substr(0, self.rfind('/') + 1);
+    const std::string rel = GMSLAB_PYTHON_FROM_BIN;
+    for (const std::string& dir : {bin + "python", rel.starts_with('/') ? rel : bin + rel}) {
+      if (access((dir + "/gmslab/sweep.py").c_str(), R_OK) != 0) continue;
       const char* old = std::getenv("PYTHONPATH");
       setenv("PYTHONPATH", (old && *old ? dir + ":" + old : dir).c_str(), 1);
+      break;
     }
   }
   // The Debian interpreter (python3-distributed, python3-numpy) before any other python3 on PATH.

@@ -62,6 +62,16 @@ bool has_unsaved_changes(const AppState& s) {
 }
 
 std::string window_title(const AppState& s) {
+  // The Plant tab shows its own assembled preset, not the scenario of the other tabs, and so does
+  // the Design tab when it designs on that plant: the title names what is shown.
+  const bool shows_plant =
+      s.view.tab == "Plant" ||
+      (s.view.tab == "Design" && s.design.settings.plant.source == control::PlantSource::Assembly);
+  if (shows_plant && s.plant.scenario) {
+    std::string t = "gmslab - " + (s.plant.scenario->name.empty() ? std::string("untitled plant") : s.plant.scenario->name);
+    if (!s.plant.path.empty()) t += "  (" + s.plant.path + ")";
+    return t;
+  }
   std::string t = "gmslab - " + (s.scenario.name.empty() ? std::string("untitled") : s.scenario.name);
   if (has_unsaved_changes(s)) t += " *";
   if (!s.scenario_path.empty()) t += "  (" + s.scenario_path + ")";

@@ -22,7 +22,9 @@ bool is_shipped_preset(const std::string& path);
 std::string save_target(const AppState& s);
 // The scenario differs from the file it was loaded from or last saved to.
 bool has_unsaved_changes(const AppState& s);
-// "gmslab - NAME * (PATH)": the star marks unsaved changes.
+// "gmslab - NAME * (PATH)": the star marks unsaved changes. On the Plant tab, and on the Design
+// tab designing on the assembled plant, it names that plant (its name and path), not the other
+// tabs' scenario.
 std::string window_title(const AppState& s);
 
 // The state an edit can go back to: the scenario, its file and the overlay model.

@@ -98,6 +98,26 @@ Cli::Cli(Host host)
 
   register_design(app_, action_);
   register_identify(app_, action_);
+
+  // `gmslab sweep` runs python3 -m gmslab.sweep (app/main.cpp hands it over before parsing); it is
+  // here so that help lists it and its arguments pass through unparsed.
+  auto* sw = app_.add_subcommand("sweep", "Run a parameter sweep on Dask: gmslab sweep SPEC.json [--scheduler ADDR] "
+                                          "(python3 -m gmslab.sweep; gmslab sweep --help)");
+  sw->prefix_command();
+  sw->set_help_flag();
+  sw->callback([this] {
+    action_ = [] () -> int {
+      throw InputError("sweep runs in Python: call it as `gmslab sweep SPEC.json` (the gmslab executable) or "
+                       "`python3 -m gmslab.sweep SPEC.json`");
+    };
+  });
+}
+
+std::string Cli::command_list() const {
+  std::string out;
+  for (const CLI::App* sub : app_.get_subcommands([](const CLI::App*) { return true; }))
+    out += (out.empty() ? "" : ", ") + sub->get_name();
+  return out;
 }
 
 namespace {
@@ -172,6 +192,20 @@ int Cli::run(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // CLI11 prints the message (or the help / version, exit 0); any other parse failure is bad
     // input: exit 2, as the README says (CLI11's own codes, e.g. 109 for an unknown option, are not).
+    // A first word that is no command: say so and list the commands (not a suggestion for each
+    // word after it, which are that command's arguments).
+    bool sub_parsed = false;
+    for (const CLI::App* sub : app_.get_subcommands()) sub_parsed |= sub->parsed();
+    if (!sub_parsed && dynamic_cast<const CLI::ExtrasError*>(&e)) {
+      for (const auto& word : app_.remaining()) {
+        if (word.empty() || word[0] == '-') continue;
+        std::cerr << "gmslab: unknown command '" << word << "'";
+        if (const std::string s = suggest(word, known_words(word)); !s.empty())
+          std::cerr << "; did you mean '" << s << "'?";
+        std::cerr << "\ncommands: " << command_list() << " (gmslab --help; gmslab COMMAND --help)\n";
+        return exit_code(ErrorKind::Input);
+      }
+    }
     const int rc = app_.exit(e);
     if (rc == 0) return 0;
     // A near miss gets a suggestion: "--outt" -> "--out", "rendr" -> "render".

@@ -89,6 +89,8 @@ class Cli {
   // The words a mistyped `word` may have meant: the options of the command being parsed when
   // it starts with '-', else the command names.
   std::vector<std::string> known_words(const std::string& word) const;
+  // The command names, comma-separated, in help order.
+  std::string command_list() const;
 
  private:
   Host host_;

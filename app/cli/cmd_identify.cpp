@@ -1,4 +1,4 @@
-// gmslab identify --data TRAIN.csv [--validate VAL.csv] [--columns ...] [--model gms]
+// gmslab identify --data TRAIN.csv [--validate VAL.csv] [--columns ...] [--force applied] [--model gms]
 //   [--elements 4] [--mask t0:t1,...] --report REPORT.json [--plot REPORT.png]
 // Fits the model, runs the residual loop (core/ident/loop.hpp), writes the report JSON, the
 // identified model as a scenario preset, and optionally the report figure as PNG (drawn by
@@ -49,7 +49,7 @@ void print_ablation(const ident::Ablation& a) {
 // The job's own fields and defaults (core/ident/job.hpp), plus what only the CLI has.
 struct IdentifyOptions {
   ident::IdentifyJob job;
-  std::string columns, mask_edges, elements = "4", effects, compare;
+  std::string columns, force, mask_edges, elements = "4", effects, compare;
   std::string report, plot, scenario, size = "1600x1000";
 };
 
@@ -92,6 +92,7 @@ std::string stem_path(const std::string& path, const std::string& suffix) {
 int run_identify(const IdentifyOptions& o) {
   ident::IdentifyJob job = o.job;
   job.train.columns = job.validation.columns = o.columns;
+  job.train.force = job.validation.force = o.force;
   job.train.mask_edges = job.validation.mask_edges = o.mask_edges;
   job.validation.mask_what = "--validate-mask";
   job.spec.elements = ident::parse_element_count(o.elements);
@@ -198,6 +199,10 @@ void register_identify(CLI::App& app, Action& action) {
   sub->add_option("--validate", o->job.validation.path,
                   "Validation record (CSV); default: a hold-out part of --data");
   sub->add_option("--columns", o->columns, "Explicit columns: CSV header names or 1-based positions (t=1,x=2,F=4), MATLAB variables (t=time,x=q,F=force) or matrix columns (t=data:1,x=data:2,F=data:4)");
+  sub->add_option("--force", o->force,
+                  "Which force of a gmslab simulate trace is F: friction (F_friction_N, the default) or applied "
+                  "(F_applied_N)")
+      ->check(CLI::IsMember({"friction", "applied"}));
   sub->add_option("--model", o->job.spec.model, "Base friction model (registry tag)")->capture_default_str();
   sub->add_option("--elements", o->elements,
                   "Element count of multi-element models (1..64), or 'auto': the validation record "

@@ -1,4 +1,4 @@
-// gmslab simulate PRESET.json --out trace.csv
+// gmslab simulate PRESET.json --out trace.csv|trace.h5|trace.mat|-
 #include <iostream>
 #include <memory>
 
@@ -9,6 +9,7 @@
 #include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
+#include "core/io/trace_file.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace gmslab::cli {
@@ -19,16 +20,18 @@ void register_simulate(CLI::App& app, Action& action) {
   };
   // Owned by the app (its callbacks hold it): each Cli has its own options.
   auto o = std::make_shared<Opts>();
-  auto* sub = app.add_subcommand("simulate", "Simulate a scenario preset and write its trace as CSV");
+  auto* sub = app.add_subcommand("simulate", "Simulate a scenario preset and write its trace (CSV, HDF5 or MATLAB by the extension)");
   sub->add_option("preset", o->preset, "Scenario preset (JSON)")->required();
   sub->add_option("--out,-o", o->out,
-                  "CSV file to write (t_s, x_m, v_mps, F_friction_N, F_applied_N, per-element "
-                  "force and slip state); '-' for stdout")
+                  "Trace file: .csv, .h5/.hdf5 (HDF5, a dataset per column with its unit) or .mat "
+                  "(MATLAB v7.3); columns t_s, x_m, v_mps, F_friction_N, F_applied_N, per-element force "
+                  "and slip state; '-' for CSV on stdout")
       ->required();
   // Defaults again at every parse of this command (a Cli may be run many times).
   sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
   sub->callback([&action, o] {
     action = [o] {
+      if (o->out != "-") (void)trace_format(o->out);  // an unknown extension: before any work
       // An assembled plant (schema_version 2): every named output, streamed as it is computed.
       if (preset_schema_version(parse_json(read_file(o->preset), o->preset)) == 2) {
         const AssemblyScenario as = load_assembly_scenario(o->preset);
@@ -36,7 +39,7 @@ void register_simulate(CLI::App& app, Action& action) {
           stream_assembly_trace_csv(as, [](std::string_view s) { std::cout.write(s.data(), static_cast<std::streamsize>(s.size())); });
           std::cout.flush();
         } else {
-          std::cerr << "wrote " << save_assembly_trace_csv(as, o->out) << " samples to " << o->out << '\n';
+          std::cerr << "wrote " << save_assembly_trace_file(as, o->out) << " samples to " << o->out << '\n';
         }
         return 0;
       }
@@ -48,7 +51,7 @@ void register_simulate(CLI::App& app, Action& action) {
           stream_trace_csv(sc, [](std::string_view s) { std::cout.write(s.data(), static_cast<std::streamsize>(s.size())); });
           std::cout.flush();
         } else {
-          const std::size_t n = save_trace_csv_streamed(sc, o->out);
+          const std::size_t n = save_trace_file(sc, o->out);
           std::cerr << "wrote " << n << " samples to " << o->out << '\n';
         }
       } catch (const InputError& e) {  // e.g. a step too large for this plant: name the file

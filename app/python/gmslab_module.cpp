@@ -9,6 +9,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -31,6 +33,7 @@
 #include "core/ident/loop.hpp"
 #include "core/io/measured_file.hpp"
 #include "core/io/scenario_io.hpp"
+#include "core/io/trace_file.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace py = pybind11;
@@ -64,12 +67,93 @@ std::string preset_dir() {
   return GMSLAB_INSTALLED_PRESETS;
 }
 
+// The design dict with its roots as complex numbers, as root_locus gives them: every
+// "closed_loop_poles" ([[re, im], ...]) a complex NumPy array; "s_d", "slow_pole" and a gain
+// point's "s" ([re, im]) a complex. gmslab.to_json turns them back into the CLI's JSON.
+bool is_pair(const py::handle& v) {
+  if (!py::isinstance<py::list>(v)) return false;
+  const auto l = py::reinterpret_borrow<py::list>(v);
+  return l.size() == 2 && (py::isinstance<py::float_>(l[0]) || py::isinstance<py::int_>(l[0])) &&
+         (py::isinstance<py::float_>(l[1]) || py::isinstance<py::int_>(l[1]));
+}
+void complex_roots(py::handle o) {
+  if (py::isinstance<py::list>(o)) {
+    for (const auto& item : py::reinterpret_borrow<py::list>(o)) complex_roots(item);
+    return;
+  }
+  if (!py::isinstance<py::dict>(o)) return;
+  auto d = py::reinterpret_borrow<py::dict>(o);
+  for (const auto& [k, v] : d) {
+    const std::string key = py::str(k);
+    if (key == "closed_loop_poles" && py::isinstance<py::list>(v)) {
+      std::vector<std::complex<double>> roots;
+      bool all = true;
+      for (const auto& r : py::reinterpret_borrow<py::list>(v)) {
+        if (!is_pair(r)) { all = false; break; }
+        const auto l = py::reinterpret_borrow<py::list>(r);
+        roots.emplace_back(l[0].cast<double>(), l[1].cast<double>());
+      }
+      if (all) d[k] = py::array_t<std::complex<double>>(roots.size(), roots.data());
+    } else if ((key == "s_d" || key == "slow_pole" || key == "s") && is_pair(v)) {
+      const auto l = py::reinterpret_borrow<py::list>(v);
+      d[k] = py::cast(std::complex<double>(l[0].cast<double>(), l[1].cast<double>()));
+    } else {
+      complex_roots(v);
+    }
+  }
+}
+
+// A path argument: str or any os.PathLike (pathlib.Path), as open() takes it. `what` names the
+// argument in the TypeError.
+std::string path_arg(const py::object& o, const char* what) {
+  if (py::isinstance<py::str>(o)) return o.cast<std::string>();
+  if (py::hasattr(o, "__fspath__")) {
+    const py::object p = py::module_::import("os").attr("fspath")(o);
+    if (py::isinstance<py::str>(p)) return p.cast<std::string>();
+  }
+  throw py::type_error(std::string(what) + ": expected a path (str or os.PathLike), got " +
+                       py::str(py::type::of(o).attr("__name__")).cast<std::string>());
+}
+
+// A preset path as given, or, when no such file exists, resolved among the presets (preset_dir):
+// a bare name ("fig2a_presliding" or "fig2a_presliding.json") or "presets/NAME.json" typed from
+// outside the source tree. The error lists the presets there are.
+std::string resolve_preset(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (path.empty() || fs::exists(path, ec)) return path;
+  fs::path p(path);
+  if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
+  if (p.has_parent_path() && p.parent_path() != ".") return path;  // another folder: as given
+  if (p.extension() != ".json") p += ".json";
+  const std::string dir = preset_dir();
+  const fs::path in_presets = fs::path(dir) / p.filename();
+  if (fs::exists(in_presets, ec)) return in_presets.string();
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw InputError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
+                " (presets: " + (list.empty() ? "none" : list) + ")");
+}
+
+Scenario load_scenario_arg(const py::object& o) { return load_scenario(resolve_preset(path_arg(o, "path"))); }
+
 // A scenario checked the way a preset file is (every key, type and range; messages name the key).
 Scenario validated(const Scenario& s, const std::string& where) { return scenario_from_json(to_json(s), where); }
 
 Scenario scenario_arg(const py::object& o) {
-  if (py::isinstance<py::str>(o)) return load_scenario(o.cast<std::string>());
-  return o.cast<Scenario>();
+  if (py::isinstance<Scenario>(o)) return o.cast<Scenario>();
+  return load_scenario_arg(o);
+}
+
+// The step h [s] and the velocities of Model.step / Model.run, checked as the CLI checks run.dt
+// ((0, 1] s) and a drive: finite.
+void check_step(double h, const char* what) {
+  if (!(std::isfinite(h) && h > 0.0 && h <= 1.0))
+    throw InputError(std::string(what) + ": h = " + std::to_string(h) + " s: must be in (0, 1] s (as run.dt)");
 }
 
 // A friction model with its state: build any registry model, step it, read state and elements.
@@ -161,6 +245,9 @@ PYBIND11_MODULE(_gmslab, m) {
                       s = scenario_from_json(j, "<scenario>");
                     }, "The drive as a dict (type, signal, spring, damper), as in the preset JSON")
       .def("to_dict", [](const Scenario& s) { return to_py(to_json(s)); }, "The preset JSON as a dict")
+      .def_static("from_dict", [](py::dict d) { return scenario_from_json(from_py(d), "<dict>"); }, py::arg("data"),
+                  "A scenario from a dict in the preset JSON schema (to_dict, an identify report's 'scenario'); "
+                  "validated, InputError names the key")
       .def("validate", [](const Scenario& s) { (void)validated(s, "<scenario>"); },
            "Checks every field as a preset file is checked; raises InputError naming the key and the range")
       .def("stability_limit_dt", [](const Scenario& s) { return stability_limit_dt(s); },
@@ -168,9 +255,13 @@ PYBIND11_MODULE(_gmslab, m) {
       .def("__eq__", [](const Scenario& a, const Scenario& b) { return a == b; })
       .def("__repr__", [](const Scenario& s) { return "<Scenario '" + s.name + "'>"; });
 
-  m.def("load_scenario", &load_scenario, py::arg("path"),
-        "Loads a scenario preset (JSON); InputError names the file and the key path");
-  m.def("save_scenario", [](const Scenario& s, const std::string& path) { save_scenario(validated(s, path), path); },
+  m.def("load_scenario", &load_scenario_arg, py::arg("path"),
+        "Loads a scenario preset (JSON): a path (str or os.PathLike), or a shipped preset's name "
+        "(\"fig2a_presliding\") from any folder; InputError names the file and the key path");
+  m.def("save_scenario", [](const Scenario& s, const py::object& path_obj) {
+    const std::string path = path_arg(path_obj, "path");
+    save_scenario(validated(s, path), path);
+  },
         py::arg("scenario"), py::arg("path"), "Validates and writes the preset atomically");
 
   // ---- simulation ------------------------------------------------------------------------
@@ -234,12 +325,22 @@ PYBIND11_MODULE(_gmslab, m) {
       }), py::arg("model"), "A model from a registry tag (its defaults) or from ModelParams (validated)")
       .def("reset", [](PyModel& p) { p.model->reset(p.state); }, "Back to the virgin state")
       .def("step", [](PyModel& p, double v, double h, double f_other, double mass) {
-        if (!(h > 0.0)) throw InputError("step: h must be > 0 s");
+        check_step(h, "step");
+        if (!std::isfinite(v)) throw InputError("step: v = " + std::to_string(v) + ": the velocity must be finite");
+        if (!std::isfinite(f_other) || !(std::isfinite(mass) && mass >= 0.0))
+          throw InputError("step: f_other must be finite and mass finite and >= 0 kg");
         return p.model->step(p.state, {v, h, f_other, mass});
       }, py::arg("v"), py::arg("h"), py::arg("f_other") = 0.0, py::arg("mass") = 0.0,
            "One step at sliding velocity v [m/s] frozen over h [s]; returns the friction force [N]")
       .def("run", [](PyModel& p, py::array_t<double> v, double h) {
+        check_step(h, "run");
+        if (v.ndim() != 1) throw InputError("run: v must be a 1-D array of velocities [m/s], got " +
+                                            std::to_string(v.ndim()) + "-D");
         auto vin = v.unchecked<1>();
+        for (py::ssize_t i = 0; i < vin.shape(0); ++i)
+          if (!std::isfinite(vin(i)))
+            throw InputError("run: v[" + std::to_string(i) + "] = " + std::to_string(vin(i)) +
+                             ": every velocity must be finite (nothing was stepped)");
         py::array_t<double> out(vin.shape(0));
         auto o = out.mutable_unchecked<1>();
         {
@@ -281,8 +382,8 @@ PYBIND11_MODULE(_gmslab, m) {
     std::string source;
     if (!scenario.is_none()) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
-      const bool path = py::isinstance<py::str>(scenario);
-      source = path ? scenario.cast<std::string>() : std::string();
+      const bool path = !py::isinstance<Scenario>(scenario);  // str, os.PathLike or a preset name
+      source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
       const bool assembled = path && preset_schema_version(parse_json(read_file(source), source)) == 2;
       if (assembled || !drive.empty() || !output.empty()) {
         asc = path ? load_assembly_scenario(source) : assembly_from_scenario(scenario.cast<Scenario>());
@@ -325,7 +426,9 @@ PYBIND11_MODULE(_gmslab, m) {
                                                                   K, {max_ratio, margin}, *type, sample_time))
               .json;
     }
-    return to_py(d.json);
+    py::object out = to_py(d.json);
+    complex_roots(out);
+    return out;
   }, py::arg("zeta"), py::arg("wn"), py::arg("num") = py::none(), py::arg("den") = py::none(),
         py::arg("scenario") = py::none(), py::arg("regime") = "presliding", py::arg("velocity") = 0.0,
         py::arg("K") = py::none(), py::arg("max_ratio") = 20.0, py::arg("margin") = 0.1,
@@ -383,24 +486,55 @@ PYBIND11_MODULE(_gmslab, m) {
         "asymptote_angles [rad], breakaways and crossings as (s, k)");
 
   // ---- identification ------------------------------------------------------------------------
-  m.def("load_record", [](const std::string& path, const std::string& columns) {
-    const auto r = load_measured(path, columns.empty() ? CsvColumns{} : parse_column_map(columns));
+  m.def("load_record", [](const py::object& path_obj, const std::string& columns, const std::string& force) {
+    const std::string path = path_arg(path_obj, "path");
+    CsvColumns cols = columns.empty() ? CsvColumns{} : parse_column_map(columns);
+    cols.force = force;
+    const auto r = load_measured(path, cols);
     py::dict d;
     d["t"] = arr(r.t), d["x"] = arr(r.x), d["F"] = arr(r.F);
     if (!r.v.empty()) d["v"] = arr(r.v);
     if (!r.Fn.empty()) d["Fn"] = arr(r.Fn);
     for (const auto& [n, c] : r.extra) d[py::str(n)] = arr(c);
     return d;
-  }, py::arg("path"), py::arg("columns") = "",
+  }, py::arg("path"), py::arg("columns") = "", py::arg("force") = "",
         "A measured record (CSV in any common dialect, or MATLAB .mat) as a dict of arrays: t [s], x [m], "
-        "F [N], optional v [m/s], Fn [N] and the other numeric columns; columns as --columns");
+        "F [N], optional v [m/s], Fn [N] and the other numeric columns; columns as --columns, force as "
+        "--force (\"friction\" or \"applied\" for a gmslab simulate trace)");
 
-  m.def("identify", [](const std::string& data, const std::string& validate, const std::string& columns,
-                       const std::string& model, const std::string& elements, const std::string& mask,
+  m.def("load_trace", [](const py::object& path_obj) {
+    const auto cols = load_trace_columns(path_arg(path_obj, "path"));
+    py::dict d;
+    for (const auto& c : cols) d[py::str(c.name)] = arr(c.values);
+    return d;
+  }, py::arg("path"),
+        "A trace file as `gmslab simulate` writes it (.csv, .h5/.hdf5 or .mat; any CSV with a header) as a "
+        "dict of arrays by column name (t_s, x_m, v_mps, F_friction_N, F_applied_N, F1_N, slip1, ...), in file order "
+        "(a .mat: by name)");
+
+  m.def("identify", [](const py::object& data_obj, const py::object& validate_obj, const std::string& columns,
+                       const std::string& model, const py::object& elements_obj, const std::string& mask,
                        const std::string& validate_mask, const std::string& mask_edges, double holdout,
                        const std::string& method, int starts, int max_evals, double min_gain,
-                       const std::string& effects, const std::string& compare, double compare_seconds) {
+                       const std::string& effects, const std::string& compare, double compare_seconds,
+                       const std::string& force) {
+    const std::string data = path_arg(data_obj, "data");
+    const std::string validate = validate_obj.is_none() ? std::string() : path_arg(validate_obj, "validate");
+    // elements: a whole number (2) or a string ("2", "auto"), checked as --elements is.
+    std::string elements;
+    if (py::isinstance<py::bool_>(elements_obj))
+      throw InputError("elements: expected a whole number 1..64 or \"auto\", got a bool");
+    else if (py::isinstance<py::int_>(elements_obj)) elements = py::str(elements_obj).cast<std::string>();
+    else if (py::isinstance<py::float_>(elements_obj) && std::isfinite(elements_obj.cast<double>()) &&
+             elements_obj.cast<double>() == std::round(elements_obj.cast<double>()) &&
+             std::abs(elements_obj.cast<double>()) < 1e6)  // 2.0 (a sweep's range): the whole number
+      elements = std::to_string(static_cast<long>(elements_obj.cast<double>()));
+    else if (py::isinstance<py::str>(elements_obj)) elements = elements_obj.cast<std::string>();
+    else
+      throw InputError("elements: expected a whole number 1..64 or \"auto\", got " +
+                       py::str(py::type::of(elements_obj).attr("__name__")).cast<std::string>());
     ident::IdentifyJob job;
+    job.train.force = job.validation.force = force;
     job.train.path = data;
     job.validation.path = validate;
     job.train.columns = job.validation.columns = columns;
@@ -440,15 +574,18 @@ PYBIND11_MODULE(_gmslab, m) {
     nlohmann::json j = to_json(out->report);
     j["notes_job"] = out->notes;
     py::dict d = to_py(j);
-    d["scenario"] = py::cast(ident::identified_scenario(out->report, out->train));
+    // A dict (the preset JSON), so the whole report is JSON-serialisable; Scenario.from_dict(d) makes it
+    // a Scenario again.
+    d["scenario"] = to_py(to_json(ident::identified_scenario(out->report, out->train)));
     return d;
-  }, py::arg("data"), py::arg("validate") = "", py::arg("columns") = "", py::arg("model") = "gms",
-        py::arg("elements") = "4", py::arg("mask") = "", py::arg("validate_mask") = "", py::arg("mask_edges") = "",
+  }, py::arg("data"), py::arg("validate") = py::none(), py::arg("columns") = "", py::arg("model") = "gms",
+        py::arg("elements") = 4, py::arg("mask") = "", py::arg("validate_mask") = "", py::arg("mask_edges") = "",
         py::arg("holdout") = 0.25, py::arg("method") = "bobyqa", py::arg("starts") = 3, py::arg("max_evals") = 500,
         py::arg("min_gain") = 0.03, py::arg("effects") = "", py::arg("compare") = "",
-        py::arg("compare_seconds") = ident::kCompareSeconds,
+        py::arg("compare_seconds") = ident::kCompareSeconds, py::arg("force") = "",
         "Identification as `gmslab identify` (same job and options): returns the report as a dict (the "
-        "CLI's report JSON) with 'scenario': the identified model as a Scenario");
+        "CLI's report JSON, JSON-serialisable) with 'scenario': the identified model as the preset JSON dict "
+        "(gmslab.Scenario.from_dict(report['scenario']) for a Scenario)");
 
   // ---- figures -------------------------------------------------------------------------------
   m.def("figure_ids", &figure_ids, "Ids of the paper's figures, e.g. 'fig2a_presliding'");

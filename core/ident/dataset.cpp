@@ -84,7 +84,8 @@ std::vector<TimeWindow> parse_edge_masks(std::string_view spec, const MeasuredRe
 }
 
 Dataset load_dataset(const RecordSpec& spec, std::string* note) {
-  const CsvColumns cols = spec.columns.empty() ? CsvColumns{} : parse_column_map(spec.columns);
+  CsvColumns cols = spec.columns.empty() ? CsvColumns{} : parse_column_map(spec.columns);
+  cols.force = spec.force;
   const auto rec = load_measured(spec.path, cols);
   auto windows = parse_masks(spec.mask, spec.mask_what);
   const auto e = parse_edge_masks(spec.mask_edges, rec, spec.edges_what, note);

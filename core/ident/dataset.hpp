@@ -102,13 +102,14 @@ std::vector<TimeWindow> parse_edge_masks(std::string_view spec, const MeasuredRe
                                          std::string_view what = "--mask-edges",
                                          std::string* note = nullptr);
 
-// What a user gives for one record: the CSV, its column map, time windows and edge masks.
+// What a user gives for one record: the CSV, its column map, the force, time windows and edge masks.
 struct RecordSpec {
   std::string path;
   std::string columns;     // "t=t_s,x=x_m,F=F_N"; empty = found by name
   std::string mask;        // "t0:t1,..." [s]
   std::string mask_edges;  // "COLUMN:BEFORE:AFTER" [s]
   std::string mask_what = "--mask", edges_what = "--mask-edges";  // names used in errors
+  std::string force{};     // which force of a simulation trace is F: "" (friction), "friction", "applied"
 };
 // Loads and prepares one record (load_measured_csv, parse_masks, parse_edge_masks,
 // prepare_dataset). Throws InputError naming the file, line, column or option.

@@ -17,27 +17,149 @@ struct Unit {
   double scale;  // SI value = file value * scale
 };
 
+// A name a role is found by: `text` exactly (single letters: t, x, F, v, Fn) or in any case (words:
+// time, position, force, ...). `force` tells which force an F name is (ForceKind).
+enum class ForceKind { measured, friction, applied };
+struct Alias {
+  std::string_view text;
+  bool any_case;
+  ForceKind force = ForceKind::measured;
+};
+
 struct Role {
   std::string_view name;  // t, x, F, v, Fn
   bool required;
   std::vector<Unit> units;
+  std::vector<Alias> aliases;
+  std::string_view quantity;  // "time", "length", "force", "velocity" (F and Fn share "force")
 };
 
 const std::array<Role, 5>& roles() {
   static const std::array<Role, 5> r = {{
-      {"t", true, {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}}},
-      {"x", true, {{"m", 1.0}, {"mm", 1e-3}, {"um", 1e-6}}},
-      {"F", true, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}}},
-      {"v", false, {{"mps", 1.0}, {"mmps", 1e-3}, {"umps", 1e-6}}},
-      {"Fn", false, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}}},
+      {"t", true, {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"\xC2\xB5" "s", 1e-6}},
+       {{"t", false}, {"time", true}}, "time"},
+      {"x", true, {{"m", 1.0}, {"cm", 1e-2}, {"mm", 1e-3}, {"um", 1e-6}, {"\xC2\xB5" "m", 1e-6}, {"nm", 1e-9}},
+       {{"x", false}, {"pos", true}, {"position", true}}, "length"},
+      {"F", true, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}},
+       {{"F", false}, {"force", true}, {"F_friction", false, ForceKind::friction},
+        {"F_applied", false, ForceKind::applied}}, "force"},
+      {"v", false, {{"mps", 1.0}, {"mmps", 1e-3}, {"umps", 1e-6}, {"m/s", 1.0}, {"mm/s", 1e-3}, {"um/s", 1e-6},
+                    {"\xC2\xB5" "m/s", 1e-6}},
+       {{"v", false}, {"vel", true}, {"velocity", true}}, "velocity"},
+      {"Fn", false, {{"N", 1.0}, {"kN", 1e3}, {"mN", 1e-3}},
+       {{"Fn", false}, {"normal_force", true}}, "force"},
   }};
   return r;
 }
 
 std::string units_text(const Role& r) {
   std::string s;
-  for (const auto& u : r.units) s += (s.empty() ? "" : ", ") + std::string(r.name) + "_" + std::string(u.suffix);
+  for (const auto& u : r.units) s += (s.empty() ? "" : ", ") + std::string(u.suffix);
   return s;
+}
+
+bool equal_any_case(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; };
+    if (lower(a[i]) != lower(b[i])) return false;
+  }
+  return true;
+}
+
+// What a column name says about itself: its role (by an alias), which force it is, and its unit
+// as written: NAME, NAME_UNIT, NAME [UNIT], NAME (UNIT), NAME[UNIT], NAME(UNIT).
+struct NameInfo {
+  int role = -1;  // index into roles(), -1: not a role's name
+  ForceKind force = ForceKind::measured;
+  std::string_view base, unit;  // unit "" = none written
+  bool bracketed = false;       // the unit was written in brackets (so it is meant as a unit)
+};
+
+// Splits a name into base and unit: a trailing [UNIT] or (UNIT), else the part after the last '_'.
+NameInfo split_unit(std::string_view h) {
+  NameInfo n;
+  n.base = h;
+  if (!h.empty() && (h.back() == ']' || h.back() == ')')) {
+    const char open = h.back() == ']' ? '[' : '(';
+    const auto o = h.rfind(open);
+    if (o != std::string_view::npos && o > 0) {
+      n.base = h.substr(0, o);
+      while (!n.base.empty() && (n.base.back() == ' ' || n.base.back() == '_')) n.base.remove_suffix(1);
+      n.unit = h.substr(o + 1, h.size() - o - 2);
+      while (!n.unit.empty() && n.unit.front() == ' ') n.unit.remove_prefix(1);
+      while (!n.unit.empty() && n.unit.back() == ' ') n.unit.remove_suffix(1);
+      n.bracketed = true;
+      return n;
+    }
+  }
+  const auto u = h.rfind('_');
+  if (u != std::string_view::npos && u > 0) {
+    n.base = h.substr(0, u);
+    n.unit = h.substr(u + 1);
+  }
+  return n;
+}
+
+double unit_scale(std::size_t r, std::string_view unit);
+std::string_view quantity_of(std::string_view unit);
+
+// The role a column name names: the longest alias that is the whole name or the name's base
+// (so "F_friction_N" is the friction force in N, "Fn_N" the normal force, "F1_N" no role).
+NameInfo name_info(std::string_view h) {
+  NameInfo best;
+  std::size_t best_len = 0;
+  for (std::size_t r = 0; r < roles().size(); ++r) {
+    for (const auto& a : roles()[r].aliases) {
+      if (h.size() < a.text.size() || a.text.size() <= best_len) continue;
+      const auto head = h.substr(0, a.text.size());
+      if (a.any_case ? !equal_any_case(head, a.text) : head != a.text) continue;
+      NameInfo n;
+      n.base = head;
+      const auto rest = h.substr(a.text.size());
+      if (!rest.empty()) {
+        // The unit follows as _UNIT, [UNIT], (UNIT), with optional spaces before a bracket.
+        auto tail = rest;
+        while (!tail.empty() && tail.front() == ' ') tail.remove_prefix(1);
+        if (!tail.empty() && tail.front() == '_' && tail.size() > 1 && tail == rest) {
+          n.unit = tail.substr(1);
+          // A word followed by _WORD that is no unit names something else ("force_sensor",
+          // "time_stamp", "position_cmd_m"): not this role. A letter's suffix is meant as a unit
+          // ("x_in": an unknown unit, an error).
+          if (a.any_case && unit_scale(r, n.unit) == 0.0 && quantity_of(n.unit).empty()) continue;
+        } else if (tail.size() >= 2 && ((tail.front() == '[' && tail.back() == ']') ||
+                                         (tail.front() == '(' && tail.back() == ')'))) {
+          n.unit = tail.substr(1, tail.size() - 2);
+          while (!n.unit.empty() && n.unit.front() == ' ') n.unit.remove_prefix(1);
+          while (!n.unit.empty() && n.unit.back() == ' ') n.unit.remove_suffix(1);
+          n.bracketed = true;
+        } else {
+          continue;  // "F1_N", "timestamp", "position2": not this alias
+        }
+      }
+      n.role = static_cast<int>(r);
+      n.force = a.force;
+      best = n;
+      best_len = a.text.size();
+    }
+  }
+  return best;
+}
+
+// The SI scale of `unit` for role r, or 0 when r does not take it.
+double unit_scale(std::size_t r, std::string_view unit) {
+  if (unit.empty()) return 1.0;
+  for (const auto& u : roles()[r].units)
+    if (u.suffix == unit) return u.scale;
+  return 0.0;
+}
+
+// The quantity `unit` measures ("force" for N), or "" when it is no role's unit.
+std::string_view quantity_of(std::string_view unit) {
+  for (const auto& role : roles())
+    for (const auto& u : role.units)
+      if (u.suffix == unit) return role.quantity;
+  return {};
 }
 
 std::string_view trim(std::string_view s) {
@@ -45,13 +167,6 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
   return s;
-}
-
-// Splits "F_N" into base "F" and suffix "N" (suffix empty when there is no '_').
-std::pair<std::string_view, std::string_view> split_name(std::string_view h) {
-  const auto u = h.find('_');
-  if (u == std::string_view::npos) return {h, {}};
-  return {h.substr(0, u), h.substr(u + 1)};
 }
 
 // Line number (1-based) and byte of the first invalid UTF-8 sequence, if any.
@@ -205,8 +320,38 @@ bool all_digits(std::string_view s) {
   return true;
 }
 
-// Finds the column of each role, by explicit name (or 1-based position in a CSV) or by base name
-// + unit suffix.
+// The SI scale of the column `h` mapped to role r (by name or position): its unit as written
+// (NAME_UNIT, NAME [UNIT], NAME (UNIT)). A unit of another quantity, or an unknown unit in brackets
+// or on a role's name, is an error; NAME_WORD where WORD is no unit (pos_raw, data:2, 3) is SI.
+double mapped_scale(std::string_view h, std::size_t r, const std::string& noun, const NameSource& src) {
+  const Role& role = roles()[r];
+  const NameInfo named = name_info(h);
+  if (named.role >= 0 && roles()[static_cast<std::size_t>(named.role)].quantity != role.quantity)
+    throw InputError(src.loc + ": " + noun + " '" + std::string(h) + "' is mapped to " + std::string(role.name) +
+                     " (" + std::string(role.quantity) + "), but its name says " +
+                     std::string(roles()[static_cast<std::size_t>(named.role)].name) + " (" +
+                     std::string(roles()[static_cast<std::size_t>(named.role)].quantity) + ")");
+  const NameInfo n = named.role >= 0 ? named : split_unit(h);
+  const double scale = unit_scale(r, n.unit);
+  if (scale > 0.0) return scale;
+  const auto q = quantity_of(n.unit);
+  if (!q.empty())
+    throw InputError(src.loc + ": " + noun + " '" + std::string(h) + "' is mapped to " + std::string(role.name) +
+                     " (" + std::string(role.quantity) + "), but its unit '" + std::string(n.unit) + "' is a " +
+                     std::string(q) + " unit; accepted for " + std::string(role.name) + ": " + units_text(role));
+  if (n.bracketed)
+    throw InputError(src.loc + ": " + noun + " '" + std::string(h) + "' (mapped to " + std::string(role.name) +
+                     "): unknown unit '" + std::string(n.unit) + "'; accepted: " + units_text(role));
+  return 1.0;
+}
+
+const char* force_name(ForceKind k) {
+  return k == ForceKind::friction ? "friction" : k == ForceKind::applied ? "applied" : "measured";
+}
+
+// Finds the column of each role, by explicit name (or 1-based position in a CSV) or by name and
+// unit (NAME, NAME_UNIT, NAME [UNIT], NAME (UNIT); Role::aliases). Every chosen column keeps the
+// unit its name gives, however it was chosen. One column for two roles is an error.
 std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header,
                                      const CsvColumns& cols, const NameSource& src) {
   const std::array<const std::string*, 5> explicit_names = {&cols.t, &cols.x, &cols.F, &cols.v,
@@ -218,6 +363,16 @@ std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header
     throw InputError(src.loc + ": the first row holds numbers, so the file has no header row; give the " +
                      std::to_string(header.size()) +
                      " columns by position (1-based), e.g. --columns t=1,x=2,F=3 (optional v=, Fn=)");
+  // Which force F is: unset = the measured force (F, force) or a trace's friction force.
+  std::optional<ForceKind> want_force;
+  if (!cols.force.empty()) {
+    if (cols.force == "friction") want_force = ForceKind::friction;
+    else if (cols.force == "applied") want_force = ForceKind::applied;
+    else throw InputError("--force '" + cols.force + "': expected friction or applied");
+    if (!cols.F.empty())
+      throw InputError("--force " + cols.force + " and --columns F=" + cols.F +
+                       " both choose the force column; give one of them");
+  }
   std::array<Chosen, 5> out;
   for (std::size_t r = 0; r < 5; ++r) {
     const Role& role = roles()[r];
@@ -239,22 +394,26 @@ std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header
                          (src.headerless ? "" : " and is not a position 1.." + std::to_string(header.size())) +
                          "; columns: " + names);
       }
-      const auto suffix = split_name(want).second;
-      for (const auto& u : role.units)
-        if (u.suffix == suffix) out[r].scale = u.scale;
+      out[r].scale = src.headerless ? 1.0
+                                    : mapped_scale(header[static_cast<std::size_t>(out[r].index)], r, noun, src);
       continue;
     }
+    std::string skipped_forces;  // F columns of another force than the one wanted (for the message)
     for (std::size_t c = 0; c < header.size(); ++c) {
-      const auto [base, suffix] = split_name(header[c]);
-      if (base != role.name) continue;
-      double scale = 0.0;
-      if (suffix.empty()) scale = 1.0;
-      for (const auto& u : role.units)
-        if (u.suffix == suffix) scale = u.scale;
+      const NameInfo n = name_info(header[c]);
+      if (n.role != static_cast<int>(r)) continue;
+      if (r == 2 && (want_force ? n.force != *want_force : n.force == ForceKind::applied)) {
+        skipped_forces += (skipped_forces.empty() ? "'" : ", '") + std::string(header[c]) + "' (" +
+                          force_name(n.force) + ")";
+        continue;
+      }
+      const double scale = unit_scale(r, n.unit);
       if (scale == 0.0)
         throw InputError(src.loc + ": " + noun + " '" + std::string(header[c]) + "': unknown unit '" +
-                         std::string(suffix) + "'; accepted: " + std::string(role.name) + " (SI), " +
-                         units_text(role) + ", or map it with --columns");
+                         std::string(n.unit) + "'; accepted: " + std::string(n.base) + " (SI) or " +
+                         std::string(n.base) + " with a unit of " + units_text(role) +
+                         " (as " + std::string(n.base) + "_UNIT, " + std::string(n.base) + " [UNIT] or " +
+                         std::string(n.base) + " (UNIT)), or map it with --columns");
       if (out[r].index >= 0)
         throw InputError(src.loc + ": two " + noun + "s for " + std::string(role.name) + " ('" +
                          std::string(header[static_cast<std::size_t>(out[r].index)]) + "' and '" +
@@ -262,13 +421,26 @@ std::array<Chosen, 5> choose_columns(const std::vector<std::string_view>& header
                          std::string(role.name) + "=NAME");
       out[r] = {static_cast<std::ptrdiff_t>(c), scale};
     }
-    if (role.required && out[r].index < 0)
-      throw InputError(src.loc + ": no " + noun + " for " + std::string(role.name) + " (expected " +
-                       (src.mat ? "a variable" : "a header") + " named " + std::string(role.name) + " or " +
-                       units_text(role) + ", or --columns " + std::string(role.name) + "=" +
-                       (src.mat ? "VARIABLE or VARIABLE:COLUMN" : "NAME or POSITION") + "); " + noun +
-                       "s: " + (names.empty() ? "none" : names));
+    if (out[r].index >= 0 || !(role.required || (r == 2 && want_force))) continue;
+    if (r == 2 && want_force)
+      throw InputError(src.loc + ": --force " + cols.force + ": no " + noun + " for the " + cols.force +
+                       " force (expected F_" + cols.force + " or F_" + cols.force + "_N, as gmslab simulate writes); " +
+                       noun + "s: " + (names.empty() ? "none" : names));
+    throw InputError(src.loc + ": no " + noun + " for " + std::string(role.name) + " (expected " +
+                     (src.mat ? "a variable" : "a header") + " named " + std::string(role.name) + " or " +
+                     std::string(role.name) + "_UNIT, " + std::string(role.name) + " [UNIT] with a unit of " +
+                     units_text(role) + (role.aliases.size() > 1 ? ", or " + std::string(role.aliases[1].text) : std::string()) +
+                     ", or --columns " + std::string(role.name) + "=" +
+                     (src.mat ? "VARIABLE or VARIABLE:COLUMN" : "NAME or POSITION") + "); " + noun +
+                     "s: " + (names.empty() ? "none" : names) +
+                     (skipped_forces.empty() ? "" : "; " + skipped_forces + ": choose it with --force"));
   }
+  for (std::size_t a = 0; a < 5; ++a)
+    for (std::size_t b = a + 1; b < 5; ++b)
+      if (out[a].index >= 0 && out[a].index == out[b].index)
+        throw InputError(src.loc + ": " + noun + " '" + std::string(header[static_cast<std::size_t>(out[a].index)]) +
+                         "' is mapped to both " + std::string(roles()[a].name) + " and " +
+                         std::string(roles()[b].name) + "; one " + noun + " can have one role (--columns)");
   return out;
 }
 
@@ -310,6 +482,9 @@ CsvColumns parse_column_map(std::string_view spec) {
     if (!slot || name.empty())
       throw InputError("--columns: '" + std::string(item) +
                        "': expected ROLE=NAME with ROLE one of t, x, F, v, Fn, e.g. t=t_s,x=x_m,F=F_N");
+    if (!slot->empty())
+      throw InputError("--columns: " + std::string(role) + " is given twice ('" + std::string(role) + "=" + *slot +
+                       "' and '" + std::string(item) + "'); give each role once");
     *slot = std::string(name);
   }
   return c;
@@ -467,6 +642,44 @@ MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, cons
     if (ok) rec.extra.emplace_back(columns[c].name, columns[c].values);
   }
   return rec;
+}
+
+std::vector<NamedColumn> parse_csv_columns(std::string_view text, const std::string& file) {
+  if (const auto bad = first_bad_utf8(text))
+    throw InputError(where(file, line_of(text, *bad)) + ": the file is not UTF-8 text (invalid byte sequence)");
+  if (text.size() >= 3 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  const CsvDialect dialect = detect(text);
+  std::vector<NamedColumn> cols;
+  std::vector<std::string_view> fields;
+  std::size_t line_no = 0, pos = 0;
+  while (pos < text.size()) {
+    auto nl = text.find('\n', pos);
+    if (nl == std::string_view::npos) nl = text.size();
+    std::string_view line = text.substr(pos, nl - pos);
+    pos = nl + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (is_comment(trim(line))) continue;
+    split_fields(line, fields, dialect.separator);
+    if (cols.empty()) {
+      if (all_numbers(fields, dialect.decimal))
+        throw InputError(where(file, line_no) + ": the first row holds numbers; a trace file needs a header row of column names");
+      for (const auto f : fields) cols.push_back({std::string(f), {}});
+      continue;
+    }
+    if (fields.size() != cols.size())
+      throw InputError(where(file, line_no) + ": " + std::to_string(fields.size()) + " fields, but the header has " +
+                       std::to_string(cols.size()) + " (truncated or malformed row)");
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      double d = 0.0;
+      if (!parse_number(fields[c], d, dialect.decimal))
+        throw InputError(where(file, line_no) + ": column '" + cols[c].name + "': '" +
+                         std::string(fields[c].substr(0, 40)) + "' is not a number");
+      cols[c].values.push_back(d);
+    }
+  }
+  if (cols.empty()) throw InputError(file + ": empty; expected a header row and rows of numbers");
+  return cols;
 }
 
 MeasuredRecord load_measured_csv(const std::string& path, const CsvColumns& columns) {

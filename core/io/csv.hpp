@@ -11,11 +11,21 @@
 //   F   measured force      [N]     (required; friction alone or actuator force, see ident/)
 //   v   velocity            [m/s]   (optional; derived from x when absent)
 //   Fn  normal force        [N]     (optional; enables the normal_load effect)
-// A name may carry a unit suffix after the first '_': t_s, t_ms, x_m, x_mm, x_um, F_N, F_kN, F_mN,
-// v_mps, v_mmps, Fn_N, Fn_kN; values are converted to SI. An unknown suffix on one of these names is
-// an error naming the accepted units. Columns may also be mapped explicitly ("t=time,x=pos_mm,F=F_N";
-// an explicitly mapped name without a known suffix is read as SI; a mapped name that is a number
-// and not a header name is a 1-based position). Every other column that holds
+// Names: t or time; x, pos or position; F or force; v, vel or velocity; Fn or normal_force (the
+// words in any case, the letters as written). A trace of `gmslab simulate` has two forces:
+// F_friction_N is read as F, F_applied_N only with CsvColumns::force = "applied" (--force applied).
+// The unit follows the name as NAME_UNIT, NAME [UNIT] or NAME (UNIT): t_s, t [ms], x (mm), pos_um,
+// F [kN], v [mm/s], ...; values are converted to SI:
+//   t: s, ms, us, µs   x: m, cm, mm, um, µm, nm   F, Fn: N, kN, mN
+//   v: m/s, mm/s, um/s, µm/s, mps, mmps, umps
+// An unknown unit on one of these names is an error naming the accepted units; a word name followed
+// by _WORD that is no unit ("force_sensor_V", "time_stamp") names something else and is an extra
+// column. Columns may also be
+// mapped explicitly ("t=time,x=Weg_mm,F=F_N"; a mapped name that is a number and not a header
+// name is a 1-based position). A mapped column keeps the unit its header gives, however it was
+// chosen: x=2 on a header "Weg_mm" reads millimetres. Its unit must be one of the role's (x=F_N is
+// an error); a mapped name without a unit (or NAME_WORD where WORD is no unit, e.g. pos_raw) is
+// read as SI. One column mapped to two roles is an error naming both. Every other column that holds
 // only numbers is kept in `extra` under its header name (e.g. pulse_code, a_mps2); other columns
 // are ignored.
 //
@@ -65,9 +75,13 @@ struct MeasuredRecord {
 // ("2"); a MATLAB name is a variable ("q") or a column of a matrix ("data:2").
 struct CsvColumns {
   std::string t, x, F, v, Fn;
+  // Which force F is when it is found by name: "" = the measured force (F, force) or a trace's
+  // friction force (F_friction_N); "friction" or "applied" = that force of a trace (F_applied_N).
+  std::string force;
 };
 
-// Parses "t=t_s,x=x_m,F=F_N" (roles t, x, F, v, Fn); throws InputError naming the bad entry.
+// Parses "t=t_s,x=x_m,F=F_N" (roles t, x, F, v, Fn); throws InputError naming the bad entry or a
+// role given twice.
 CsvColumns parse_column_map(std::string_view spec);
 
 // Parses a whole CSV text (the fuzzable entry point). `file` is used in messages only.
@@ -87,6 +101,11 @@ struct NamedColumn {
 };
 MeasuredRecord record_from_columns(const std::vector<NamedColumn>& columns, const CsvColumns& map,
                                    const std::string& file, const std::string& unusable = {});
+
+// Every column of a CSV text with a header row, by its header name, in file order (a trace as
+// gmslab simulate writes it, in any dialect). Every field must be a number; throws InputError
+// naming the file, line and column otherwise.
+std::vector<NamedColumn> parse_csv_columns(std::string_view text, const std::string& file);
 
 // The dialect of a CSV text (separator and decimal mark) as parse_measured_csv reads it.
 CsvDialect detect_dialect(std::string_view text);

@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/io/trace_file.hpp"
 
 namespace gmslab {
 
@@ -73,7 +74,28 @@ bool is_mat_file(const std::string& path) {
   return f.read(head, 6) && std::string(head, 6) == "MATLAB";
 }
 
+namespace {
+// The numeric columns of a MATLAB file, and what it holds that is not one ("s (struct)").
+std::vector<NamedColumn> mat_columns(const std::string& path, std::string& unusable);
+}  // namespace
+
+std::vector<NamedColumn> load_mat_columns(const std::string& path) {
+  std::string unusable;
+  auto cols = mat_columns(path, unusable);
+  if (cols.empty())
+    throw InputError(path + ": no numeric vector or matrix variable" +
+                     (unusable.empty() ? std::string() : " (not usable: " + unusable + ")"));
+  return cols;
+}
+
 MeasuredRecord load_measured_mat(const std::string& path, const CsvColumns& columns) {
+  std::string unusable;
+  const auto cols = mat_columns(path, unusable);
+  return record_from_columns(cols, columns, path, unusable);
+}
+
+namespace {
+std::vector<NamedColumn> mat_columns(const std::string& path, std::string& unusable) {
   static const int log_init = Mat_LogInitFunc("gmslab", quiet_log);
   (void)log_init;
   {
@@ -85,7 +107,6 @@ MeasuredRecord load_measured_mat(const std::string& path, const CsvColumns& colu
     throw InputError(path + ": not a MATLAB file that can be read; accepted: MAT-files version 4, "
                             "5/7 and 7.3 (HDF5) holding numeric vectors or matrices");
   std::vector<NamedColumn> cols;
-  std::string unusable;
   std::vector<double> all;
   for (;;) {
     std::unique_ptr<matvar_t, VarFree> v(Mat_VarReadNext(mat.get()));
@@ -111,11 +132,14 @@ MeasuredRecord load_measured_mat(const std::string& path, const CsvColumns& colu
                                             all.begin() + static_cast<std::ptrdiff_t>((c + 1) * rows))});
     }
   }
-  return record_from_columns(cols, columns, path, unusable);
+  return cols;
 }
+}  // namespace
 
 MeasuredRecord load_measured(const std::string& path, const CsvColumns& columns) {
-  return is_mat_file(path) ? load_measured_mat(path, columns) : load_measured_csv(path, columns);
+  if (is_mat_file(path)) return load_measured_mat(path, columns);
+  if (is_hdf5_file(path)) return record_from_columns(load_hdf5_columns(path), columns, path);
+  return load_measured_csv(path, columns);
 }
 
 }  // namespace gmslab

@@ -1,5 +1,6 @@
 // gmslab core: a measured record from a file as it comes: CSV in any common dialect
-// (core/io/csv.hpp) or a MATLAB .mat file (v4, v5/v7 and v7.3/HDF5, read through libmatio).
+// (core/io/csv.hpp), a MATLAB .mat file (v4, v5/v7 and v7.3/HDF5, read through libmatio) or an
+// HDF5 file of 1-D datasets (core/io/trace_file.hpp: what gmslab simulate writes to .h5).
 //
 // MATLAB files: every real numeric variable (double, single or an integer class) of two dimensions
 // is a column: a vector (1xN or Nx1) by its name ("time"), each column of an MxN matrix by
@@ -12,6 +13,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/io/csv.hpp"
 
@@ -21,7 +23,10 @@ namespace gmslab {
 bool is_mat_file(const std::string& path);
 // Reads a MATLAB file; throws InputError naming the file, the variable and the element.
 MeasuredRecord load_measured_mat(const std::string& path, const CsvColumns& columns = {});
-// A CSV or MATLAB file (is_mat_file decides).
+// The numeric columns of a MATLAB file (vectors by name, matrix columns as NAME:COLUMN).
+std::vector<NamedColumn> load_mat_columns(const std::string& path);
+// A CSV, MATLAB or HDF5 file (is_mat_file, then the HDF5 signature, decide; else CSV). An HDF5
+// file's columns are its 1-D numeric datasets at the root (as `gmslab simulate --out x.h5` writes).
 MeasuredRecord load_measured(const std::string& path, const CsvColumns& columns = {});
 
 }  // namespace gmslab

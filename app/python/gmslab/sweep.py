@@ -33,12 +33,14 @@ arguments of gmslab.design / gmslab.identify. Metrics per point:
   design: applicable, K, Kc, z, p, K_max, K_max_usable, phi_deg, design_kind, seconds
   identify: rms_before_validation, rms_after_validation, effects_added, elements, seconds
 
-Command line: python3 -m gmslab.sweep SPEC.json --out results.csv [--scheduler ADDR] [--workers N]
+Command line: python3 -m gmslab.sweep SPEC.json --out results.csv [--scheduler ADDR [--connect-timeout S]]
+[--workers N]
 (also ``gmslab sweep``).
 """
 import argparse
 import copy
 import csv
+import difflib
 import itertools
 import json
 import math
@@ -53,6 +55,79 @@ SCENARIO_ROOTS = ("friction", "plant", "drive", "run", "name", "description")
 
 class SpecError(ValueError):
     """A bad sweep spec: names the key and what is accepted."""
+
+
+SPEC_KEYS = ("job", "scenario", "design", "identify", "sample", "samples", "seed", "parameters", "from_report")
+# The arguments of gmslab.design (besides scenario) and gmslab.identify a spec may fix or vary.
+JOB_ARGS = {
+    "simulate": (),
+    "design": ("zeta", "wn", "num", "den", "regime", "velocity", "K", "max_ratio", "margin", "drive", "output",
+               "compensator", "sample_time"),
+    "identify": ("data", "validate", "columns", "model", "elements", "mask", "validate_mask", "mask_edges", "holdout",
+                 "method", "starts", "max_evals", "min_gain", "effects", "compare", "compare_seconds", "force"),
+}
+REQUIRED_ARGS = {"simulate": (), "design": ("zeta", "wn"), "identify": ("data",)}
+
+
+def _did_you_mean(word, known):
+    m = difflib.get_close_matches(word, list(known), n=1, cutoff=0.5)
+    return f"; did you mean '{m[0]}'?" if m else ""
+
+
+def _paths(node, prefix=""):
+    """Every key path of a scenario dict ("friction.Fs", "friction.elements.0.k", "plant.mass")."""
+    out = []
+    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    for k, v in items:
+        p = f"{prefix}{k}"
+        out.append(p)
+        out += _paths(v, p + ".")
+    return out
+
+
+def check_spec(spec, pts):
+    """Every key, argument and parameter path of the spec, checked before any cluster starts.
+
+    Raises SpecError naming the key, what is accepted and the closest known name."""
+    job = spec.get("job", "simulate")
+    if job not in JOB_ARGS:
+        raise SpecError(f"job: '{job}'; accepted: simulate, design, identify{_did_you_mean(str(job), JOB_ARGS)}")
+    for k in spec:
+        if k in SPEC_KEYS:
+            continue
+        hint = next((f"; did you mean '{sec}.{k}'?" for sec in ("identify", "design") if k in JOB_ARGS[sec]), "")
+        raise SpecError(f"unknown key '{k}'; accepted: {', '.join(SPEC_KEYS)}{hint or _did_you_mean(k, SPEC_KEYS)}")
+    args = JOB_ARGS[job]
+    for section in ("design", "identify"):
+        if section not in spec:
+            continue
+        if section != job:
+            raise SpecError(f"{section}: arguments of the {section} job, but the job is '{job}'")
+        if not isinstance(spec[section], dict):
+            raise SpecError(f"{section}: expected an object of arguments ({', '.join(args)})")
+        for k in spec[section]:
+            if k == "scenario" and section == "design":
+                raise SpecError("design.scenario: the scenario is the spec's top-level 'scenario'")
+            if k not in args:
+                raise SpecError(f"{section}.{k}: unknown argument; accepted: {', '.join(args)}{_did_you_mean(k, args)}")
+    paths = []
+    if spec.get("scenario"):
+        import gmslab
+        paths = _paths(gmslab.load_scenario(spec["scenario"]).to_dict())
+    names = list(pts[0]) if pts else list(spec.get("parameters", {}))
+    for name in names:
+        if name.split(".")[0] in SCENARIO_ROOTS:
+            if paths and name not in paths:
+                raise SpecError(f"parameters.{name}: no such key path in the scenario{_did_you_mean(name, paths)}")
+        elif name not in args:
+            what = "a scenario key path (friction.*, plant.*, drive.*, run.*)" + (
+                f" or an argument of gmslab.{job} ({', '.join(args)})" if args else "")
+            raise SpecError(f"parameters.{name}: not {what}{_did_you_mean(name, list(paths) + list(args))}")
+    given = set(spec.get(job, {})) | set(names)
+    missing = [a for a in REQUIRED_ARGS[job] if a not in given]
+    if missing:
+        raise SpecError(f"{job}: missing argument{'s' if len(missing) > 1 else ''} {', '.join(missing)} "
+                        f"(in \"{job}\": {{...}} or as a parameter)")
 
 
 def _load_json(path, what):
@@ -190,6 +265,7 @@ def _guarded(spec, index, point):
     try:
         row.update(run_point(spec, point))
         row["status"] = "ok"
+        row["error"] = ""  # every table has the column, empty for a point that ran
     except Exception as e:  # noqa: BLE001 - every failure is reported in the table
         row["status"] = "failed"
         row["error"] = f"{type(e).__name__}: {e}"
@@ -204,6 +280,11 @@ def _write_atomic(path, text):
 
 
 def _progress(done, total, failed, t0, stream):
+    """A bar rewritten in place on a terminal; one line per finished point in a log file or pipe."""
+    if not (hasattr(stream, "isatty") and stream.isatty()):
+        stream.write(f"sweep: {done}/{total} points, {failed} failed, {time.time() - t0:.1f} s\n")
+        stream.flush()
+        return
     width = 30
     filled = int(width * done / max(total, 1))
     stream.write(f"\rsweep [{'#' * filled}{'.' * (width - filled)}] {done}/{total} points, {failed} failed, "
@@ -211,7 +292,11 @@ def _progress(done, total, failed, t0, stream):
     stream.flush()
 
 
-def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=None):
+class SchedulerError(OSError):
+    """The Dask scheduler cannot be reached (the message names its address and the time waited)."""
+
+
+def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=None, connect_timeout=10.0):
     """Runs the sweep; writes OUT (.csv) and OUT's .json twin; returns the rows (one per point).
 
     spec: a dict or a path to the spec JSON. out: the CSV table to write. scheduler: a Dask
@@ -238,6 +323,7 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
             gmslab.load_scenario(spec["scenario"])
         except gmslab.InputError as e:
             raise SpecError(f"scenario: {e}") from None
+    check_spec(spec, pts)  # unknown keys, parameter paths and arguments: before any cluster starts
     partial = f"{out}.partial.jsonl"
     done = {}
     if os.path.exists(partial):
@@ -261,7 +347,12 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
         from dask.distributed import Client, LocalCluster, as_completed
         if client is None:
             if scheduler:
-                own = Client(scheduler)
+                try:
+                    own = Client(scheduler, timeout=connect_timeout)
+                except (OSError, TimeoutError) as e:
+                    raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler} within {connect_timeout:g} s "
+                                         f"(--connect-timeout): {type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''}"
+                                         ) from None
             else:
                 own = Client(LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1,
                                           processes=True, dashboard_address=None))
@@ -279,8 +370,8 @@ def run_sweep(spec, out, scheduler=None, workers=None, progress=True, client=Non
                     log.flush()
                     if progress:
                         _progress(len(rows), len(pts), failed, t0, stream)
-            if progress:
-                stream.write("\n")
+            if progress and hasattr(stream, "isatty") and stream.isatty():
+                stream.write("\n")  # ends the bar
         finally:
             if own is not None:
                 cluster = own.cluster
@@ -316,13 +407,17 @@ def main(argv=None):
     ap.add_argument("--out", "-o", default=None, help="results table CSV (default: SPEC stem + .results.csv)")
     ap.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://host:8786")
     ap.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: every core)")
+    ap.add_argument("--connect-timeout", type=float, default=10.0,
+                    help="seconds to wait for --scheduler before giving up (default: 10)")
     a = ap.parse_args(argv)
     out = a.out or os.path.splitext(a.spec)[0] + ".results.csv"
     if a.workers is not None and a.workers < 1:
         ap.error("--workers: must be >= 1")
+    if not (a.connect_timeout > 0):
+        ap.error("--connect-timeout: must be > 0 s")
     try:
-        table = run_sweep(a.spec, out, scheduler=a.scheduler, workers=a.workers)
-    except SpecError as e:
+        table = run_sweep(a.spec, out, scheduler=a.scheduler, workers=a.workers, connect_timeout=a.connect_timeout)
+    except (SpecError, SchedulerError) as e:
         print(f"gmslab sweep: {e}", file=sys.stderr)
         return 2
     return 0 if all(r["status"] == "ok" for r in table) else 1
