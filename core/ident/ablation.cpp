@@ -99,12 +99,12 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
 }
 
 AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
-                      const EffectContext& c, double floor,
+                      const EffectContext& c, double floor_estimate,
                       const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o) {
   AblationResult out;
   out.table.elements_before = final_fit.spec.elements;
   out.table.ran = true;
-  out.table.floor = floor;
+  double floor = floor_estimate;
   out.table.z_crit = o.z_crit;
   FitOptions fo = serialised_progress(o.refit);
   fo.data_start = false;
@@ -136,6 +136,10 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
   // the model left after earlier drops: drops whose losses are each below the resolution must not
   // add up to one the data resolve.
   const Scored full = cur;
+  // The floor is an estimate: a model that predicts the held-out record better shows it lower
+  // (as the loop's own guards take it).
+  floor = std::min(floor, full.rms);
+  out.table.floor = floor;
   auto resolvable = [&](const BlockTest& t, double rms) {
     return t.z >= o.z_crit || rms * rms - full.rms * full.rms >= floor * floor;
   };
