@@ -457,14 +457,8 @@ std::string resolve_preset(const std::string& preset) {
   if (preset.empty()) throw InputError("--open: no preset given; name a preset file, e.g. --open presets/two_mass_drive.json");
   if (fs::is_regular_file(preset, ec)) return preset;
   const fs::path dir = presets_dir();
-  for (const fs::path& p : {dir / preset, dir / (preset + ".json")})
-    if (preset.find('/') == std::string::npos && fs::is_regular_file(p, ec)) return p.string();
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  if (std::string found = shipped_preset(preset, dir.string()); !found.empty()) return found;
+  const std::string list = preset_names(dir.string());
   throw InputError("--open '" + preset + "': no such file" +
                    (preset.find('/') == std::string::npos ? ", and no preset of that name in " + dir.string() : "") +
                    "; give a preset file's path or the name of a shipped preset (" +

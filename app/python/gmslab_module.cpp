@@ -125,16 +125,9 @@ std::string resolve_preset(const std::string& path) {
   fs::path p(path);
   if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
   if (p.has_parent_path() && p.parent_path() != ".") return path;  // another folder: as given
-  if (p.extension() != ".json") p += ".json";
   const std::string dir = preset_dir();
-  const fs::path in_presets = fs::path(dir) / p.filename();
-  if (fs::exists(in_presets, ec)) return in_presets.string();
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  std::string list;
-  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  if (std::string found = shipped_preset(p.filename().string(), dir); !found.empty()) return found;
+  const std::string list = preset_names(dir);
   throw InputError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
                 " (presets: " + (list.empty() ? "none" : list) + ")");
 }

@@ -1,7 +1,9 @@
 #include "core/io/scenario_io.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
@@ -269,6 +271,28 @@ Scenario load_scenario(const std::string& path) {
 
 void save_scenario(const Scenario& s, const std::string& path) {
   write_file_atomic(path, to_json(s).dump(2) + "\n");
+}
+
+std::string shipped_preset(const std::string& name, const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::path p(name);
+  if (name.empty() || p.has_parent_path()) return {};
+  if (p.extension() != ".json") p += ".json";
+  const fs::path in_dir = fs::path(dir) / p;
+  return fs::is_regular_file(in_dir, ec) ? in_dir.string() : std::string();
+}
+
+std::string preset_names(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
 }
 
 }  // namespace gmslab

@@ -35,6 +35,11 @@ RunSettings run_settings_from_json(JsonReader& run);
 Scenario scenario_from_json(const nlohmann::json& j, const std::string& file);
 
 Scenario load_scenario(const std::string& path);
+// A shipped preset by its bare name ("two_mass_drive" or "two_mass_drive.json") in `dir`: its
+// path, or empty when there is none (or `name` names a folder).
+std::string shipped_preset(const std::string& name, const std::string& dir);
+// The names (stems) of the presets in `dir`, sorted, comma-separated (empty: none).
+std::string preset_names(const std::string& dir);
 void save_scenario(const Scenario& s, const std::string& path);  // atomic
 
 }  // namespace gmslab
