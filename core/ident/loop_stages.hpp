@@ -1,0 +1,84 @@
+// The residual loop's stages (loop.hpp describes the method). identify() runs them in order on
+// one LoopState:
+//
+//   screen_record      the base fit, on every k-th sample of a long record when that drives the
+//                      friction as the full record does
+//   choose_path        the fine path between samples where the attraction is fast enough for it
+//                      to matter, and the floor's quantisation and sampling shares
+//   retry_base_fit     the base fit again from other starts when it stays 1.3-5x above the floor
+//   widen_element_range softer elements than the swing estimate allows (before and after rounds)
+//   run_round          one round: screen the catalog, refit the best candidates, keep one
+//   final_refit        the final model refitted on all samples
+//   credit             credit by ablation (ablation.hpp): the effects and elements named
+//   finish_report      parameter errors at a verified optimum, what the residual still holds
+//
+// Internal to the identification: not a public interface.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/ident/loop.hpp"
+
+namespace gmslab::ident::detail {
+
+// What the stages share: the records, the context, the model so far and the report.
+struct LoopState {
+  LoopState(const Dataset& train, const Dataset& validation, const FitSpec& base, const LoopOptions& o);
+
+  const Dataset& train_in;  // the training record as given
+  const Dataset& val_in;    // the validation record as given
+  const FitSpec& base;
+  const LoopOptions& o;
+  EffectContext c;
+  IdentReport rep;
+  std::size_t every = 1;    // the loop screens on every k-th training sample
+  Dataset screen_rec;       // every k-th sample (of the fine-path record when fine_path)
+  Dataset train_fine, val_fine;  // the records on the fine path (when rep.fine_path)
+  FitResult cur;            // the model so far
+  double cur_val = 0;       // its validation RMS [N]
+  NoiseEstimate noise_data; // the noise estimated from the data, before the model's shares
+  double floor = 0;         // the floor the rounds judge against [N]
+  std::set<Effect> deep_done;  // channel effects whose scalar was searched with shape refits
+
+  // All training samples, on the path the loop decided on.
+  const Dataset& full() const { return rep.fine_path ? train_fine : train_in; }
+  const Dataset& val() const { return rep.fine_path ? val_fine : val_in; }
+  // The record the loop's fits and decisions run on (screened or full).
+  const Dataset& train() const { return every > 1 ? screen_rec : full(); }
+  // f's friction force along d (straight: with straight steps between samples) [N].
+  std::vector<double> friction_force(const FitResult& f, const Dataset& d, bool straight = false) const;
+  // The noise estimate with the quantisation and sampling shares through the current model.
+  void add_shares();
+};
+
+void screen_record(LoopState& s);
+void choose_path(LoopState& s);
+void retry_base_fit(LoopState& s);
+void widen_element_range(LoopState& s, bool before_rounds);
+// One round of the loop; whether it added an effect.
+bool run_round(LoopState& s, int round);
+void final_refit(LoopState& s);
+void credit(LoopState& s);
+void finish_report(LoopState& s);
+
+// Shared by the stages.
+std::string fmt(double x);
+std::string ordinal(std::size_t n);  // 2 -> "2nd"
+bool contains(const std::vector<Effect>& v, Effect e);
+std::vector<double> residual(const FitResult& f, const Dataset& d, const EffectContext& c);
+std::vector<LinearTerm> terms_of(const FitResult& f, Effect e);
+FitSpec with(const FitSpec& s, Effect e);
+// Whether one of e's columns multiplies the friction (needs g, the unit model output).
+bool multiplies_friction(Effect e);
+// spec with the additive effects a shape or a soft element could stand in for added as probes.
+FitSpec with_additive_probes(FitSpec spec, bool inertia = true);
+FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectContext& c);
+// Effect e screened at the shape of cur (or at `shape`): its columns re-solved by least squares.
+Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dataset& val,
+                 const EffectContext& c, const std::vector<double>* shape = nullptr);
+
+}  // namespace gmslab::ident::detail
