@@ -4,6 +4,9 @@
 //
 //   gmslab_study base    [--records 50] [--seed 1] [--samples 6000]   base fit, no effect
 //   gmslab_study loop    [--records 50] ...   the residual loop on records with 0, 1 or 2 effects
+//   gmslab_study self    [--preset NAME]      self-consistency: gmslab's own trace of each shipped
+//                        one-body preset with back-and-forth motion, at 3 sample rates, noise-free and
+//                        with 0.3 % noise, identified with the generating model (nothing to name)
 //
 // Prints one row per record and a summary; exit 0 (it reports, it does not judge).
 #include <CLI/CLI.hpp>
@@ -15,6 +18,9 @@
 
 #include "core/ident/element_fit.hpp"
 #include "core/ident/loop.hpp"
+#include "core/friction/model.hpp"
+#include "core/io/scenario_io.hpp"
+#include "core/sim/simulation.hpp"
 #include "tests/ident/random_records.hpp"
 
 using namespace gmslab;
@@ -151,6 +157,69 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
   return 0;
 }
 
+
+// The generating model along the sampled validation path: what no fit of it can beat [N RMS].
+double truth_along(const ModelParams& truth, const Dataset& val) {
+  std::vector<double> g;
+  simulate_along(*build_model(truth), val, g);
+  double s2 = 0, n = 0;
+  for (std::size_t i = 0; i < val.size(); ++i)
+    if (val.use[i]) s2 += (val.F[i] - g[i]) * (val.F[i] - g[i]), n += 1;
+  return n > 0 ? std::sqrt(s2 / n) : 0.0;
+}
+
+int run_self(const std::string& only, const std::string& presets_dir) {
+  const char* presets[] = {"fig2a_presliding", "fig2c_periodic_1hz", "fig2c_periodic_0p1hz"};
+  int n = 0, nothing = 0, base_ok = 0;
+  double total_s = 0;
+  std::printf("%-22s %7s %6s %11s %11s %11s %9s %-30s %6s\n", "preset", "samples", "noise", "truth N",
+              "floor N", "base val N", "base/flr", "named", "s");
+  for (const char* name : presets) {
+    if (!only.empty() && only != name) continue;
+    const Scenario sc = load_scenario(presets_dir + "/" + name + ".json");
+    Simulation sim(sc);
+    sim.run_to_end();
+    const Trace& tr = sim.trace();
+    double fmax = 0;
+    for (double f : tr.friction) fmax = std::max(fmax, std::abs(f));
+    for (std::size_t target : {std::size_t{1500}, std::size_t{6000}, tr.size()}) {
+      const std::size_t every = std::max<std::size_t>(1, tr.size() / target);
+      for (double noise : {0.0, 0.003}) {
+        MeasuredRecord rec;
+        rec.source = name;
+        std::mt19937 rng(11);
+        std::normal_distribution<double> N(0.0, 1.0);
+        for (std::size_t i = 0; i < tr.size(); i += every) {
+          rec.t.push_back(tr.t[i]);
+          rec.x.push_back(tr.x[i]);
+          rec.F.push_back(tr.friction[i] + noise * fmax * N(rng));
+        }
+        auto [train, val] = split_holdout(prepare_dataset(rec));
+        FitSpec spec;
+        spec.model = sc.friction.model;
+        spec.elements = sc.friction.elements.size();
+        const auto t0 = std::chrono::steady_clock::now();
+        const IdentReport r = identify(train, val, spec, LoopOptions{});
+        const double s = seconds_since(t0);
+        total_s += s;
+        std::string named;
+        for (Effect e : r.effects_added) named += std::string(named.empty() ? "" : ",") + std::string(effect_name(e));
+        const double ratio = r.rms_before_validation / r.ablation.floor;
+        ++n;
+        nothing += named.empty();
+        base_ok += ratio <= 1.2;
+        std::printf("%-22s %7zu %5.1f%% %11.3g %11.3g %11.3g %9.2f %-30s %6.2f\n", name, rec.t.size(), 100 * noise,
+                    truth_along(sc.friction, val), r.ablation.floor, r.rms_before_validation, ratio,
+                    named.empty() ? "nothing" : named.c_str(), s);
+        std::fflush(stdout);
+      }
+    }
+  }
+  std::printf("\nnothing named in %d / %d; base fit within 1.2x the floor in %d / %d; %.1f s per record\n", nothing,
+              n, base_ok, n, total_s / std::max(n, 1));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -163,7 +232,9 @@ int main(int argc, char** argv) {
   int skip = 0;
   std::string report_dir;
   std::size_t screen = LoopOptions{}.screen_samples;
-  app.add_option("mode", mode, "base | loop")->check(CLI::IsMember({"base", "loop"}));
+  app.add_option("mode", mode, "base | loop | self")->check(CLI::IsMember({"base", "loop", "self"}));
+  std::string preset;
+  app.add_option("--preset", preset, "self: only this preset (its name without .json)");
   app.add_option("--records", records, "number of records")->check(CLI::Range(1, 100000));
   app.add_option("--seed", seed, "first seed");
   app.add_option("--samples", samples, "samples per record")->check(CLI::Range(500, 1000000));
@@ -175,6 +246,7 @@ int main(int argc, char** argv) {
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   CLI11_PARSE(app, argc, argv);
+  if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
   return run_loop(records, seed, samples, skip, report_dir, screen);
 }

@@ -289,11 +289,15 @@ std::vector<double> LoopState::friction_force(const FitResult& f, const Dataset&
   return g;
 }
 
+void LoopState::add_model_shares(NoiseEstimate& e, const FitResult& f, const Dataset& d) const {
+  const auto ff = friction_force(f, d);
+  add_quantisation(e, d, c, ff);
+  add_sampling(e, d, ff, friction_force(f, d, true));
+}
+
 void LoopState::add_shares() {
   rep.noise = noise_data;
-  const auto f = friction_force(cur, full());
-  add_quantisation(rep.noise, full(), c, f);
-  add_sampling(rep.noise, full(), f, friction_force(cur, full(), true));
+  add_model_shares(rep.noise, cur, full());
 }
 
 // A long record is screened on every k-th sample (at least screen_samples of them): the base fit
@@ -503,9 +507,7 @@ void final_refit(LoopState& s) {
 // through the final model (a base fit far from the data overstates the sampling share).
 void credit(LoopState& s) {
   NoiseEstimate at_final = s.noise_data;
-  const auto f = s.friction_force(s.cur, s.full());
-  add_quantisation(at_final, s.full(), s.c, f);
-  add_sampling(at_final, s.full(), f, s.friction_force(s.cur, s.full(), true));
+  s.add_model_shares(at_final, s.cur, s.full());
   credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, at_final.floor(), s.every, s.o);
 }
 
@@ -528,9 +530,7 @@ void finish_report(LoopState& s) {
   const auto gv = unit_friction(cur, val, c);
   NoiseEstimate nv = noise_level(val, c);
   if (nv.sigma <= 0 || (!nv.from_rests && rep.noise.from_rests)) nv = rep.noise;
-  const auto f = s.friction_force(cur, val);
-  add_quantisation(nv, val, c, f);
-  add_sampling(nv, val, f, s.friction_force(cur, val, true));
+  s.add_model_shares(nv, cur, val);
   rep.remaining = residual_structure(val, c, rv, gv, nv);
 }
 

@@ -51,7 +51,9 @@ struct LoopState {
   const Dataset& train() const { return every > 1 ? screen_rec : full(); }
   // f's friction force along d (straight: with straight steps between samples) [N].
   std::vector<double> friction_force(const FitResult& f, const Dataset& d, bool straight = false) const;
-  // The noise estimate with the quantisation and sampling shares through the current model.
+  // e with the quantisation and sampling shares through model f along d.
+  void add_model_shares(NoiseEstimate& e, const FitResult& f, const Dataset& d) const;
+  // rep.noise: the data's noise with the shares through the current model along full().
   void add_shares();
 };
 
