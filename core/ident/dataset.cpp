@@ -200,7 +200,7 @@ Dataset decimated(const Dataset& d, std::size_t every, const PathRule& rule) {
   s.vstep.assign(n, 0.0);
   for (std::size_t k = 1; k < n; ++k) {
     s.h[k] = s.t[k] - s.t[k - 1];
-    s.vstep[k] = s.has_v ? 0.5 * (s.v[k - 1] + s.v[k]) : (s.x[k] - s.x[k - 1]) / s.h[k];
+    s.vstep[k] = (s.x[k] - s.x[k - 1]) / s.h[k];
   }
   set_path(s, rule);
   return s;
@@ -223,7 +223,7 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
   d.vstep.assign(n, 0.0);
   for (std::size_t k = 1; k < n; ++k) {
     d.h[k] = d.t[k] - d.t[k - 1];
-    d.vstep[k] = d.has_v ? 0.5 * (d.v[k - 1] + d.v[k]) : (d.x[k] - d.x[k - 1]) / d.h[k];
+    d.vstep[k] = (d.x[k] - d.x[k - 1]) / d.h[k];
   }
   set_path(d, PathRule{});
   d.use.assign(n, 1);

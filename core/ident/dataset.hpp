@@ -6,8 +6,9 @@
 //             over +-3 samples
 //   a[k]      acceleration [m/s^2]: local least-squares slope of v over +-3 samples
 //   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
-//   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: mean of v[k-1], v[k] when the file has
-//             v, else (x[k] - x[k-1]) / h[k] (the prescribed motion of FrictionModel::step)
+//   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: (x[k] - x[k-1]) / h[k], with or without
+//             a velocity column (the prescribed motion of FrictionModel::step moves by the
+//             measured displacement; a file's v shapes the path between samples)
 //   sub, sv, sh  where the path between two samples is curved (a reversal between them: 16 parts;
 //             the speed changing by more than 3 % over more than an encoder step, or the cubic
 //             through the samples (Hermite: x and v at both ends) leaving the straight line by

@@ -72,14 +72,26 @@ void estimate_levels(const Dataset& d, EffectContext& c) {
   for (std::size_t k = 0; k < d.size(); ++k)
     if (d.use[k] && std::abs(d.v[k]) > 0.2 * c.v_ref) idx.push_back(k);
   if (idx.size() >= 8) {
+    // The viscous term only where the sliding speeds spread (10th to 90th percentile of |v| over
+    // at least a fifth of the median): at one speed, v is sgn v times a constant and the split
+    // between the two is arbitrary (a back-and-forth ramp at constant rate).
+    std::vector<double> speeds;
+    for (const auto k : idx) speeds.push_back(std::abs(d.v[k]));
+    const double p50 = percentile(speeds, 0.5);
+    const bool viscous = p50 > 0 && percentile(speeds, 0.9) - percentile(speeds, 0.1) >= 0.2 * p50;
     Eigen::MatrixXd A(idx.size(), 4);
     Eigen::VectorXd y(idx.size());
     for (std::size_t i = 0; i < idx.size(); ++i) {
       const auto k = idx[i];
-      A.row(static_cast<Eigen::Index>(i)) << 1.0, sgn(d.v[k]), d.v[k] / c.v_ref, d.a[k];
+      A.row(static_cast<Eigen::Index>(i)) << 1.0, sgn(d.v[k]), viscous ? d.v[k] / c.v_ref : 0.0, d.a[k];
       y(static_cast<Eigen::Index>(i)) = d.F[k];
     }
-    const Eigen::VectorXd th = A.colPivHouseholderQr().solve(y);
+    const Eigen::VectorXd th = viscous ? Eigen::VectorXd(A.colPivHouseholderQr().solve(y)) : [&] {
+      Eigen::MatrixXd B(A.rows(), 3);
+      B << A.col(0), A.col(1), A.col(3);
+      const Eigen::Vector3d t3 = B.colPivHouseholderQr().solve(y);
+      return Eigen::VectorXd(Eigen::Vector4d(t3(0), t3(1), 0.0, t3(2)));
+    }();
     if (std::isfinite(th(1)) && th(1) > 0) c.f_level = th(1);
     if (th.allFinite()) fv = th(2) / c.v_ref, m = th(3);
   }

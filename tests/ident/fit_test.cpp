@@ -124,6 +124,33 @@ TEST(IdentFit, CubicPathBetweenSamplesFollowsADenseRecordAndSizesTheSamplingFloo
   }
 }
 
+// The motion a model is stepped through moves by the measured displacement over every step, with
+// or without a velocity column: a file's v (sampled, possibly filtered) sets the path's shape, not
+// how far a step goes. Random sines and velocity columns off by a random factor over scales.
+TEST(IdentDataset, EveryStepMovesByTheMeasuredDisplacementWithOrWithoutAVelocityColumn) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    const double amp = std::pow(10.0, -7 + 5 * U(rng)), f = std::pow(10.0, -1 + 2 * U(rng));
+    const double dt = 1.0 / (f * (50 + 2000 * U(rng))), bias = 0.8 + 0.4 * U(rng);
+    MeasuredRecord r;
+    for (int k = 0; k < 800; ++k) {
+      const double t = k * dt, w = 2 * std::numbers::pi * f;
+      r.t.push_back(t);
+      r.x.push_back(amp * std::sin(w * t));
+      r.F.push_back(std::sin(w * t) > 0 ? 1.0 : -1.0);
+      if (trial % 2 == 0) r.v.push_back(bias * amp * w * std::cos(w * t));
+    }
+    const Dataset d = prepare_dataset(r);
+    double moved = 0;
+    for (std::size_t k = 1; k < d.size(); ++k) for_each_step(d, k, [&](double v, double h) { moved += v * h; });
+    // Along the path every step's parts add up to the sample-to-sample displacement.
+    EXPECT_NEAR(moved, d.x.back() - d.x.front(), 1e-9 * amp) << "trial " << trial;
+    for (std::size_t k = 1; k < d.size(); ++k)
+      ASSERT_NEAR(d.vstep[k] * d.h[k], d.x[k] - d.x[k - 1], 1e-12 * amp) << "trial " << trial << " step " << k;
+  }
+}
+
 // The velocity estimate: a local least-squares cubic is exact for cubic motions on any time grid
 // (random coefficients, jittered non-uniform samples), and on a sine its error is far below the
 // local straight line's (which is biased by the curvature).

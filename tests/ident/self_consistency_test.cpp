@@ -24,7 +24,9 @@ namespace {
 
 struct Case {
   const char* preset;
-  double noise;  // share of the largest |F|
+  double noise;                // share of the largest |F|
+  std::size_t samples = 3000;  // about this many samples (every k-th of the trace)
+  bool with_v = false;         // the record carries the trace's velocity (as simulate's CSV does)
 };
 
 class SelfConsistency : public ::testing::TestWithParam<Case> {};
@@ -36,7 +38,7 @@ TEST_P(SelfConsistency, OwnTraceOfTheGeneratingModelNamesNothing) {
   sim.run_to_end();
   const Trace& tr = sim.trace();
   ASSERT_GT(tr.size(), 100u);
-  const std::size_t every = std::max<std::size_t>(1, tr.size() / 3000);
+  const std::size_t every = std::max<std::size_t>(1, tr.size() / k.samples);
   MeasuredRecord rec;
   rec.source = k.preset;
   double fmax = 0;
@@ -46,6 +48,7 @@ TEST_P(SelfConsistency, OwnTraceOfTheGeneratingModelNamesNothing) {
   for (std::size_t i = 0; i < tr.size(); i += every) {
     rec.t.push_back(tr.t[i]);
     rec.x.push_back(tr.x[i]);
+    if (k.with_v) rec.v.push_back(tr.v[i]);
     rec.F.push_back(tr.friction[i] + k.noise * fmax * N(rng));
   }
   auto [train, val] = split_holdout(prepare_dataset(rec));
@@ -73,11 +76,20 @@ TEST_P(SelfConsistency, OwnTraceOfTheGeneratingModelNamesNothing) {
 INSTANTIATE_TEST_SUITE_P(ShippedPresets, SelfConsistency,
                          ::testing::Values(Case{"fig2c_periodic_1hz.json", 0.0}, Case{"fig2c_periodic_1hz.json", 0.003},
                                            Case{"fig2a_presliding.json", 0.0}, Case{"fig2a_presliding.json", 0.003},
-                                           Case{"fig2c_periodic_0p1hz.json", 0.003}),
+                                           Case{"fig2c_periodic_0p1hz.json", 0.003},
+                                           // A back-and-forth ramp at one speed, every 8th sample:
+                                           // the viscous term cannot be told from the Coulomb level.
+                                           Case{"fig2a_presliding.json", 0.0, 1500},
+                                           Case{"fig2a_presliding.json", 0.003, 1500},
+                                           // The file's velocity: the model still steps the measured
+                                           // displacement.
+                                           Case{"fig2c_periodic_1hz.json", 0.0, 6000, true}),
                          [](const auto& info) {
                            std::string s = info.param.preset;
                            s = s.substr(0, s.find('.'));
-                           return s + (info.param.noise > 0 ? "_noisy" : "_exact");
+                           return s + (info.param.noise > 0 ? "_noisy" : "_exact") +
+                                  (info.param.samples != 3000 ? "_" + std::to_string(info.param.samples) : "") +
+                                  (info.param.with_v ? "_v" : "");
                          });
 
 }  // namespace
