@@ -196,7 +196,7 @@ PYBIND11_MODULE(_gmslab, m) {
         return k;
       }, "Element column keys, e.g. ['alpha', 'k', 'C']")
       .def("__getitem__", [](const ModelParams& p, const std::string& k) {
-        try { return p.scalar(k); } catch (const std::out_of_range&) {
+        try { return p.scalar(k); } catch (const InputError&) {
           throw py::key_error("friction: no parameter '" + k + "' in model " + p.model);
         }
       })

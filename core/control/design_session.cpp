@@ -207,14 +207,7 @@ const LoopRun& DesignOutputs::compensated() const {
 }
 
 void throw_failure(const DesignOutputs& out) {
-  if (!out.failure_kind) return;
-  switch (*out.failure_kind) {
-    case ErrorKind::Input: throw InputError(out.failure);
-    case ErrorKind::Simulation: throw SimulationError(out.failure);
-    case ErrorKind::Io: throw IoError(out.failure);
-    case ErrorKind::Internal: throw InternalError(out.failure);
-  }
-  throw InternalError(out.failure);
+  if (out.failure_kind) throw_error(*out.failure_kind, out.failure);
 }
 
 namespace {
