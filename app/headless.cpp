@@ -102,10 +102,10 @@ void render_draw_data(const ImDrawData* dd) {
 Offscreen::Offscreen(int width, int height, float font_px) : w_(width), h_(height) {
   gl_buf_.assign(static_cast<std::size_t>(w_) * h_ * 4, 0);
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
-  if (!ctx) throw std::runtime_error("OSMesa: cannot create an offscreen GL context");
+  if (!ctx) throw InternalError("OSMesa: cannot create an offscreen GL context");
   if (!OSMesaMakeCurrent(ctx, gl_buf_.data(), GL_UNSIGNED_BYTE, w_, h_)) {
     OSMesaDestroyContext(ctx);
-    throw std::runtime_error("OSMesa: cannot make the offscreen context current");
+    throw InternalError("OSMesa: cannot make the offscreen context current");
   }
   ctx_ = ctx;
   IMGUI_CHECKVERSION();
@@ -173,7 +173,7 @@ std::string encode_png(int width, int height, const std::vector<unsigned char>& 
     static_cast<std::string*>(ctx)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
   };
   if (!stbi_write_png_to_func(sink, &bytes, width, height, 4, rgba.data(), width * 4))
-    throw std::runtime_error("PNG encoding failed");
+    throw InternalError("PNG encoding failed (" + std::to_string(width) + "x" + std::to_string(height) + ")");
   return bytes;
 }
 
@@ -343,7 +343,9 @@ int render_command(const cli::RenderOptions& o) {
       std::cerr << "identifying " << o.data << " ...\n";
       while (ui::identify_busy(s.identify)) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    if (!ui::identify_error(s.identify).empty()) throw InputError("identification failed: " + ui::identify_error(s.identify));
+    // The run's failure in its own kind: bad records exit 2, a bug 1.
+    if (!ui::identify_error(s.identify).empty())
+      throw_error(s.identify.error_kind, "identification failed: " + ui::identify_error(s.identify));
   }
   if (o.format == "svg") {
     ui::write_figure_svg(simulation_figure(s), w, h, o.out);

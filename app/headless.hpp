@@ -16,7 +16,7 @@ namespace gmslab::app {
 // One OSMesa + ImGui + plot context of a fixed size. Not copyable; one at a time per thread.
 class Offscreen {
  public:
-  // font_px <= 0: scaled with the height (17 px at 1000 px). Throws std::runtime_error when
+  // font_px <= 0: scaled with the height (17 px at 1000 px). Throws InternalError when
   // OSMesa cannot create the context.
   Offscreen(int width, int height, float font_px = 0.0f);
   ~Offscreen();

@@ -47,7 +47,7 @@ int exec_headless(std::vector<std::string> args) {
     execvp(exe.c_str(), argv.data());
   std::fprintf(stderr, "gmslab: cannot run %s: %s (build the gmslab-headless target)\n", exe.c_str(),
                std::strerror(errno));
-  return 127;
+  return gmslab::cli::kExitCannotStart;
 }
 
 #ifndef GMSLAB_PYTHON_FROM_BIN
@@ -82,7 +82,7 @@ int exec_sweep(int argc, char** argv) {
   std::fflush(nullptr);
   execvp(py.c_str(), av.data());
   std::fprintf(stderr, "gmslab sweep: cannot run python3: %s (Debian: python3-distributed)\n", std::strerror(errno));
-  return 127;
+  return gmslab::cli::kExitCannotStart;
 }
 
 bool has_display() {

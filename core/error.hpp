@@ -1,5 +1,6 @@
-// gmslab core: typed errors. Every failure is one of four kinds, and the command line maps the
-// kind to its exit code (README: 2 bad input, 3 the simulation diverged, 1 any other failure).
+// gmslab core: typed errors. Every failure is one of five kinds, and the command line maps the
+// kind to its exit code (README: 2 bad input, 3 the simulation diverged, 130 cancelled, 1 any other
+// failure).
 //
 // Every loader and validator throws InputError with a message that names *where* (file, line,
 // key path) and *what would be accepted*, so a user can fix the input without reading the code.
@@ -16,6 +17,7 @@ enum class ErrorKind {
   Simulation,  // a simulation that cannot go on (non-finite state, energy growing)
   Io,          // a file that cannot be written (or a folder created): disk, permissions
   Internal,    // a bug: an invariant of the program does not hold
+  Cancelled,   // a run stopped on request (an identification's cancel flag)
 };
 
 class Error : public std::runtime_error {
@@ -50,17 +52,32 @@ class InternalError : public Error {
   explicit InternalError(const std::string& what) : Error(ErrorKind::Internal, what) {}
 };
 
-// The command line's exit code for a failure of this kind: Input 2, Simulation 3, Io and
-// Internal 1 (an exception that is not an Error counts as Internal).
+// Raises an Error of kind k with this message (InputError, SimulationError, IoError, InternalError;
+// Error itself for Cancelled).
+[[noreturn]] inline void throw_error(ErrorKind k, const std::string& what) {
+  switch (k) {
+    case ErrorKind::Input: throw InputError(what);
+    case ErrorKind::Simulation: throw SimulationError(what);
+    case ErrorKind::Io: throw IoError(what);
+    case ErrorKind::Internal: throw InternalError(what);
+    case ErrorKind::Cancelled: throw Error(ErrorKind::Cancelled, what);
+  }
+  throw InternalError(what);
+}
+
+// The command line's exit code for a failure of this kind: Input 2, Simulation 3, Cancelled 130 (as
+// a shell reports a command stopped by Ctrl-C), Io and Internal 1 (an exception that is not an
+// Error counts as Internal).
 constexpr int exit_code(ErrorKind k) {
-  return k == ErrorKind::Input ? 2 : k == ErrorKind::Simulation ? 3 : 1;
+  return k == ErrorKind::Input ? 2 : k == ErrorKind::Simulation ? 3 : k == ErrorKind::Cancelled ? 130 : 1;
 }
 // How the command line introduces the message: "error", "simulation stopped", "cannot write",
-// "internal error".
+// "cancelled", "internal error".
 constexpr const char* error_label(ErrorKind k) {
   return k == ErrorKind::Input        ? "error"
          : k == ErrorKind::Simulation ? "simulation stopped"
          : k == ErrorKind::Io         ? "cannot write"
+         : k == ErrorKind::Cancelled  ? "cancelled"
                                       : "internal error";
 }
 

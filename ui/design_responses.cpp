@@ -13,10 +13,10 @@ namespace gmslab::ui {
 
 namespace {
 void metrics_table(const DesignViewState& d) {
-  const auto& a = d.out.metrics_plain;
-  const auto& b = d.out.metrics_compensated;
+  const auto& a = d.out.plain().metrics;
+  const auto& b = d.out.compensated().metrics;
   ImGui::TextUnformatted("Loop metrics");
-  if (d.out.loop_plain.t.empty() && d.out.loop_compensated.t.empty()) {
+  if (d.out.plain().trace.t.empty() && d.out.compensated().trace.t.empty()) {
     // Nothing was simulated (no compensator, or the loops are switched off): no numbers to show.
     ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("no loop simulated: %s",
@@ -72,7 +72,7 @@ void metrics_table(const DesignViewState& d) {
     return p;
   };
   const control::LimitCycle* pc = predicted(d.out.limit_cycles);
-  const control::LimitCycle* pk = predicted(d.out.limit_cycles_compensated);
+  const control::LimitCycle* pk = predicted(d.out.compensated().limit_cycles);
   const char* help = "velocity describing function of the friction, harmonic balance 1 + H(jw) N(a, w) = 0 with "
                      "H = s G / (1 + Gc G): a sinusoidal velocity never sticks, so this is the threshold cycle "
                      "(larger motions grow) rather than the hunting; with compensation driven by the measured "
@@ -98,7 +98,7 @@ void metrics_table(const DesignViewState& d) {
                         pc->stable ? "" : ": larger motions grow");
   else if (d.out.limit_cycles)
     ImGui::TextDisabled("DF velocity: no cycle predicted");
-  if (d.in.feedforward_source == control::FeedforwardSource::Measured && d.out.limit_cycles_compensated)
+  if (d.in.feedforward_source == control::FeedforwardSource::Measured && d.out.compensated().limit_cycles)
     ImGui::TextDisabled("DF with %s driven by the measured v (F - F_hat): %s", control::to_string(d.in.compensation),
                         !pk ? "no cycle predicted" : pk->stable ? "stable cycle" : "unstable (threshold) cycle");
   ImGui::PopTextWrapPos();
@@ -160,8 +160,8 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   const control::LoopUnits units = control::loop_units(o.source, o.port);
   const float gap = ImGui::GetStyle().ItemSpacing.y;
   const float h_pos = std::floor(0.55f * (size.y - gap));
-  const auto& a = o.loop_plain;
-  const auto& b = o.loop_compensated;
+  const auto& a = o.plain().trace;
+  const auto& b = o.compensated().trace;
   const std::string comp = std::string(control::to_string(d.in.compensation)) + " feedforward" +
                            (d.in.feedforward_source == control::FeedforwardSource::Measured ? " (measured v)" : "");
   ImGui::BeginGroup();
@@ -178,8 +178,8 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size) {
   ne.legend = false;
   if (BeginPlot("##design_error", ImVec2(w, size.y - h_pos - gap), ne)) {
     SetupAxesSI("t", "s", "e", units.output.c_str());
-    PlotLine("no compensation", a.t.data(), o.error_plain.data(), a.t.size(), {.color = 1, .x_sorted = true});
-    PlotLine(comp.c_str(), b.t.data(), o.error_compensated.data(), b.t.size(), {.color = 2, .x_sorted = true});
+    PlotLine("no compensation", a.t.data(), o.plain().error.data(), a.t.size(), {.color = 1, .x_sorted = true});
+    PlotLine(comp.c_str(), b.t.data(), o.compensated().error.data(), b.t.size(), {.color = 2, .x_sorted = true});
     EndPlot();
   }
   ImGui::EndGroup();

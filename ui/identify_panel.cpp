@@ -95,6 +95,7 @@ void start(IdentifyState& st) {
     } catch (const ident::Cancelled&) {
       std::lock_guard<std::mutex> lock(j->m);
       j->error = "cancelled";
+      j->error_kind = ErrorKind::Cancelled;
     } catch (const std::exception& e) {
       std::lock_guard<std::mutex> lock(j->m);
       j->error = e.what();

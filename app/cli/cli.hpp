@@ -11,6 +11,10 @@
 
 namespace gmslab::cli {
 
+// The exit code when the program a command is handed to cannot be started: gmslab-headless
+// (render, figures) or python3 (sweep), as a shell reports a command it cannot find (README).
+inline constexpr int kExitCannotStart = 127;
+
 struct RenderOptions {
   std::string preset;              // scenario JSON
   std::string out;                 // PNG path

@@ -1,5 +1,5 @@
 // gmslab design: phase-lead design with the largest reachable error constant
-// (shared/reference/phase_lead_design.md), for typed plant coefficients or a scenario's plant.
+// for typed plant coefficients or a scenario's plant.
 //
 //   gmslab design --num "4" --den "1 2 0" --zeta 0.5 --wn 4 [--K 5] [--max-ratio 20] --json OUT
 //   gmslab design --preset SCENARIO.json --zeta 0.7 --wn 60 [--regime sliding] [--K 1000]
@@ -7,7 +7,8 @@
 //   gmslab design --preset presets/two_mass_drive.json --drive motor_force --output x.load ...
 // The plant comes from core/control/design_plant.hpp (the Design tab's function): typed
 // coefficients, a v1 scenario's one body, or an assembled plant (schema 2, or a v1 preset with
-// --drive / --output) from a drive to an output; --simulate then runs the loop on that plant.
+// --drive / --output) from a drive to an output. The design, its JSON and --simulate's loops are
+// the design job's (core/control/design_report.hpp: the Design view's compute_design).
 // OUT may be '-' (stdout). Without --K the design is the usable maximum (p/z = --max-ratio).
 #include <cmath>
 #include <iostream>
@@ -16,11 +17,8 @@
 #include <sstream>
 
 #include "app/cli/cli.hpp"
-#include "core/control/design_json.hpp"
-#include "core/control/design_plant_json.hpp"
-#include "core/control/design_session.hpp"
+#include "core/control/design_report.hpp"
 #include "core/control/scenario_plant.hpp"
-#include "core/control/typed_compensator.hpp"
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
@@ -58,43 +56,6 @@ Signal reference_signal(const Opts& o) {
     return Signal::sine(0.0, o.amplitude, o.frequency);
   }
   throw InputError("--reference '" + o.reference + "': expected step, ramp or sine");
-}
-
-// The loop on the plant the design was for: the scenario's one body or the assembled plant.
-struct LoopPlant {
-  const Scenario* scenario = nullptr;
-  const AssemblyScenario* assembly = nullptr;
-  AssemblyPort port;
-  double dt() const { return assembly ? assembly->run.dt : scenario->run.dt; }
-  LoopTrace run(const LoopConfig& c) const { return assembly ? simulate_loop(*assembly, port, c) : simulate_loop(*scenario, c); }
-};
-
-nlohmann::json simulate(const LoopPlant& sc, const Opts& o, const LeadCompensator& C) {
-  std::vector<Compensation> comps;
-  if (o.compensation == "all") comps = {Compensation::None, Compensation::Coulomb, Compensation::Gms};
-  else comps = {compensation_from_string(o.compensation)};
-  nlohmann::json out = nlohmann::json::array();
-  for (Compensation c : comps) {
-    LoopConfig cfg;
-    cfg.reference = reference_signal(o);
-    cfg.C = C;
-    cfg.sample_time = o.T;
-    cfg.comp = c;
-    cfg.feedforward_source = *feedforward_source_from_string(o.feedforward);
-    cfg.mismatch = {o.mm_force, o.mm_stiffness, o.mm_velocity};
-    cfg.dt = o.dt > 0.0 ? o.dt : sc.dt();
-    cfg.duration = o.duration;
-    nlohmann::json j = to_json(loop_metrics(sc.run(cfg)));
-    j["compensation"] = to_string(c);
-    if (c != Compensation::None) j["feedforward_source"] = o.feedforward;
-    // Driven by the measured velocity, the compensated loop's nonlinearity is F - F_hat: its
-    // describing-function prediction (the view's compensated column; one-body plants).
-    if (c != Compensation::None && cfg.feedforward_source == FeedforwardSource::Measured && sc.scenario && !sc.assembly)
-      j["limit_cycles"] = to_json(predict_limit_cycles(compensated_friction(sc.scenario->friction, c, cfg.mismatch),
-                                                       sc.scenario->plant, C));
-    out.push_back(j);
-  }
-  return out;
 }
 
 // Short numbers for the summary (6 significant digits; "n/a" for null).
@@ -177,82 +138,51 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
 }
 
 int run_design(const Opts& o) {
-  nlohmann::json plant;
-  std::optional<Scenario> sc;
-  std::optional<AssemblyScenario> asc;
-  PlantChoice choice;
-  const Regime regime = regime_from_string(o.regime);
+  DesignRequest req;
   if (!o.preset.empty()) {
     if (!o.num.empty() || !o.den.empty())
       throw InputError("give either --preset or --num/--den, not both");
     const bool assembled = preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2;
     if (assembled || !o.drive.empty() || !o.output.empty()) {
       // An assembled plant; a v1 preset with --drive / --output as its one-body assembly.
-      asc = load_assembly_scenario(o.preset);
-      choice.source = PlantSource::Assembly;
-      choice.drive = o.drive;
-      choice.output = o.output;
+      req.assembly = load_assembly_scenario(o.preset);
+      req.plant.source = PlantSource::Assembly;
+      req.plant.drive = o.drive;
+      req.plant.output = o.output;
     } else {
-      sc = load_scenario(o.preset);
+      req.scenario = load_scenario(o.preset);
     }
   } else {
     if (o.num.empty() || o.den.empty())
       throw InputError("give the plant as --num and --den (coefficients, highest power first), "
                        "or --preset SCENARIO.json");
     typed_plant(o.num, o.den, "--num", "--den");  // the errors name the options
-    choice.source = PlantSource::Typed;
-    choice.num = o.num;
-    choice.den = o.den;
+    req.plant.source = PlantSource::Typed;
+    req.plant.num = o.num;
+    req.plant.den = o.den;
   }
-  const DesignPlant dp = design_plant(choice, regime, o.velocity, sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
-  const TransferFunction g = dp.linear.g;
-  plant = plant_json(dp, o.preset, o.velocity);
-  if (o.simulate && !sc && !asc) throw InputError("--simulate needs --preset (the friction to simulate with)");
-
-  const DesignResult d = design_report(g, {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin}, o.T);
-  const LeadReport& r = d.report;
-  const auto& chosen = d.chosen;
-  nlohmann::json j = d.json;
-  j["plant"] = plant;
-  if (sc && chosen) {  // the friction's describing function: limit cycles of the loop without compensation
-    const LeadDesign& ld = chosen->second;
-    j["limit_cycles"] = limit_cycles_json(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p});
+  req.source = o.preset;
+  req.regime = regime_from_string(o.regime);
+  req.velocity = o.velocity;
+  if (o.simulate && !req.scenario && !req.assembly)
+    throw InputError("--simulate needs --preset (the friction to simulate with)");
+  req.root = {o.zeta, o.wn};
+  req.K = o.K;
+  req.options = {o.max_ratio, o.margin};
+  req.sample_time = o.T;
+  if (!o.compensator.empty()) req.compensator = compensator_type_from_string(o.compensator);
+  req.lag_K = o.lag_K;
+  req.lag_zero_fraction = o.lag_zero_fraction;
+  if (o.simulate) {
+    req.simulate = true;
+    req.reference = reference_signal(o);
+    if (o.compensation == "all") req.compensations = {Compensation::None, Compensation::Coulomb, Compensation::Gms};
+    else req.compensations = {compensation_from_string(o.compensation)};
+    req.feedforward_source = *feedforward_source_from_string(o.feedforward);
+    req.mismatch = {o.mm_force, o.mm_stiffness, o.mm_velocity};
+    req.timing = {o.duration, o.dt, LoopConfig{}.record_every};
   }
-  if (o.lag_K) {  // a lag after the chosen lead: the error constant it buys and what it costs
-    if (!chosen) throw InputError("--lag-K: no lead design to add a lag to (" + r.limits.reason + ")");
-    const LeadDesign& ld = chosen->second;
-    const LeadLagDesign ll = design_lead_lag(g, {ld.Kc, ld.z, ld.p}, {o.zeta, o.wn}, *o.lag_K, o.lag_zero_fraction);
-    const TransferFunction c = ll.tf();
-    nlohmann::json pj = nlohmann::json::array();
-    for (const cplx& p : ll.closed_loop_poles) pj.push_back({p.real(), p.imag()});
-    j["lead_lag"] = {{"zl", ll.zl}, {"pl", ll.pl}, {"K_lead", ll.K_lead}, {"K", ll.K},
-                     {"lag_angle_deg", ll.lag_angle_deg}, {"closed_loop_poles", pj},
-                     {"dominant", {ll.dominant.real(), ll.dominant.imag()}},
-                     {"slow_pole", {ll.slow_pole.real(), ll.slow_pole.imag()}},
-                     {"slow_time_constant_s", ll.time_constant},
-                     {"num", c.num.descending_coeffs()}, {"den", c.den.descending_coeffs()}};
-    // The two-section compensator for export (MATLAB / python-control code, sections).
-    j["lead_lag"]["compensator"] = compensator_json(LeadCompensator{ld.Kc, ld.z, ld.p, Section{ll.zl, ll.pl}});
-  }
-  std::optional<TypedCompensator> typed;
-  if (!o.compensator.empty()) {  // the Design view's compensator of that type (compute_design)
-    typed = typed_compensator(typed_design_inputs(choice, regime, o.velocity, sc ? &*sc : nullptr, asc ? &*asc : nullptr,
-                                                  {o.zeta, o.wn}, o.K, {o.max_ratio, o.margin},
-                                                  *compensator_type_from_string(o.compensator), o.T));
-    j["typed_compensator"] = typed->json;
-  }
-  if (o.simulate) {  // the --compensator's compensator, else the lead
-    std::optional<LeadCompensator> C;
-    if (typed) {
-      if (!typed->outputs.compensator)
-        throw InputError("--simulate: no " + o.compensator + " compensator to simulate (" + typed->outputs.error + ")");
-      C = typed->outputs.compensator;
-    } else {
-      if (!chosen) throw InputError("--simulate: no design to simulate (" + r.limits.reason + ")");
-      C = LeadCompensator{chosen->second.Kc, chosen->second.z, chosen->second.p};
-    }
-    j["simulation"] = simulate(LoopPlant{sc ? &*sc : nullptr, asc ? &*asc : nullptr, dp.port}, o, *C);
-  }
+  const nlohmann::json j = design_report(req).json;
   const std::string text = j.dump(2) + "\n";
   if (o.json == "-") {
     std::cout << text;

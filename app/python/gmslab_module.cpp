@@ -17,12 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "core/control/design_json.hpp"
+#include "core/control/design_report.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/assembly_io.hpp"
-#include "core/control/design_plant_json.hpp"
-#include "core/control/typed_compensator.hpp"
 #include "core/control/polynomial.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/control/scenario_plant.hpp"
@@ -198,7 +196,7 @@ PYBIND11_MODULE(_gmslab, m) {
         return k;
       }, "Element column keys, e.g. ['alpha', 'k', 'C']")
       .def("__getitem__", [](const ModelParams& p, const std::string& k) {
-        try { return p.scalar(k); } catch (const std::out_of_range&) {
+        try { return p.scalar(k); } catch (const InputError&) {
           throw py::key_error("friction: no parameter '" + k + "' in model " + p.model);
         }
       })
@@ -368,24 +366,22 @@ PYBIND11_MODULE(_gmslab, m) {
       type = control::compensator_type_from_string(*compensator);
       if (!type) throw InputError("compensator '" + *compensator + "': expected lead, lag, lead_lag, pi or pid");
     }
-    // The plant as `gmslab design` builds it (control::design_plant, control::plant_json).
-    control::PlantChoice choice;
-    std::optional<Scenario> sc;
-    std::optional<AssemblyScenario> asc;
-    std::string source;
+    // The request as `gmslab design` builds it (control::design_report: the design job and its JSON).
+    control::DesignRequest req;
+    control::PlantChoice& choice = req.plant;
     if (!scenario.is_none()) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
       const bool path = !py::isinstance<Scenario>(scenario);  // str, os.PathLike or a preset name
-      source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
-      const bool assembled = path && preset_schema_version(parse_json(read_file(source), source)) == 2;
+      req.source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
+      const bool assembled = path && preset_schema_version(parse_json(read_file(req.source), req.source)) == 2;
       if (assembled || !drive.empty() || !output.empty()) {
-        asc = path ? load_assembly_scenario(source) : assembly_from_scenario(scenario.cast<Scenario>());
+        req.assembly = path ? load_assembly_scenario(req.source) : assembly_from_scenario(scenario.cast<Scenario>());
         choice.source = control::PlantSource::Assembly;
         choice.drive = drive;
         choice.output = output;
       } else {
-        sc = scenario_arg(scenario);
-        if (!path) source = sc->name;
+        req.scenario = scenario_arg(scenario);
+        if (!path) req.source = req.scenario->name;
       }
     } else {
       if (!num || !den) throw InputError("give the plant as num and den (coefficients, highest power first), or scenario");
@@ -399,27 +395,19 @@ PYBIND11_MODULE(_gmslab, m) {
       choice.num = text(*num);
       choice.den = text(*den);
     }
-    const control::DesignPlant dp = control::design_plant(choice, control::regime_from_string(regime), velocity,
-                                                          sc ? &*sc : nullptr, asc ? &asc->plant : nullptr);
-    const control::TransferFunction g = dp.linear.g;
-    const nlohmann::json plant = control::plant_json(dp, source, velocity);
-    auto d = control::design_report(g, {zeta, wn}, K, {max_ratio, margin}, sample_time);
-    d.json["plant"] = plant;
-    if (sc) {  // as `gmslab design --preset`: the lead loop's describing-function limit cycles
-      if (d.chosen) {
-        const control::LeadDesign& ld = d.chosen->second;
-        d.json["limit_cycles"] = control::limit_cycles_json(sc->plant, sc->friction, {ld.Kc, ld.z, ld.p});
-      }
-    }
-    if (type) {  // the Design view's compensator of that type (`gmslab design --compensator`)
+    req.regime = control::regime_from_string(regime);
+    req.velocity = velocity;
+    req.root = {zeta, wn};
+    req.K = K;
+    req.options = {max_ratio, margin};
+    req.sample_time = sample_time;
+    req.compensator = type;
+    nlohmann::json json;
+    {
       py::gil_scoped_release release;
-      d.json["typed_compensator"] =
-          control::typed_compensator(control::typed_design_inputs(choice, control::regime_from_string(regime), velocity,
-                                                                  sc ? &*sc : nullptr, asc ? &*asc : nullptr, {zeta, wn},
-                                                                  K, {max_ratio, margin}, *type, sample_time))
-              .json;
+      json = control::design_report(req).json;
     }
-    py::object out = to_py(d.json);
+    py::object out = to_py(json);
     complex_roots(out);
     return out;
   }, py::arg("zeta"), py::arg("wn"), py::arg("num") = py::none(), py::arg("den") = py::none(),

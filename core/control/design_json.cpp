@@ -1,7 +1,6 @@
 #include "core/control/design_json.hpp"
 
 #include "core/control/discrete.hpp"
-#include "core/friction/model.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -155,13 +154,6 @@ nlohmann::json to_json(const LimitCycleReport& r) {
   return {{"cycles", a}, {"note", r.note}};
 }
 
-nlohmann::json limit_cycles_json(const Plant& plant, const ModelParams& friction, const LeadCompensator& c) {
-  const auto fm = build_model(friction);
-  nlohmann::json j = to_json(predict_limit_cycles(stepped(*fm), plant, c));
-  j["hunting"] = to_json(predict_hunting(plant, friction, c));
-  return j;
-}
-
 nlohmann::json to_json(const HuntingReport& r) {
   nlohmann::json a = nlohmann::json::array();
   for (const HuntingCycle& c : r.cycles)
@@ -217,53 +209,6 @@ nlohmann::json to_json(const LoopMetrics& m) {
           {"hunting", m.hunting},
           {"cycle_amplitude_m", num(m.cycle_amplitude)},
           {"cycle_period_s", num(m.cycle_period)}};
-}
-
-namespace {
-std::optional<std::pair<std::string, LeadDesign>> chosen_design(const LeadReport& r) {
-  if (r.design) return std::pair{std::string("requested"), *r.design};
-  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
-  if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
-  return std::nullopt;
-}
-}  // namespace
-
-DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
-                           const LeadOptions& options, double sample_time) {
-  DesignResult out{lead_design(g, root, K, options), std::nullopt, {}};
-  const LeadReport& r = out.report;
-  nlohmann::json& j = out.json;
-  j = to_json(r);
-  j["max_ratio"] = options.max_ratio;
-  out.chosen = chosen_design(r);
-  if (out.chosen) {
-    j["design_kind"] = out.chosen->first;
-    if (!r.design) {  // report the chosen design at the top level too
-      j["z"] = out.chosen->second.z, j["p"] = out.chosen->second.p, j["Kc"] = out.chosen->second.Kc;
-      j["K"] = out.chosen->second.K;
-      j["closed_loop_poles"] = poles_json(out.chosen->second.closed_loop_poles);
-    }
-  }
-  const auto& chosen = out.chosen;
-  {  // frequency responses of the chosen design's loop (the plant's own when there is none)
-    TransferFunction L = g;
-    if (chosen) {
-      const LeadDesign& d = chosen->second;
-      L = {g.num * Poly({d.Kc * d.z, d.Kc}), g.den * Poly({d.p, 1.0})};
-    }
-    j["frequency"] = to_json(frequency_response(L));
-    j["frequency"]["loop"] = chosen ? "compensated" : "plant";
-    if (chosen) j["compensator"] = compensator_json({chosen->second.Kc, chosen->second.z, chosen->second.p});
-    if (chosen && sample_time > 0.0) {  // the sampled loop: Tustin controller, ZOH plant
-      const LeadDesign& d = chosen->second;
-      const TransferFunction Lz = sampled_loop(g, d.z, d.p, sample_time);
-      j["frequency"]["discrete"] = to_json(discrete_frequency_response({Lz.num * d.Kc, Lz.den}, sample_time));
-      LocusOptions zo;
-      zo.extra_gains = {d.Kc};
-      j["z_locus"] = to_json(z_root_locus(Lz, sample_time, zo), d.Kc);
-    }
-  }
-  return out;
 }
 
 }  // namespace gmslab::control

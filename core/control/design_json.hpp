@@ -1,4 +1,5 @@
-// gmslab core/control: JSON form of a lead design report and of loop metrics (the CLI's output).
+// gmslab core/control: JSON form of a lead design report, its frequency responses, limit cycles,
+// compensator and loop metrics (the parts of core/control/design_report.hpp's JSON).
 // Non-finite numbers (K_max where no lead applies, NaN metrics) are written as null.
 // Keys: applicable, reason, phi_deg, beta_deg, s_d [re, im], type, constant ("Kp"/"Kv"/"Ka"),
 // K0, M, K_max, K_max_usable, max_ratio, pd_limit {Kd, z}, usable_design {z, p, Kc, K},
@@ -10,7 +11,6 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <utility>
 
 #include "core/control/describing_function.hpp"
 #include "core/control/discrete.hpp"
@@ -44,9 +44,6 @@ nlohmann::json to_json(const LimitCycleReport& r);
 // peak-to-peak of x), first_harmonic_m, waveform_error, phase_residual_deg, stable, converged, valid}], wave,
 // break_away_N, integral_gain_N_per_m_s, waveform_error_limit, note.
 nlohmann::json to_json(const HuntingReport& r);
-// The limit cycles of the loop of `c` around `plant` with `friction` (no compensation), as the
-// CLI and Python report them: the velocity-DF cycles with the stick-slip hunting under "hunting".
-nlohmann::json limit_cycles_json(const Plant& plant, const ModelParams& friction, const LeadCompensator& c);
 // The compensator Kc prod_i (s + z_i) / (s + p_i) for export: {"num": Kc prod (s + z_i), "den":
 // prod (s + p_i) (highest power first; one section: [Kc, Kc z], [1, p]), "Kc", "z", "p" (the first
 // section), "sections": [{z, p}, ...], "matlab": "C = tf([...], [...]);", "python": "C =
@@ -55,20 +52,5 @@ nlohmann::json limit_cycles_json(const Plant& plant, const ModelParams& friction
 nlohmann::json compensator_json(const LeadCompensator& c);
 std::string compensator_matlab(const LeadCompensator& c);
 std::string compensator_python(const LeadCompensator& c);
-
-// The design `gmslab design` reports (and Python's gmslab.design): lead_design() for plant g, its
-// JSON (to_json) with "max_ratio" and the chosen design: the requested one, the best relocation,
-// or the usable maximum ("design_kind"; a design that is not the requested one is also written at
-// the top level: z, p, Kc, K, closed_loop_poles). Throws InputError for a bad root or K.
-struct DesignResult {
-  LeadReport report;
-  std::optional<std::pair<std::string, LeadDesign>> chosen;  // kind, design
-  nlohmann::json json;
-};
-// Also "frequency" (margins, bandwidth, Nyquist of the chosen design's loop, else the plant's own;
-// "frequency.loop" says which), "compensator" (exported coefficients), and with sample_time > 0
-// "frequency.discrete" (Tustin controller, ZOH plant).
-DesignResult design_report(const TransferFunction& g, const DominantRoot& root, std::optional<double> K,
-                           const LeadOptions& options, double sample_time = 0.0);
 
 }  // namespace gmslab::control

@@ -59,16 +59,19 @@ std::optional<GainPoint> gain_on_damping_ray(const TransferFunction& g, const Do
   return best;
 }
 
+std::optional<std::pair<std::string, LeadDesign>> chosen_lead(const LeadReport& r) {
+  if (r.design) return std::pair{std::string("requested"), *r.design};
+  if (const Relocation* rel = best_relocation(r)) return std::pair{"relocated:" + rel->path, rel->design};
+  if (!r.K_des && r.usable_design) return std::pair{std::string("usable_maximum"), *r.usable_design};
+  return std::nullopt;
+}
+
 namespace {
 // The lead of the chosen design (requested, relocated, usable maximum) and its kind.
 std::optional<std::pair<LeadCompensator, std::string>> lead_choice(const LeadReport& r) {
-  if (r.design) return std::pair{LeadCompensator{r.design->Kc, r.design->z, r.design->p}, std::string("requested")};
-  if (const Relocation* rel = best_relocation(r))
-    return std::pair{LeadCompensator{rel->design.Kc, rel->design.z, rel->design.p}, "relocated:" + rel->path};
-  if (!r.K_des && r.usable_design)
-    return std::pair{LeadCompensator{r.usable_design->Kc, r.usable_design->z, r.usable_design->p},
-                     std::string("usable_maximum")};
-  return std::nullopt;
+  const auto c = chosen_lead(r);
+  if (!c) return std::nullopt;
+  return std::pair{LeadCompensator{c->second.Kc, c->second.z, c->second.p}, c->first};
 }
 
 void choose(const DesignInputs& in, DesignOutputs& out) {
@@ -98,7 +101,8 @@ void choose(const DesignInputs& in, DesignOutputs& out) {
       const LeadCompensator lead{u.Kc, u.z, u.p};
       const double K_lead = u.Kc * u.z / u.p * K0;
       const double target = in.K ? *in.K : in.lag_factor * K_lead;
-      const LeadLagDesign ll = design_lead_lag(out.plant.g, lead, in.root, target);
+      const LeadLagDesign ll = design_lead_lag(out.plant.g, lead, in.root, target, in.lag_zero_fraction);
+      out.lead_lag = ll;
       LeadCompensator c = lead;
       c.second = Section{ll.zl, ll.pl};
       out.compensator = c;
@@ -188,28 +192,215 @@ LeadLagDesign design_lead_lag(const TransferFunction& g, const LeadCompensator& 
   return d;
 }
 
+const LoopRun& DesignOutputs::plain() const {
+  static const LoopRun none;
+  for (const LoopRun& r : loops)
+    if (r.compensation == Compensation::None) return r;
+  return none;
+}
+
+const LoopRun& DesignOutputs::compensated() const {
+  static const LoopRun none;
+  for (const LoopRun& r : loops)
+    if (r.compensation != Compensation::None) return r;
+  return none;
+}
+
+void throw_failure(const DesignOutputs& out) {
+  if (out.failure_kind) throw_error(*out.failure_kind, out.failure);
+}
+
+namespace {
+void record_failure(DesignOutputs& out, const std::string& stage, const Error& e) {
+  out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
+  out.error_kind = e.kind();
+  if (!out.failure_kind) out.failure = e.what(), out.failure_kind = e.kind();
+}
+
+// The plant G(s), its source and label.
+void plant_stage(const DesignInputs& in, DesignOutputs& out) {
+  const Assembly* assembly = in.assembly ? &in.assembly->plant : nullptr;
+  const DesignPlant dp = design_plant(in.plant, in.regime, in.velocity, &in.scenario, assembly);
+  out.plant = dp.linear;
+  out.source = dp.source;
+  out.plant_label = dp.label;
+  out.port = dp.port;
+  if (out.source == PlantSource::Typed)
+    out.loop_note = "typed plant: no friction and no scenario to simulate, so no loop with friction and no "
+                    "describing function; the linear closed-loop step is the typed plant's with the compensator";
+}
+
+// The lead report and the compensator of the chosen type; with lag_K, the lag after the chosen lead.
+void design_stage(const DesignInputs& in, DesignOutputs& out) {
+  out.report = lead_design(out.plant.g, in.root, in.K, in.options);
+  choose(in, out);
+  if (!in.lag_K) return;
+  const auto lead = chosen_lead(*out.report);
+  if (!lead) return;  // nothing to add a lag to: the report says why
+  const LeadDesign& ld = lead->second;
+  out.lead_lag = design_lead_lag(out.plant.g, {ld.Kc, ld.z, ld.p}, in.root, *in.lag_K, in.lag_zero_fraction);
+}
+
+// The closed-loop poles, dominance and lag cost of the compensator, and the points the locus view
+// must show.
+std::vector<cplx> closed_loop_stage(const DesignInputs& in, DesignOutputs& out, LocusOptions& lo) {
+  const cplx focus = out.gain_point ? out.gain_point->s : in.root.s();  // lag / PI: where Kc alone puts the pole
+  std::vector<cplx> pts = {focus, 2.0 * focus.real()};
+  auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(focus); };
+  double reach = std::abs(focus);
+  for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
+  // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
+  // shrink the region where the locus bends to a dot: left to the user's zoom.
+  for (const cplx& s : out.plant.g.zeros())
+    if (std::abs(s) <= 4.0 * reach) pts.push_back(s);
+  out.loop = out.plant.g;
+  if (!out.compensator) return pts;
+  const LeadCompensator& c = *out.compensator;
+  out.loop = {out.plant.g.num * c.num_poly(), out.plant.g.den * c.den_poly()};
+  lo.extra_gains = {c.Kc};
+  out.closed_loop_poles = closed_loop_poles(out.loop, c.Kc);
+  const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
+  DominantRoot target = out.compensator_kind.find("relocated:") != std::string::npos && rel ? rel->root : in.root;
+  if (out.gain_point) target.wn = std::abs(out.gain_point->s);
+  if (out.report) out.dominance = check_dominance(out.plant.g, target, c, out.closed_loop_poles);
+  if (out.gain_point) {  // a lag zero sits near the origin on purpose: its cost is out.lag's slow pole
+    auto& n = out.dominance.notes;
+    n.erase(std::remove_if(n.begin(), n.end(),
+                           [](const std::string& t) { return t.rfind("the compensator zero", 0) == 0; }),
+            n.end());
+  }
+  if (out.gain_point && !in.manual) {
+    const double w = std::abs(out.gain_point->s);
+    if (w < 0.5 * in.root.wn || w > 2.0 * in.root.wn)
+      out.dominance.notes.insert(out.dominance.notes.begin(),
+                                 "the gain alone reaches zeta = " + std::to_string(in.root.zeta).substr(0, 4) +
+                                     " only at wn = " + std::to_string(w).substr(0, 7) + " rad/s (desired " +
+                                     std::to_string(in.root.wn).substr(0, 7) +
+                                     "): a lag or PI cannot move the poles there; a lead or lead-lag can");
+  }
+  for (double z : c.zeros()) pts.emplace_back(-z, 0.0);
+  for (double p : c.poles())
+    if (near(-p)) pts.emplace_back(-p, 0.0);
+  for (const cplx& p : out.closed_loop_poles)
+    if (near(p)) pts.push_back(p);
+  const Section last = c.section(c.sections() - 1);
+  if (last.z > last.p && out.report) out.lag = lag_cost(out.report->type, c, out.closed_loop_poles);
+  return pts;
+}
+
+// The drawn loci: the loop's, the 0-degree one, the other regime's.
+void locus_stage(const DesignInputs& in, DesignOutputs& out, LocusOptions lo, const std::vector<cplx>& pts) {
+  // Refine over a box 2.5x the shown one (the canvas widens it to its aspect), 0.5 % steps.
+  const ViewBox shown = in.locus_view ? *in.locus_view : view_around(pts);
+  const double cx = 0.5 * (shown.re_min + shown.re_max), hw = 1.25 * shown.width();
+  const double cy = 0.5 * (shown.im_min + shown.im_max), hh = 1.25 * shown.height();
+  lo.view = ViewBox{cx - hw, cx + hw, cy - hh, cy + hh};
+  lo.max_jump = 0.005;
+  out.locus = root_locus(out.loop, lo);
+  out.locus.view = shown;
+  if (in.zero_degree) {
+    LocusOptions neg = lo;
+    neg.negative = true;
+    neg.extra_gains.clear();
+    out.zero_degree_locus = root_locus(out.loop, neg);
+  }
+  if (in.other_regime && out.source != PlantSource::Typed) {  // a typed plant has no regimes
+    const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
+    const Assembly* assembly = in.assembly ? &in.assembly->plant : nullptr;
+    const TransferFunction g2 = design_plant(in.plant, other, in.velocity, &in.scenario, assembly).linear.g;
+    TransferFunction L2 = g2;
+    if (out.compensator) L2 = {g2.num * out.compensator->num_poly(), g2.den * out.compensator->den_poly()};
+    out.other_locus = root_locus(L2, lo);
+  }
+}
+
+std::vector<Compensation> loop_compensations(const DesignInputs& in) {
+  if (!in.loop_compensations.empty()) return in.loop_compensations;
+  return {Compensation::None, in.compensation};
+}
+
+// The describing-function predictions of a one-body scenario's loops: without compensation, for
+// each loop, and the stick-slip hunting.
+void describing_function_stage(const DesignInputs& in, DesignOutputs& out) {
+  const bool view = in.accuracy == Accuracy::View;
+  const DfOptions df = view ? DfOptions{400, 2} : DfOptions{};
+  const LeadCompensator& C = *out.compensator;
+  const auto fm = build_model(in.scenario.friction);
+  out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, C, 1e-6, 10.0, df);
+  for (LoopRun& run : out.loops)
+    run.limit_cycles = run.compensation != Compensation::None && in.feedforward_source == FeedforwardSource::Measured
+                           ? predict_limit_cycles(compensated_friction(in.scenario.friction, run.compensation,
+                                                                       in.mismatch),
+                                                  in.scenario.plant, C, 1e-6, 10.0, df)
+                           : out.limit_cycles;
+  if (!view)
+    out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, C);
+  else if (integral_split(C))
+    out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, C, view_rate_hunting_options());
+}
+
+// The loop's configuration but for its compensation: the given timing, or a view-rate step of 20000
+// steps over the run, never coarser than 5 % of the stability limit of the stiffest mode (stuck
+// elements + springs + Kc), never finer than the plant's dt.
+LoopConfig loop_config(const DesignInputs& in, const DesignOutputs& out) {
+  LoopConfig cfg;
+  cfg.reference = in.reference;
+  cfg.C = *out.compensator;
+  cfg.sample_time = in.sample_time;
+  cfg.mismatch = in.mismatch;
+  cfg.feedforward_source = in.feedforward_source;
+  const bool assembled = out.source == PlantSource::Assembly;
+  const double dt0 = assembled ? in.assembly->run.dt : in.scenario.run.dt;
+  if (in.loop_timing) {
+    cfg.duration = in.loop_timing->duration;
+    cfg.dt = in.loop_timing->dt > 0.0 ? in.loop_timing->dt : dt0;
+    cfg.record_every = in.loop_timing->record_every;
+    return cfg;
+  }
+  double limit = 0.0;
+  if (assembled) {
+    limit = assembly_loop_dt_limit(in.assembly->plant, out.port.drive, cfg.C.Kc);
+  } else {
+    const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
+    limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
+  }
+  cfg.duration = out.horizon;
+  if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
+    cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
+  // A predicted hunting cycle is slower than the dominant roots: a constant reference runs long
+  // enough to show it (20 predicted periods, at most 30 s: the metrics tail holds 4), so the table
+  // compares like with like.
+  if (in.reference.kind == Signal::Kind::Constant && out.hunting && out.hunting->hunting() && in.horizon == 0.0)
+    cfg.duration = std::max(cfg.duration, std::min(30.0, 20.0 * out.hunting->hunting()->period));
+  cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
+  cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
+  return cfg;
+}
+
+// Each loop with friction, on the scenario's one body or the assembled plant.
+void simulation_stage(const DesignInputs& in, DesignOutputs& out) {
+  LoopConfig cfg = loop_config(in, out);
+  for (LoopRun& run : out.loops) {
+    cfg.comp = run.compensation;
+    run.trace = out.source == PlantSource::Assembly ? simulate_loop(*in.assembly, out.port, cfg)
+                                                    : simulate_loop(in.scenario, cfg);
+    run.metrics = loop_metrics(run.trace);
+    run.error = tracking_error(run.trace);
+  }
+}
+}  // namespace
+
 DesignOutputs compute_design(const DesignInputs& in) {
   DesignOutputs out;
   std::string stage = "plant";
   try {
-    const Assembly* assembly = in.assembly ? &in.assembly->plant : nullptr;
-    {
-      const DesignPlant dp = design_plant(in.plant, in.regime, in.velocity, &in.scenario, assembly);
-      out.plant = dp.linear;
-      out.source = dp.source;
-      out.plant_label = dp.label;
-      out.port = dp.port;
-    }
-    if (out.source == PlantSource::Typed)
-      out.loop_note = "typed plant: no friction and no scenario to simulate, so no loop with friction and no "
-                      "describing function; the linear closed-loop step is the typed plant's with the compensator";
+    plant_stage(in, out);
     try {  // a failed design still leaves the plant's own locus to draw
-      out.report = lead_design(out.plant.g, in.root, in.K, in.options);
-      choose(in, out);
+      design_stage(in, out);
     } catch (const Error& e) {  // typed (bad design inputs): reported; anything else is a bug
-      out.error = std::string("design: ") + e.what();
-      out.error_kind = e.kind();
+      record_failure(out, "design", e);
       out.report.reset();
+      out.lead_lag.reset();
       if (in.manual) out.compensator = in.manual, out.compensator_kind = "manual";
     }
     // Lag / PI: the loop's speed is the gain point's (Kc alone), not s_d's.
@@ -217,73 +408,8 @@ DesignOutputs compute_design(const DesignInputs& in) {
     out.horizon = in.horizon > 0.0 ? in.horizon : std::clamp(10.0 / sigma, 0.01, 20.0);
     stage = "root locus";
     LocusOptions lo;
-    TransferFunction L = out.plant.g;
-    const cplx sd = in.root.s();
-    const cplx focus = out.gain_point ? out.gain_point->s : sd;  // lag / PI: where Kc alone puts the pole
-    std::vector<cplx> pts = {focus, 2.0 * focus.real()};
-    auto near = [&](cplx s) { return std::abs(s) <= 4.0 * std::abs(focus); };
-    double reach = std::abs(focus);
-    for (const cplx& s : out.plant.g.poles()) pts.push_back(s), reach = std::max(reach, std::abs(s));
-    // A plant zero far beyond s_d and every pole (an assembled train's damper zero -k/c) would
-    // shrink the region where the locus bends to a dot: left to the user's zoom.
-    for (const cplx& s : out.plant.g.zeros())
-      if (std::abs(s) <= 4.0 * reach) pts.push_back(s);
-    if (out.compensator) {
-      const LeadCompensator& c = *out.compensator;
-      L = {out.plant.g.num * c.num_poly(), out.plant.g.den * c.den_poly()};
-      lo.extra_gains = {c.Kc};
-      out.closed_loop_poles = closed_loop_poles(L, c.Kc);
-      const Relocation* rel = out.report ? best_relocation(*out.report) : nullptr;
-      DominantRoot target = out.compensator_kind.find("relocated:") != std::string::npos && rel ? rel->root : in.root;
-      if (out.gain_point) target.wn = std::abs(out.gain_point->s);
-      if (out.report)
-        out.dominance = check_dominance(out.plant.g, target, c, out.closed_loop_poles);
-      if (out.gain_point) {  // a lag zero sits near the origin on purpose: its cost is out.lag's slow pole
-        auto& n = out.dominance.notes;
-        n.erase(std::remove_if(n.begin(), n.end(),
-                               [](const std::string& t) { return t.rfind("the compensator zero", 0) == 0; }),
-                n.end());
-      }
-      if (out.gain_point && !in.manual) {
-        const double w = std::abs(out.gain_point->s);
-        if (w < 0.5 * in.root.wn || w > 2.0 * in.root.wn)
-          out.dominance.notes.insert(out.dominance.notes.begin(),
-                                     "the gain alone reaches zeta = " + std::to_string(in.root.zeta).substr(0, 4) +
-                                         " only at wn = " + std::to_string(w).substr(0, 7) + " rad/s (desired " +
-                                         std::to_string(in.root.wn).substr(0, 7) +
-                                         "): a lag or PI cannot move the poles there; a lead or lead-lag can");
-      }
-      for (double z : c.zeros()) pts.emplace_back(-z, 0.0);
-      for (double p : c.poles())
-        if (near(-p)) pts.emplace_back(-p, 0.0);
-      for (const cplx& p : out.closed_loop_poles)
-        if (near(p)) pts.push_back(p);
-      const Section last = c.section(c.sections() - 1);
-      if (last.z > last.p && out.report) out.lag = lag_cost(out.report->type, c, out.closed_loop_poles);
-    }
-    // Refine over a box 2.5x the shown one (the canvas widens it to its aspect), 0.5 % steps.
-    const ViewBox shown = in.locus_view ? *in.locus_view : view_around(pts);
-    const double cx = 0.5 * (shown.re_min + shown.re_max), hw = 1.25 * shown.width();
-    const double cy = 0.5 * (shown.im_min + shown.im_max), hh = 1.25 * shown.height();
-    lo.view = ViewBox{cx - hw, cx + hw, cy - hh, cy + hh};
-    lo.max_jump = 0.005;
-    out.loop = L;
-    out.locus = root_locus(L, lo);
-    out.locus.view = shown;
-    if (in.zero_degree) {
-      LocusOptions neg = lo;
-      neg.negative = true;
-      neg.extra_gains.clear();
-      out.zero_degree_locus = root_locus(L, neg);
-    }
-    if (in.other_regime && out.source != PlantSource::Typed) {  // a typed plant has no regimes
-      const Regime other = in.regime == Regime::Presliding ? Regime::Sliding : Regime::Presliding;
-      const TransferFunction g2 = design_plant(in.plant, other, in.velocity, &in.scenario, assembly).linear.g;
-      TransferFunction L2 = g2;
-      if (out.compensator)
-        L2 = {g2.num * out.compensator->num_poly(), g2.den * out.compensator->den_poly()};
-      out.other_locus = root_locus(L2, lo);
-    }
+    const std::vector<cplx> pts = closed_loop_stage(in, out, lo);
+    if (in.view) locus_stage(in, out, lo, pts);
     stage = "frequency response";
     {
       const double k = out.compensator ? out.compensator->Kc : 1.0;
@@ -301,70 +427,23 @@ DesignOutputs compute_design(const DesignInputs& in) {
       out.z_locus = z_root_locus(Lz, in.sample_time, zo);
     }
     if (!out.compensator) return out;
-    stage = "step response";
-    out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
+    if (in.view) {
+      stage = "step response";
+      out.step = step_response(closed_loop(out.plant.g, *out.compensator), out.horizon, 400);
+    }
     if (out.source == PlantSource::Typed) return out;
+    for (Compensation c : loop_compensations(in)) out.loops.push_back(LoopRun{c, {}, {}, {}, {}});
     stage = "describing function";
-    if (out.source == PlantSource::Assembly) {
+    if (out.source == PlantSource::Assembly)
       out.loop_note = "DF: not predicted for an assembled plant (the describing function here is for one "
                       "body and one contact); the loops run on the assembled nonlinear plant";
-    } else {
-      const auto fm = build_model(in.scenario.friction);
-      out.limit_cycles = predict_limit_cycles(stepped(*fm), in.scenario.plant, *out.compensator, 1e-6, 10.0,
-                                              DfOptions{400, 2});
-      out.limit_cycles_compensated =
-          in.feedforward_source == FeedforwardSource::Measured
-              ? predict_limit_cycles(compensated_friction(in.scenario.friction, in.compensation, in.mismatch),
-                                     in.scenario.plant, *out.compensator, 1e-6, 10.0, DfOptions{400, 2})
-              : out.limit_cycles;
-      if (integral_split(*out.compensator))
-        out.hunting = predict_hunting(in.scenario.plant, in.scenario.friction, *out.compensator,
-                                      view_rate_hunting_options());
-    }
+    else
+      describing_function_stage(in, out);
     if (!in.simulate) return out;
     stage = "nonlinear simulation";
-    LoopConfig cfg;
-    cfg.reference = in.reference;
-    cfg.C = *out.compensator;
-    cfg.sample_time = in.sample_time;
-    cfg.mismatch = in.mismatch;
-    cfg.feedforward_source = in.feedforward_source;
-    // A view-rate step: 20000 steps over the run, never coarser than 5 % of the stability limit
-    // of the stiffest mode (stuck elements + springs + Kc), never finer than the scenario's dt.
-    double limit = 0.0, dt0 = 0.0;
-    if (out.source == PlantSource::Assembly) {
-      limit = assembly_loop_dt_limit(*assembly, out.port.drive, cfg.C.Kc);
-      dt0 = in.assembly->run.dt;
-    } else {
-      const double k_eq = linear_plant(in.scenario, Regime::Presliding).stiffness + cfg.C.Kc;
-      limit = 2.0 / std::sqrt(k_eq / in.scenario.plant.mass);
-      dt0 = in.scenario.run.dt;
-    }
-    cfg.duration = out.horizon;
-    if (in.reference.kind == Signal::Kind::Sine && in.reference.frequency > 0.0)
-      cfg.duration = std::max(cfg.duration, 2.0 / in.reference.frequency);
-    // A predicted hunting cycle is slower than the dominant roots: a constant reference runs long
-    // enough to show it (20 predicted periods, at most 30 s: the metrics tail holds 4), so the table
-    // compares like with like.
-    if (in.reference.kind == Signal::Kind::Constant && out.hunting && out.hunting->hunting() && in.horizon == 0.0)
-      cfg.duration = std::max(cfg.duration, std::min(30.0, 20.0 * out.hunting->hunting()->period));
-    cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
-    cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
-    auto run = [&] {
-      return out.source == PlantSource::Assembly ? simulate_loop(*in.assembly, out.port, cfg)
-                                                 : simulate_loop(in.scenario, cfg);
-    };
-    cfg.comp = Compensation::None;
-    out.loop_plain = run();
-    out.metrics_plain = loop_metrics(out.loop_plain);
-    out.error_plain = tracking_error(out.loop_plain);
-    cfg.comp = in.compensation;
-    out.loop_compensated = run();
-    out.metrics_compensated = loop_metrics(out.loop_compensated);
-    out.error_compensated = tracking_error(out.loop_compensated);
+    simulation_stage(in, out);
   } catch (const Error& e) {  // typed: bad input, a diverging loop
-    out.error += (out.error.empty() ? "" : "\n") + stage + ": " + e.what();
-    out.error_kind = e.kind();
+    record_failure(out, stage, e);
   }
   return out;
 }

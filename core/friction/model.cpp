@@ -40,29 +40,42 @@ std::ptrdiff_t ModelInfo::column_index(std::string_view key) const {
   return -1;
 }
 
+namespace {
+// "model 'gms' has no scalar parameter 'X' (its scalars: Fs, Fc, ...)".
+[[noreturn]] void no_key(const std::string& model, const char* what, std::string_view key) {
+  std::string known;
+  const ModelInfo& info = model_info(model);
+  if (std::string_view(what) == "scalar parameter")
+    for (const auto& s : info.scalars) known += (known.empty() ? "" : ", ") + std::string(s.key);
+  else
+    for (const auto& c : info.columns) known += (known.empty() ? "" : ", ") + std::string(c.key);
+  throw InputError("model '" + model + "' has no " + what + " '" + std::string(key) + "' (its keys: " + known + ")");
+}
+}  // namespace
+
 double ModelParams::scalar(std::string_view key) const {
   const auto i = model_info(model).scalar_index(key);
-  if (i < 0 || static_cast<std::size_t>(i) >= scalars.size())
-    throw std::out_of_range("model '" + model + "' has no scalar parameter '" + std::string(key) +
-                            "'");
+  if (i < 0 || static_cast<std::size_t>(i) >= scalars.size()) no_key(model, "scalar parameter", key);
   return scalars[static_cast<std::size_t>(i)];
 }
 
 void ModelParams::set_scalar(std::string_view key, double value) {
   const auto i = model_info(model).scalar_index(key);
-  if (i < 0 || static_cast<std::size_t>(i) >= scalars.size())
-    throw std::out_of_range("model '" + model + "' has no scalar parameter '" + std::string(key) +
-                            "'");
+  if (i < 0 || static_cast<std::size_t>(i) >= scalars.size()) no_key(model, "scalar parameter", key);
   scalars[static_cast<std::size_t>(i)] = value;
 }
 
 std::vector<double> ModelParams::column(std::string_view key) const {
   const auto c = model_info(model).column_index(key);
-  if (c < 0) throw std::out_of_range("model '" + model + "' has no element column '" +
-                                     std::string(key) + "'");
+  if (c < 0) no_key(model, "element column", key);
   std::vector<double> out;
   out.reserve(elements.size());
-  for (const auto& row : elements) out.push_back(row.at(static_cast<std::size_t>(c)));
+  for (const auto& row : elements) {
+    if (static_cast<std::size_t>(c) >= row.size())
+      throw InputError("model '" + model + "': an element row has " + std::to_string(row.size()) +
+                       " values, fewer than its columns");
+    out.push_back(row[static_cast<std::size_t>(c)]);
+  }
   return out;
 }
 

@@ -44,7 +44,8 @@ struct ModelParams {
   std::vector<double> scalars;                // one per ModelInfo::scalars
   std::vector<std::vector<double>> elements;  // rows; one value per ModelInfo::columns
 
-  double scalar(std::string_view key) const;  // throws std::out_of_range for an unknown key
+  // scalar, set_scalar, column: throw InputError naming the model's keys for an unknown key.
+  double scalar(std::string_view key) const;
   void set_scalar(std::string_view key, double value);
   std::vector<double> column(std::string_view key) const;
   bool operator==(const ModelParams&) const = default;

@@ -323,6 +323,8 @@ struct Search {
     } catch (const nlopt::forced_stop&) {
     } catch (const Error&) {
       throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
+    } catch (const std::invalid_argument& e) {  // NLopt rejected the problem it was given: a bug here
+      throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
     } catch (const std::runtime_error&) {  // roundoff-limited: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();

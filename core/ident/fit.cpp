@@ -519,6 +519,8 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     } catch (const nlopt::forced_stop&) {
     } catch (const Error&) {
       throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
+    } catch (const std::invalid_argument& e) {  // NLopt rejected the problem it was given: a bug here
+      throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
     } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
     }
     if (o.cancel && o.cancel->load()) throw Cancelled();

@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/friction/model.hpp"
 #include "core/ident/dataset.hpp"
 #include "core/ident/effects.hpp"
@@ -41,9 +42,10 @@ class GmsPathRunner;
 
 namespace gmslab::ident {
 
-class Cancelled : public std::runtime_error {
+// A fit stopped by its cancel flag: an Error of kind Cancelled.
+class Cancelled : public Error {
  public:
-  Cancelled() : std::runtime_error("identification cancelled") {}
+  Cancelled() : Error(ErrorKind::Cancelled, "identification cancelled") {}
 };
 
 struct FitSpec {

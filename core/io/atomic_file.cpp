@@ -98,7 +98,7 @@ void AtomicFileWriter::write_all(const char* p, std::size_t left) {
 }
 
 void AtomicFileWriter::write(std::string_view text) {
-  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: write after commit or failure");
+  if (fd_ < 0) throw InternalError("AtomicFileWriter: write after commit or failure");
   if (buf_.size() + text.size() > kBuffer) flush();
   if (text.size() >= kBuffer)
     write_all(text.data(), text.size());
@@ -112,7 +112,7 @@ void AtomicFileWriter::flush() {
 }
 
 void AtomicFileWriter::commit() {
-  if (fd_ < 0) throw std::logic_error("AtomicFileWriter: commit after commit or failure");
+  if (fd_ < 0) throw InternalError("AtomicFileWriter: commit after commit or failure");
   flush();
   if (::fchmod(fd_, 0644) != 0) fail("chmod");
   if (::fsync(fd_) != 0) fail("fsync");

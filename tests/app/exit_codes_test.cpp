@@ -1,6 +1,7 @@
 // One error path: every command maps a typed failure to the README's exit code - 0 success,
-// 2 bad input (InputError), 3 the simulation diverged (SimulationError), 1 any other failure
-// (IoError: an output that cannot be written; internal errors). Run as a user runs them: the
+// 2 bad input (InputError), 3 the simulation diverged (SimulationError), 130 cancelled (Cancelled),
+// 127 a hand-over that cannot start, 1 any other failure (IoError: an output that cannot be written;
+// internal errors). Run as a user runs them: the
 // executables, with their exit status.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -9,10 +10,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
 
+#include "app/cli/cli.hpp"
 #include "core/error.hpp"
 #include "core/friction/gms.hpp"
 #include "core/ident/figure_json.hpp"
+#include "core/ident/fit.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "tests/ident/synthetic.hpp"
@@ -67,6 +73,7 @@ void write_diverging_preset(const std::string& path) {
 
 TEST(ExitCodes, ErrorKindsMapToTheReadmeCodes) {
   EXPECT_EQ(exit_code(InputError("x").kind()), 2);
+  EXPECT_EQ(exit_code(ident::Cancelled().kind()), 130);
   EXPECT_EQ(exit_code(SimulationError("x").kind()), 3);
   EXPECT_EQ(exit_code(IoError("x").kind()), 1);
   EXPECT_EQ(exit_code(InternalError("x").kind()), 1);
@@ -77,6 +84,60 @@ TEST(ExitCodes, ErrorKindsMapToTheReadmeCodes) {
   } catch (const IoError& e) {
     EXPECT_NE(std::string(e.what()).find(kMissingDir + "/x.txt"), std::string::npos) << e.what();
   }
+}
+
+// Every kind's exit code, the hand-over's 127 and success are rows of the README's exit-code table,
+// and the table has no other row; each kind is raised as itself (throw_error), a cancelled
+// identification is an Error of kind Cancelled, an unknown model key an InputError.
+TEST(ExitCodes, EveryCodeIsARowOfTheReadmeTable) {
+  const std::vector<ErrorKind> kinds = {ErrorKind::Input, ErrorKind::Simulation, ErrorKind::Io, ErrorKind::Internal,
+                                        ErrorKind::Cancelled};
+  std::ifstream in(std::string(GMSLAB_SOURCE_DIR) + "/README.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::set<int> rows;
+  const std::string readme = text.str();
+  const std::regex row(R"(\n\| (\d+) \| )");
+  for (auto it = std::sregex_iterator(readme.begin(), readme.end(), row); it != std::sregex_iterator(); ++it)
+    rows.insert(std::stoi((*it)[1].str()));
+  std::set<int> codes = {0, cli::kExitCannotStart};
+  for (ErrorKind k : kinds) codes.insert(exit_code(k));
+  EXPECT_EQ(rows, codes);
+  EXPECT_EQ(exit_code(ErrorKind::Cancelled), 130);
+  for (ErrorKind k : kinds) {
+    try {
+      throw_error(k, "what");
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), k);
+      EXPECT_STREQ(e.what(), "what");
+    }
+  }
+  try {
+    throw ident::Cancelled();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Cancelled);
+    EXPECT_EQ(exit_code(e.kind()), 130);
+  }
+  try {
+    (void)GmsParams::reference(false).to_params().scalar("no_such_key");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'no_such_key'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Fs"), std::string::npos) << e.what();  // the keys it has
+  }
+}
+
+// gmslab hands render / figures to gmslab-headless and sweep to python3: when the program cannot be
+// started (here a copy of gmslab alone in a folder, with an empty PATH) it exits 127 and says so.
+TEST(ExitCodes, AHandOverThatCannotStartIs127) {
+  Tmp t;
+  fs::copy_file(kExe, t("gmslab"));
+  fs::permissions(t("gmslab"), fs::perms::owner_all);
+  std::string err;
+  EXPECT_EQ(run("env PATH=" + t("empty") + " " + t("gmslab") + " render " + kPreset + " --out " + t("a.png"), &err),
+            cli::kExitCannotStart);
+  EXPECT_NE(err.find("cannot run gmslab-headless"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(t("a.png")));
 }
 
 TEST(ExitCodes, Simulate) {
@@ -180,6 +241,10 @@ TEST(ExitCodes, Identify) {
   EXPECT_TRUE(fs::exists(t("r.json")));
   EXPECT_EQ(run(identify + t("missing.csv") + " --report " + t("s.json")), 2);
   EXPECT_FALSE(fs::exists(t("s.json")));
+  // A column position no unsigned long holds is bad input naming it (not an internal error).
+  std::string col_err;
+  EXPECT_EQ(run(identify + t("train.csv") + " --columns t=99999999999999999999999 --report " + t("c.json"), &col_err), 2);
+  EXPECT_NE(col_err.find("99999999999999999999999"), std::string::npos) << col_err;
   std::string err;
   EXPECT_EQ(run(identify + t("train.csv") + " --report " + kMissingDir + "/r.json", &err), 1);
   EXPECT_NE(err.find(kMissingDir), std::string::npos) << err;

@@ -41,11 +41,11 @@ TEST(DesignSession, UsableMaximumDesignPlacesSdAndFeedsBothLoops) {
   // The linear loop is type 1: the unit step settles at 1.
   EXPECT_NEAR(out.step.y.back(), 1.0, 1e-3);
   // The friction loops cover two sine periods (1 s) and the feedforward lowers the RMS error.
-  EXPECT_NEAR(out.loop_plain.t.back(), 1.0, 1e-9);
-  EXPECT_LT(out.metrics_compensated.rms_error, out.metrics_plain.rms_error);
+  EXPECT_NEAR(out.plain().trace.t.back(), 1.0, 1e-9);
+  EXPECT_LT(out.compensated().metrics.rms_error, out.plain().metrics.rms_error);
   // The plotted tracking errors are r - x of each loop, and their RMS is the metric's.
-  for (const auto& [tr, e, m] : {std::tuple{&out.loop_plain, &out.error_plain, &out.metrics_plain},
-                                 std::tuple{&out.loop_compensated, &out.error_compensated, &out.metrics_compensated}}) {
+  for (const auto& [tr, e, m] : {std::tuple{&out.plain().trace, &out.plain().error, &out.plain().metrics},
+                                 std::tuple{&out.compensated().trace, &out.compensated().error, &out.compensated().metrics}}) {
     ASSERT_EQ(e->size(), tr->t.size());
     double s2 = 0.0;
     for (std::size_t i = 0; i < e->size(); ++i) {

@@ -186,20 +186,20 @@ TEST(FeedforwardSource, DesignSessionPredictsTheCompensatedLoopWithTheCompensate
     in.simulate = false;
     in.feedforward_source = FeedforwardSource::Measured;
     const DesignOutputs out = compute_design(in);
-    ASSERT_TRUE(out.limit_cycles && out.limit_cycles_compensated) << out.error;
+    ASSERT_TRUE(out.limit_cycles && out.compensated().limit_cycles) << out.error;
     const double Fc = in.scenario.friction.scalar("Fc"), s2 = in.scenario.friction.scalar("sigma2");
     const double a = 4 * Fc * (1 - r) / (kPi * (5.0 - 2.0 - s2)), a0 = a / (1 - r);
     double big = 0.0, big0 = 0.0;
-    for (const auto& c : out.limit_cycles_compensated->cycles) big = std::max(big, c.velocity_amplitude);
+    for (const auto& c : out.compensated().limit_cycles->cycles) big = std::max(big, c.velocity_amplitude);
     for (const auto& c : out.limit_cycles->cycles) big0 = std::max(big0, c.velocity_amplitude);
     EXPECT_NEAR(big, a, 0.02 * a) << "r = " << r;
     EXPECT_NEAR(big0, a0, 0.02 * a0);
     in.feedforward_source = FeedforwardSource::Reference;
     const DesignOutputs ref = compute_design(in);
-    ASSERT_TRUE(ref.limit_cycles_compensated);
-    ASSERT_EQ(ref.limit_cycles_compensated->cycles.size(), ref.limit_cycles->cycles.size());
+    ASSERT_TRUE(ref.compensated().limit_cycles);
+    ASSERT_EQ(ref.compensated().limit_cycles->cycles.size(), ref.limit_cycles->cycles.size());
     for (std::size_t k = 0; k < ref.limit_cycles->cycles.size(); ++k)
-      EXPECT_EQ(ref.limit_cycles_compensated->cycles[k].amplitude, ref.limit_cycles->cycles[k].amplitude);
+      EXPECT_EQ(ref.compensated().limit_cycles->cycles[k].amplitude, ref.limit_cycles->cycles[k].amplitude);
   }
 }
 

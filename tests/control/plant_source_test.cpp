@@ -94,7 +94,7 @@ TEST(PlantSource, TypedPlantRoundTripsThroughASessionAndDesignsAsTheCli) {
     const DesignOutputs out = compute_design(in);
     EXPECT_EQ(out.source, PlantSource::Typed);
     EXPECT_FALSE(out.loop_note.empty());  // says why no loop with friction is drawn
-    EXPECT_TRUE(out.loop_plain.t.empty());
+    EXPECT_TRUE(out.plain().trace.t.empty());
 
     const std::string json = temp_path("cli");
     char zeta[40], wn[40], ratio[40];
@@ -446,14 +446,14 @@ TEST(PlantSource, DesignOnTheTwoMassPresetRunsTheAssembledLoops) {
   ASSERT_TRUE(col.error.empty()) << col.error;
   EXPECT_EQ(col.port.output, "x.motor");
   EXPECT_EQ(col.plant.g.num.degree(), 2);
-  EXPECT_FALSE(col.loop_plain.t.empty());
-  EXPECT_FALSE(col.loop_compensated.t.empty());
+  EXPECT_FALSE(col.plain().trace.t.empty());
+  EXPECT_FALSE(col.compensated().trace.t.empty());
   // A step moves the train until static friction holds it: at rest the controller's DC force
   // Kc z / p e balances at most the break-away forces of both contacts (1 N + 3 N).
   ASSERT_TRUE(col.compensator);
   const double k_dc = col.compensator->Kc * col.compensator->z / col.compensator->p;
-  EXPECT_GT(col.loop_compensated.x.back(), 1e-4);
-  EXPECT_LE(std::abs(0.005 - col.loop_compensated.x.back()), 1.05 * 4.0 / k_dc);
+  EXPECT_GT(col.compensated().trace.x.back(), 1e-4);
+  EXPECT_LE(std::abs(0.005 - col.compensated().trace.x.back()), 1.05 * 4.0 / k_dc);
   ds.plant.output = "x.load";
   set_design_inputs(ds, in);
   const DesignOutputs non = compute_design(in);

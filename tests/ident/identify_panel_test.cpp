@@ -93,6 +93,7 @@ TEST(IdentPanel, CancelStopsTheRun) {
   ui::identify_cancel(s.identify);
   ASSERT_TRUE(wait_done(s, 60.0));
   EXPECT_EQ(ui::identify_error(s.identify), "cancelled");
+  EXPECT_EQ(s.identify.error_kind, ErrorKind::Cancelled);  // the kind the front ends keep
   EXPECT_EQ(ui::identify_report(s.identify), nullptr);
   std::filesystem::remove(csv);
 }

@@ -170,6 +170,56 @@ def test_design_on_the_assembled_plant_matches_cli(cli, output):
     assert len(np.roots(mine["plant"]["num"])) == (2 if output == "x.motor" else 1)
 
 
+@pytest.mark.parametrize("seed", range(41, 47))
+def test_design_job_agrees_with_the_cli(cli, seed):
+    """gmslab.design and `gmslab design --json` are views of one design job: for random designs over
+    the accepted ranges (a typed plant b(s) / (s^k a(s)), Fig. 4's one body or the assembled two-mass
+    train; zeta, wn, K, the p/z bound, the compensator type and a sample time random) the dict equals
+    the CLI's JSON, key for key, or both fail with the same message. The Design panel's side:
+    tests/control/design_job_agreement_test.cpp."""
+    rng = np.random.default_rng(seed)
+    source = seed % 3
+    kwargs, args = {}, []
+    if source == 0:
+        n, k = int(rng.integers(1, 4)), int(rng.integers(0, 3))
+        den = [1.0] + [float(10 ** rng.uniform(-1, 2)) for _ in range(n)] + [0.0] * k
+        num = [float(10 ** rng.uniform(-1, 2)) for _ in range(int(rng.integers(0, n)) + 1)]
+        kwargs.update(num=num, den=den)
+        args += ["--num", " ".join(repr(c) for c in num), "--den", " ".join(repr(c) for c in den)]
+        wn = float(10 ** rng.uniform(-1, 3))
+    else:
+        preset = os.path.join(PRESETS, "fig4_stick_slip.json" if source == 1 else "two_mass_drive.json")
+        kwargs.update(scenario=preset)
+        args += ["--preset", preset]
+        if source == 2:
+            output = ["x.motor", "x.load"][int(rng.integers(0, 2))]
+            kwargs.update(output=output)
+            args += ["--output", output]
+        wn = float(10 ** rng.uniform(0.5, 2.5))
+    regime = ["presliding", "sliding"][int(rng.integers(0, 2))]
+    zeta = float(rng.uniform(0.02, 0.98))
+    max_ratio = float(rng.uniform(1.5, 100))
+    K = float(10 ** rng.uniform(-1, 4)) if rng.uniform() < 0.5 else None
+    compensator = ["lead", "lag", "lead_lag", "pi", "pid"][int(rng.integers(0, 5))]
+    T = float(10 ** rng.uniform(-4, -2)) if rng.uniform() < 0.3 else 0.0
+    kwargs.update(regime=regime, K=K, max_ratio=max_ratio, compensator=compensator, sample_time=T)
+    args += ["--regime", regime, "--zeta", repr(zeta), "--wn", repr(wn), "--max-ratio", repr(max_ratio),
+             "--compensator", compensator, "--sample-time", repr(T), "--json", "-"]
+    if K is not None:
+        args += ["--K", repr(K)]
+    p = cli("design", *args, check=False)
+    try:
+        mine = gmslab.design(zeta, wn, **kwargs)
+    except gmslab.InputError as e:
+        assert p.returncode == 2, p.stderr
+        assert str(e) in p.stderr
+        return
+    assert p.returncode == 0, p.stderr
+    theirs = json.loads(p.stdout)
+    assert json.dumps(gmslab.to_json(mine), sort_keys=True) == json.dumps(theirs, sort_keys=True)
+    assert mine["typed_compensator"]["type"] == compensator
+
+
 @pytest.mark.parametrize("seed", [21, 22, 23])
 def test_root_locus_points_are_closed_loop_roots(seed):
     rng = np.random.default_rng(seed)

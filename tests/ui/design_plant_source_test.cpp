@@ -27,7 +27,7 @@ TEST(DesignPlantSource, RejectedTypedEditKeepsTheValueInForceAndNamesTheField) {
   ui::apply_design_settings(h.d(), ds);
   for (int i = 0; i < 2; ++i) h.frame(uitest::kNoMouse, false);
   ASSERT_EQ(h.d().out.source, control::PlantSource::Typed);
-  EXPECT_TRUE(h.d().out.loop_plain.t.empty());
+  EXPECT_TRUE(h.d().out.plain().trace.t.empty());
   EXPECT_FALSE(h.d().out.loop_note.empty());
   const double kc = h.d().out.compensator->Kc;
   std::mt19937 rng(5);
@@ -70,13 +70,13 @@ TEST(DesignPlantSource, AssembledPlantOfThePlantTabIsDesignedFor) {
   ASSERT_TRUE(h.d().out.error.empty()) << h.d().out.error;
   EXPECT_EQ(h.d().out.port.output, "x.motor");
   EXPECT_EQ(h.d().out.plant.g.zeros().size(), 2u);  // the collocated pair
-  EXPECT_FALSE(h.d().out.loop_compensated.t.empty());
+  EXPECT_FALSE(h.d().out.compensated().trace.t.empty());
   ds.plant.output = "x.load";
   ui::apply_design_settings(h.d(), ds);
   for (int i = 0; i < 2; ++i) h.frame(uitest::kNoMouse, false);
   EXPECT_EQ(h.d().out.port.output, "x.load");
   EXPECT_EQ(h.d().out.plant.g.zeros().size(), 1u);  // the shaft damper's real zero only
-  EXPECT_FALSE(h.d().out.loop_plain.t.empty());
+  EXPECT_FALSE(h.d().out.plain().trace.t.empty());
 }
 
 // Issue 11: the Design tab on an assembled plant with a pull drive (presets/fig3_stick_slip_scheme.json)

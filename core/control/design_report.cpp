@@ -1,0 +1,156 @@
+#include "core/control/design_report.hpp"
+
+#include <cmath>
+
+#include "core/control/design_json.hpp"
+#include "core/control/design_plant_json.hpp"
+#include "core/error.hpp"
+
+namespace gmslab::control {
+
+namespace {
+nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json pair_json(cplx s) { return {s.real(), s.imag()}; }
+
+}  // namespace
+
+DesignInputs design_inputs(const DesignRequest& r, std::optional<CompensatorType> typed) {
+  DesignInputs in;
+  if (r.scenario) in.scenario = *r.scenario;
+  in.assembly = r.assembly;
+  in.plant = r.plant;
+  in.regime = r.regime;
+  in.velocity = r.velocity;
+  in.root = r.root;
+  in.K = r.K;
+  in.options = r.options;
+  in.type = typed ? *typed : CompensatorType::Lead;
+  in.sample_time = r.sample_time;
+  in.accuracy = Accuracy::Report;
+  in.view = false;
+  in.lag_zero_fraction = r.lag_zero_fraction;
+  if (!typed) in.lag_K = r.lag_K;
+  // The loops with friction are the compensator type's when there is one, else the lead's.
+  in.simulate = r.simulate && (r.scenario || r.assembly) && typed.has_value() == r.compensator.has_value();
+  in.reference = r.reference;
+  // A job that does not simulate predicts only the loop without compensation.
+  in.loop_compensations = in.simulate ? r.compensations : std::vector<Compensation>{Compensation::None};
+  in.feedforward_source = r.feedforward_source;
+  in.mismatch = r.mismatch;
+  in.loop_timing = r.timing;
+  return in;
+}
+
+nlohmann::json to_json(const LeadLagDesign& ll) {
+  const TransferFunction c = ll.tf();
+  nlohmann::json j = {{"zl", ll.zl}, {"pl", ll.pl}, {"K_lead", ll.K_lead}, {"K", ll.K},
+                      {"lag_angle_deg", ll.lag_angle_deg}, {"closed_loop_poles", poles_json(ll.closed_loop_poles)},
+                      {"dominant", pair_json(ll.dominant)}, {"slow_pole", pair_json(ll.slow_pole)},
+                      {"slow_time_constant_s", ll.time_constant},
+                      {"num", c.num.descending_coeffs()}, {"den", c.den.descending_coeffs()}};
+  // The two-section compensator for export (MATLAB / python-control code, sections).
+  j["compensator"] = compensator_json(LeadCompensator{ll.lead.Kc, ll.lead.z, ll.lead.p, Section{ll.zl, ll.pl}});
+  return j;
+}
+
+nlohmann::json design_json(const DesignInputs& in, const DesignOutputs& out) {
+  if (!out.report) throw InternalError("design report: the design job has no lead report (" + out.error + ")");
+  const LeadReport& r = *out.report;
+  nlohmann::json j = to_json(r);
+  j["max_ratio"] = in.options.max_ratio;
+  const auto chosen = chosen_lead(r);
+  if (chosen) {
+    j["design_kind"] = chosen->first;
+    if (!r.design) {  // report the chosen design at the top level too
+      const LeadDesign& d = chosen->second;
+      j["z"] = d.z, j["p"] = d.p, j["Kc"] = d.Kc, j["K"] = d.K;
+      j["closed_loop_poles"] = poles_json(d.closed_loop_poles);
+    }
+  }
+  if (out.frequency) {  // of the chosen design's loop (the plant's own when there is none)
+    j["frequency"] = to_json(*out.frequency);
+    j["frequency"]["loop"] = out.compensator ? "compensated" : "plant";
+  }
+  if (out.compensator) j["compensator"] = compensator_json(*out.compensator);
+  if (out.discrete) j["frequency"]["discrete"] = to_json(*out.discrete);
+  if (out.z_locus && out.compensator) j["z_locus"] = to_json(*out.z_locus, out.compensator->Kc);
+  if (out.limit_cycles) {
+    j["limit_cycles"] = to_json(*out.limit_cycles);
+    if (out.hunting) j["limit_cycles"]["hunting"] = to_json(*out.hunting);
+  }
+  if (out.lead_lag && in.lag_K) j["lead_lag"] = to_json(*out.lead_lag);
+  return j;
+}
+
+nlohmann::json typed_compensator_json(const DesignInputs& in, const DesignOutputs& out) {
+  nlohmann::json t = {{"type", to_string(in.type)}, {"kind", out.compensator_kind}, {"error", out.error}};
+  if (out.compensator) {
+    t["compensator"] = compensator_json(*out.compensator);
+    t["closed_loop_poles"] = poles_json(out.closed_loop_poles);
+  }
+  if (out.gain_point) t["gain_point"] = {{"s", pair_json(out.gain_point->s)}, {"Kc", out.gain_point->k}};
+  if (out.lag)
+    t["lag"] = {{"factor", finite_or_null(out.lag->factor)},
+                {"K", finite_or_null(out.lag->K)},
+                {"K_without_lag", out.lag->K_gain_only},
+                {"slow_pole", pair_json(out.lag->slow_pole)},
+                {"slow_time_constant_s", out.lag->time_constant}};
+  if (out.limit_cycles) {  // this compensator's loop, with its hunting prediction when it has an integrator
+    t["limit_cycles"] = to_json(*out.limit_cycles);
+    if (out.hunting && out.compensator && integral_split(*out.compensator))
+      t["limit_cycles"]["hunting"] = to_json(*out.hunting);
+  }
+  return t;
+}
+
+nlohmann::json simulation_json(const DesignInputs& in, const DesignOutputs& out) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const LoopRun& run : out.loops) {
+    nlohmann::json j = to_json(run.metrics);
+    j["compensation"] = to_string(run.compensation);
+    if (run.compensation == Compensation::None) {
+      a.push_back(j);
+      continue;
+    }
+    j["feedforward_source"] = to_string(in.feedforward_source);
+    // Driven by the measured velocity, the compensated loop's nonlinearity is F - F_hat: its
+    // describing-function prediction (one-body plants).
+    if (in.feedforward_source == FeedforwardSource::Measured && out.source == PlantSource::Scenario && run.limit_cycles)
+      j["limit_cycles"] = to_json(*run.limit_cycles);
+    a.push_back(j);
+  }
+  return a;
+}
+
+DesignReport design_report(const DesignRequest& r) {
+  DesignReport rep;
+  rep.lead_in = design_inputs(r, std::nullopt);
+  rep.lead = compute_design(rep.lead_in);
+  throw_failure(rep.lead);
+  const LeadReport& lr = *rep.lead.report;
+  nlohmann::json& j = rep.json;
+  j = design_json(rep.lead_in, rep.lead);
+  j["plant"] = plant_json(DesignPlant{rep.lead.source, rep.lead.plant, rep.lead.port, rep.lead.plant_label},
+                          r.source, r.velocity);
+  if (r.lag_K && !chosen_lead(lr))
+    throw InputError("--lag-K: no lead design to add a lag to (" + lr.limits.reason + ")");
+  if (r.compensator) {  // the Design view's compensator of that type
+    rep.typed_in = design_inputs(r, r.compensator);
+    rep.typed = compute_design(*rep.typed_in);
+    j["typed_compensator"] = typed_compensator_json(*rep.typed_in, *rep.typed);
+  }
+  if (!r.simulate) return rep;
+  if (rep.typed) {
+    if (!rep.typed->compensator)
+      throw InputError("--simulate: no " + std::string(to_string(*r.compensator)) + " compensator to simulate (" +
+                       rep.typed->error + ")");
+    throw_failure(*rep.typed);
+    j["simulation"] = simulation_json(*rep.typed_in, *rep.typed);
+  } else {
+    if (!rep.lead.compensator) throw InputError("--simulate: no design to simulate (" + lr.limits.reason + ")");
+    j["simulation"] = simulation_json(rep.lead_in, rep.lead);
+  }
+  return rep;
+}
+
+}  // namespace gmslab::control
