@@ -4,6 +4,9 @@
 //
 //   gmslab_study base    [--records 50] [--seed 1] [--samples 6000]   base fit, no effect
 //   gmslab_study loop    [--records 50] ...   the residual loop on records with 0, 1 or 2 effects
+//   gmslab_study coverage [--records 100]   the standard errors: random records with an offset or an
+//                        inertia (2-10x the noise); how often the truth lies within +-2 sigma of
+//                        the estimate (Fc, and the effect's F0 or M), per parameter
 //   gmslab_study self    [--preset NAME]      self-consistency: gmslab's own trace of each shipped
 //                        one-body preset with back-and-forth motion, at 3 sample rates, noise-free and
 //                        with 0.3 % noise, identified with the generating model (nothing to name)
@@ -11,6 +14,7 @@
 // Prints one row per record and a summary; exit 0 (it reports, it does not judge).
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <map>
 #include <random>
 #include <cstdio>
 #include <fstream>
@@ -158,6 +162,67 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
 }
 
 
+// Coverage of the standard errors: is the truth within +-2 sigma of the estimate?
+int run_coverage(int records, unsigned seed0, std::size_t samples) {
+  struct Count { int n = 0, covered = 0, no_error = 0, not_found = 0; };
+  std::map<std::string, Count> counts;
+  double total_s = 0;
+  std::printf("%-6s %-8s %-10s %12s %12s %10s %8s %6s\n", "rec", "effect", "parameter", "truth", "estimate",
+              "std err", "|d|/se", "s");
+  for (int i = 0; i < records; ++i) {
+    const unsigned seed = seed0 + static_cast<unsigned>(i);
+    Truth tr = draw_truth(seed);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    const GenEffect kind = i % 2 == 0 ? GenEffect::Offset : GenEffect::Inertia;
+    tr.effects.push_back({kind, 2.0 + 8.0 * U(rng)});
+    auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
+    const Dataset train = prepare_dataset(g_train.record), val = prepare_dataset(g_val.record);
+    FitSpec spec;
+    spec.elements = tr.elements();
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto rep = identify(train, val, spec, LoopOptions{});
+    const double s = seconds_since(t0);
+    total_s += s;
+    const std::string effect = gen_effect_name(kind);
+    const struct { std::string effect, name; double truth; } wanted[] = {
+        {"base", "Fc", tr.Fc}, {effect, kind == GenEffect::Offset ? "F0" : "M", tr.effects[0].param}};
+    for (const auto& w : wanted) {
+      Count& c = counts[w.effect + "." + w.name];
+      ++c.n;
+      const ParameterEstimate* pe = nullptr;
+      for (const auto& p : rep.parameters)
+        if (p.effect == w.effect && p.name == w.name) pe = &p;
+      if (!pe) {
+        ++c.not_found;
+        std::printf("%-6u %-8s %-10s %12.4g %12s %10s %8s %6.2f\n", seed, effect.substr(0, 8).c_str(), w.name.c_str(),
+                    w.truth, "not found", "-", "-", s);
+        continue;
+      }
+      if (!std::isfinite(pe->std_error) || !(pe->std_error > 0)) {
+        ++c.no_error;
+        std::printf("%-6u %-8s %-10s %12.4g %12.4g %10s %8s %6.2f\n", seed, effect.substr(0, 8).c_str(), w.name.c_str(),
+                    w.truth, pe->value, "none", "-", s);
+        continue;
+      }
+      const double z = std::abs(pe->value - w.truth) / pe->std_error;
+      c.covered += z <= 2.0;
+      std::printf("%-6u %-8s %-10s %12.4g %12.4g %10.3g %8.2f %6.2f%s\n", seed, effect.substr(0, 8).c_str(),
+                  w.name.c_str(), w.truth, pe->value, pe->std_error, z, s, z <= 2.0 ? "" : "  <-- outside 2 sigma");
+    }
+    std::fflush(stdout);
+  }
+  std::printf("\n%-14s %8s %12s %10s %10s %12s\n", "parameter", "records", "within 2 se", "share", "no error",
+              "not found");
+  for (const auto& [name, c] : counts) {
+    const int with = c.n - c.no_error - c.not_found;
+    std::printf("%-14s %8d %12d %9.0f%% %10d %12d\n", name.c_str(), c.n, c.covered,
+                with > 0 ? 100.0 * c.covered / with : 0.0, c.no_error, c.not_found);
+  }
+  std::printf("%.1f s per record\n", total_s / std::max(records, 1));
+  return 0;
+}
+
 // The generating model along the sampled validation path: what no fit of it can beat [N RMS].
 double truth_along(const ModelParams& truth, const Dataset& val) {
   std::vector<double> g;
@@ -232,7 +297,7 @@ int main(int argc, char** argv) {
   int skip = 0;
   std::string report_dir;
   std::size_t screen = LoopOptions{}.screen_samples;
-  app.add_option("mode", mode, "base | loop | self")->check(CLI::IsMember({"base", "loop", "self"}));
+  app.add_option("mode", mode, "base | loop | self | coverage")->check(CLI::IsMember({"base", "loop", "self", "coverage"}));
   std::string preset;
   app.add_option("--preset", preset, "self: only this preset (its name without .json)");
   app.add_option("--records", records, "number of records")->check(CLI::Range(1, 100000));
@@ -246,6 +311,7 @@ int main(int argc, char** argv) {
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   CLI11_PARSE(app, argc, argv);
+  if (mode == "coverage") return run_coverage(records, seed, samples);
   if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
   return run_loop(records, seed, samples, skip, report_dir, screen);

@@ -164,8 +164,18 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
       const bool significant = resolvable(r.test, s.rms);
       const bool big = r.contribution >= o.min_size * floor;
       const bool needed = s.rms > o.near_floor * floor;
-      r.credited = significant && big && needed;
-      if (r.credited)
+      // A mass is positive: a negative one is the model lagging along the sampled path (a force
+      // that leads the modelled one by a fraction of a step looks like -M a), not an inertia.
+      double mass = 1.0;
+      if (effects[i] == Effect::Inertia)
+        for (const auto& t : cur.fit.terms)
+          if (t.effect == effect_name(Effect::Inertia) && t.name == "M") mass = t.value;
+      const bool physical = mass > 0;
+      r.credited = significant && big && needed && physical;
+      if (!physical)
+        r.verdict = "not credited: negative mass M = " + fmt(mass) +
+                    " kg: not an inertia (the model lags along the sampled path)";
+      else if (r.credited)
         r.verdict = "credited: without it validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
                     " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +
                     (r.test.z >= o.z_crit ? std::string()

@@ -155,6 +155,19 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
     cols.push_back(std::move(der));
     out.push_back({std::string(effect_name(s.e)), s.name, s.unit, s.value, 0});
   }
+  // The shape (the nonlinear parameters, in the unit box): nuisance columns, so that the errors
+  // of the terms above carry their correlation with it (Gauss-Newton covariance of all).
+  for (std::size_t i = 0; i < f.u.size(); ++i) {
+    const double step = 1e-4;
+    FitResult hi = f, lo = f;
+    hi.u[i] = std::min(1.0, f.u[i] + step), lo.u[i] = std::max(0.0, f.u[i] - step);
+    if (!(hi.u[i] > lo.u[i])) continue;
+    const auto ph = predict(hi, d, c), pl = predict(lo, d, c);
+    std::vector<double> der(d.size());
+    for (std::size_t k = 0; k < d.size(); ++k) der[k] = (ph[k] - pl[k]) / (hi.u[i] - lo.u[i]);
+    cols.push_back(std::move(der));
+    out.push_back({"shape", "u" + std::to_string(i), "-", f.u[i], 0});
+  }
   std::vector<std::size_t> rows;
   for (std::size_t k = 0; k < d.size(); ++k)
     if (d.use[k]) rows.push_back(k);
@@ -173,15 +186,34 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   Eigen::VectorXd sc_ = Al.colwise().norm().cwiseMax(1e-300).cwiseInverse();
   const Eigen::MatrixXd G = sc_.asDiagonal() * (Al.transpose() * Al) * sc_.asDiagonal();
   const Eigen::MatrixXd Ginv = G.completeOrthogonalDecomposition().pseudoInverse();
+  // The residual is not white: what the sampled path and the encoder leave runs over many samples.
+  // The covariance is the cluster-robust (sandwich) one over kBlocks contiguous blocks,
+  // Ginv (sum_b g_b g_b^T) Ginv with g_b the scaled columns times the residual over block b,
+  // and never below the white-noise one (s2 Ginv).
+  const auto pr = predict(f, d, c);
+  const Eigen::MatrixXd As = Al * sc_.asDiagonal();
+  constexpr std::size_t kBlocks = 20;
+  const std::size_t nb = std::min<std::size_t>(kBlocks, rows.size());
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(As.cols(), As.cols());
+  for (std::size_t b = 0; b < nb; ++b) {
+    Eigen::VectorXd gb = Eigen::VectorXd::Zero(As.cols());
+    for (std::size_t i = b * rows.size() / nb; i < (b + 1) * rows.size() / nb; ++i)
+      gb += As.row(static_cast<Eigen::Index>(i)).transpose() * (d.F[rows[i]] - pr[rows[i]]);
+    meat += gb * gb.transpose();
+  }
+  const double dof = nb > 1 ? static_cast<double>(nb) / static_cast<double>(nb - 1) : 1.0;
+  const Eigen::MatrixXd robust = dof * Ginv * meat * Ginv;
   for (std::size_t j = 0; j < live.size(); ++j) {
     const auto jj = static_cast<Eigen::Index>(j);
-    out[static_cast<std::size_t>(live[j])].std_error = std::sqrt(std::max(0.0, s2 * Ginv(jj, jj))) * sc_(jj);
+    const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
+    out[static_cast<std::size_t>(live[j])].std_error = std::sqrt(std::max(0.0, var)) * sc_(jj);
   }
   (void)nlin;
   // Leave out the unused ripple slots.
   std::vector<ParameterEstimate> kept;
   for (std::size_t j = 0; j < out.size(); ++j)
-    if (A.col(static_cast<Eigen::Index>(j)).squaredNorm() > 0 || out[j].effect == "base") kept.push_back(out[j]);
+    if ((A.col(static_cast<Eigen::Index>(j)).squaredNorm() > 0 || out[j].effect == "base") && out[j].effect != "shape")
+      kept.push_back(out[j]);
   return kept;
 }
 
