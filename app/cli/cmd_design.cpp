@@ -25,6 +25,7 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 
 namespace gmslab::cli {
@@ -185,15 +186,15 @@ int run_design(const Opts& o) {
   if (!o.preset.empty()) {
     if (!o.num.empty() || !o.den.empty())
       throw InputError("give either --preset or --num/--den, not both");
-    const bool assembled = preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2;
-    if (assembled || !o.drive.empty() || !o.output.empty()) {
+    const Preset preset = load_preset(o.preset);
+    if (preset.assembled() || !o.drive.empty() || !o.output.empty()) {
       // An assembled plant; a v1 preset with --drive / --output as its one-body assembly.
-      asc = load_assembly_scenario(o.preset);
+      asc = preset.scenario;
       choice.source = PlantSource::Assembly;
       choice.drive = o.drive;
       choice.output = o.output;
     } else {
-      sc = load_scenario(o.preset);
+      sc = preset.one_body();
     }
   } else {
     if (o.num.empty() || o.den.empty())
