@@ -29,6 +29,7 @@
 #include "core/ident/dataset.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
@@ -237,7 +238,13 @@ int render_command(const cli::RenderOptions& o) {
   if (!o.data.empty()) panel = ui::find_panel("identify");
   // The auto view of an assembled preset (schema 2) is the Plant view: the one view that shows it.
   const bool auto_view = o.view.empty() || strcasecmp(o.view.c_str(), "auto") == 0;
-  if (auto_view && o.data.empty() && preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2) {
+  // The preset, read and checked once, when it is first needed.
+  std::optional<Preset> loaded;
+  auto preset = [&]() -> const Preset& {
+    if (!loaded) loaded = load_preset(o.preset);
+    return *loaded;
+  };
+  if (auto_view && o.data.empty() && preset().assembled()) {
     if (o.format == "svg")
       throw InputError(o.preset + ": --format svg draws the Simulation view's plots, which an assembled preset (schema 2) "
                        "does not have; use --format png (its Plant view)");
@@ -258,11 +265,10 @@ int render_command(const cli::RenderOptions& o) {
   // one-body assembly, as `gmslab design`), designs on the assembled plant (as the Plant tab holds it
   // in the window).
   const bool assembled = design_view && o.format == "png" &&
-                         (!o.drive.empty() || !o.output.empty() ||
-                          preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2);
+                         (!o.drive.empty() || !o.output.empty() || preset().assembled());
   const bool plant_view = std::string(panel->name) == "Plant" || assembled;
   if (plant_view) {  // an assembled plant (schema 2) or a one-body preset, in the Plant panel
-    ui::load_plant(s.plant, load_assembly_scenario(o.preset), o.preset);
+    ui::load_plant(s.plant, preset().scenario, o.preset);
     ui::plant_run_until(s.plant, o.time);
     // The other tabs need a scenario (the first frame draws the first tab): a v1 preset's own, else
     // the window's default preset, else the GMS defaults at rest.
@@ -270,8 +276,8 @@ int render_command(const cli::RenderOptions& o) {
     std::error_code ec;
     std::string dflt = ui::presets_dir() + "/fig4_stick_slip.json";
     if (const auto rel = std::filesystem::proximate(dflt, ec); !ec && !rel.empty() && *rel.begin() != "..") dflt = rel.string();
-    if (preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 1) {
-      ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
+    if (!preset().assembled()) {
+      ui::load_scenario_into(s, preset().one_body(), o.preset);
     } else if (std::filesystem::exists(dflt)) {
       ui::load_scenario_into(s, load_scenario(dflt), dflt);
     } else {
@@ -281,7 +287,7 @@ int render_command(const cli::RenderOptions& o) {
       ui::load_scenario_into(s, rest, "");
     }
   } else {
-    ui::load_scenario_into(s, load_scenario(o.preset), o.preset);
+    ui::load_scenario_into(s, preset().one_body(), o.preset);
   }
   if (!(o.sample_time >= 0.0 && o.sample_time <= 0.01))
     throw InputError("--sample-time " + std::to_string(o.sample_time) + ": must be in [0, 0.01] s (0: continuous)");

@@ -15,6 +15,7 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
 #include "ui/identify_panel.hpp"
@@ -55,15 +56,16 @@ void stop_with(AppState& s, const std::string& who, const SimulationError& e) {
 // Each request in its own function; errors become messages, never exceptions.
 void apply_load(AppState& s, const std::string& path) {
   try {
-    if (preset_schema_version(parse_json(read_file(path), path)) == 2) {
+    const Preset preset = load_preset(path);
+    if (preset.assembled()) {
       // An assembled plant (schema 2): it opens in the Plant tab; the scenario stays as it is.
-      load_plant(s.plant, load_assembly_scenario(path), path);
+      load_plant(s.plant, preset.scenario, path);
       s.view.tab = "Plant";
       s.select_tab = 2;
       s.note("loaded " + path + " into the Plant tab");
       return;
     }
-    load_scenario_into(s, load_scenario(path), path);
+    load_scenario_into(s, preset.one_body(), path);
     mark_clean(s);
     s.note("loaded " + path);
   } catch (const std::exception& e) {
@@ -474,9 +476,10 @@ LaunchRequest check_launch(const LaunchRequest& r) {
   out.preset = resolve_preset(r.preset);
   int schema = 1;
   try {
-    schema = preset_schema_version(parse_json(read_file(out.preset), out.preset));
-    if (schema == 2) (void)AssemblySimulation(load_assembly_scenario(out.preset));
-    else (void)Simulation(load_scenario(out.preset));
+    const Preset preset = load_preset(out.preset);
+    schema = preset.schema_version;
+    if (preset.assembled()) (void)AssemblySimulation(preset.scenario);
+    else (void)Simulation(preset.one_body());
   } catch (const InputError& e) {
     throw InputError(std::string("--open: ") + e.what());
   }
@@ -499,12 +502,12 @@ LaunchRequest check_launch(const LaunchRequest& r) {
 }
 
 void apply_launch(AppState& s, const LaunchRequest& r) {
-  const int schema = preset_schema_version(parse_json(read_file(r.preset), r.preset));
-  if (schema != 2) {
-    load_scenario_into(s, load_scenario(r.preset), r.preset);
+  const Preset preset = load_preset(r.preset);
+  if (!preset.assembled()) {
+    load_scenario_into(s, preset.one_body(), r.preset);
     mark_clean(s);
   }
-  if (schema == 2 || r.tab == "Plant") load_plant(s.plant, load_assembly_scenario(r.preset), r.preset);
+  if (preset.assembled() || r.tab == "Plant") load_plant(s.plant, preset.scenario, r.preset);
   s.view.tab = r.tab;
   s.select_tab = 2;
   if (r.run && r.tab == "Plant") s.plant.running = true;

@@ -23,6 +23,7 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 
 namespace gmslab::cli {
@@ -142,15 +143,15 @@ int run_design(const Opts& o) {
   if (!o.preset.empty()) {
     if (!o.num.empty() || !o.den.empty())
       throw InputError("give either --preset or --num/--den, not both");
-    const bool assembled = preset_schema_version(parse_json(read_file(o.preset), o.preset)) == 2;
-    if (assembled || !o.drive.empty() || !o.output.empty()) {
+    const Preset preset = load_preset(o.preset);
+    if (preset.assembled() || !o.drive.empty() || !o.output.empty()) {
       // An assembled plant; a v1 preset with --drive / --output as its one-body assembly.
-      req.assembly = load_assembly_scenario(o.preset);
+      req.assembly = preset.scenario;
       req.plant.source = PlantSource::Assembly;
       req.plant.drive = o.drive;
       req.plant.output = o.output;
     } else {
-      req.scenario = load_scenario(o.preset);
+      req.scenario = preset.one_body();
     }
   } else {
     if (o.num.empty() || o.den.empty())

@@ -6,7 +6,7 @@
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
-#include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
 #include "core/io/trace_file.hpp"
@@ -33,8 +33,9 @@ void register_simulate(CLI::App& app, Action& action) {
     action = [o] {
       if (o->out != "-") (void)trace_format(o->out);  // an unknown extension: before any work
       // An assembled plant (schema_version 2): every named output, streamed as it is computed.
-      if (preset_schema_version(parse_json(read_file(o->preset), o->preset)) == 2) {
-        const AssemblyScenario as = load_assembly_scenario(o->preset);
+      const Preset preset = load_preset(o->preset);
+      if (preset.assembled()) {
+        const AssemblyScenario& as = preset.scenario;
         if (o->out == "-") {
           stream_assembly_trace_csv(as, [](std::string_view s) { std::cout.write(s.data(), static_cast<std::streamsize>(s.size())); });
           std::cout.flush();
@@ -43,7 +44,7 @@ void register_simulate(CLI::App& app, Action& action) {
         }
         return 0;
       }
-      const Scenario sc = load_scenario(o->preset);
+      const Scenario sc = preset.one_body();
       // The trace streams to the output as it is computed (constant memory whatever the run
       // length); a file is written atomically (temporary file, renamed once the run is complete).
       try {

@@ -21,6 +21,8 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/assembly_io.hpp"
+#include "core/io/preset_io.hpp"
+#include "core/control/design_plant_json.hpp"
 #include "core/control/polynomial.hpp"
 #include "core/control/root_locus.hpp"
 #include "core/control/scenario_plant.hpp"
@@ -135,11 +137,6 @@ Scenario load_scenario_arg(const py::object& o) { return load_scenario(resolve_p
 // A scenario checked the way a preset file is (every key, type and range; messages name the key).
 Scenario validated(const Scenario& s, const std::string& where) { return scenario_from_json(to_json(s), where); }
 
-Scenario scenario_arg(const py::object& o) {
-  if (py::isinstance<Scenario>(o)) return o.cast<Scenario>();
-  return load_scenario_arg(o);
-}
-
 // The step h [s] and the velocities of Model.step / Model.run, checked as the CLI checks run.dt
 // ((0, 1] s) and a drive: finite.
 void check_step(double h, const char* what) {
@@ -166,6 +163,10 @@ struct PyModel {
 
 struct PyTrace {
   Trace tr;
+};
+
+struct PyPlantTrace {
+  AssemblyTrace tr;
 };
 
 }  // namespace
@@ -275,20 +276,59 @@ PYBIND11_MODULE(_gmslab, m) {
       }, "element slipping (True) or sticking, shape (samples, elements)")
       .def("__len__", [](const PyTrace& p) { return p.tr.size(); });
 
-  m.def("simulate", [](const py::object& sc_or_path) {
-    const Scenario sc = scenario_arg(sc_or_path);
+  py::class_<PyPlantTrace>(m, "PlantTrace", "A simulated assembled plant's trace; arrays are NumPy copies")
+      .def_property_readonly("t", [](const PyPlantTrace& p) { return arr(p.tr.t); }, "time [s]")
+      .def_property_readonly("outputs", [](const PyPlantTrace& p) {
+        std::vector<std::string> names;
+        for (const auto& c : p.tr.channels) names.push_back(c.name);
+        return names;
+      }, "the output names: x.BODY [m], v.BODY [m/s] per body, then F.PART [N] per contact, spring, damper, drive")
+      .def("output", [](const PyPlantTrace& p, const std::string& name) { return arr(p.tr.series(name)); },
+           py::arg("name"), "one output's samples; InputError names the outputs there are")
+      .def_property_readonly("contact_slip", [](const PyPlantTrace& p) {
+        py::dict d;
+        for (const auto& c : p.tr.channels) {
+          if (c.kind != Channel::Kind::ContactForce) continue;
+          const auto& flags = p.tr.contact_slip[static_cast<std::size_t>(c.index)];
+          py::array_t<bool> a(flags.size());
+          for (std::size_t k = 0; k < flags.size(); ++k) a.mutable_data()[k] = flags[k] != 0;
+          d[py::str(c.name.substr(2))] = a;
+        }
+        return d;
+      }, "per contact name: in gross slip (True) at each sample")
+      .def("__len__", [](const PyPlantTrace& p) { return p.tr.size(); });
+
+  m.def("simulate", [](const py::object& sc_or_path) -> py::object {
+    // A preset path loads once (load_preset): an assembled plant gives a PlantTrace.
+    std::optional<Scenario> sc;
+    std::optional<AssemblyScenario> plant;
+    if (py::isinstance<Scenario>(sc_or_path)) {
+      sc = sc_or_path.cast<Scenario>();
+    } else {
+      const Preset preset = load_preset(resolve_preset(path_arg(sc_or_path, "path")));
+      if (preset.assembled()) plant = preset.scenario;
+      else sc = preset.one_body();
+    }
+    if (plant) {
+      PyPlantTrace out;
+      {
+        py::gil_scoped_release nogil;
+        out.tr = simulate(*plant);
+      }
+      return py::cast(std::move(out));
+    }
     PyTrace out;
     {
       py::gil_scoped_release nogil;
-      Simulation sim(sc);
-      sim.run_to_end();
-      out.tr = sim.take_trace();
+      out.tr = simulate(*sc);
     }
-    return out;
+    return py::cast(std::move(out));
   }, py::arg("scenario"),
-        "Simulates a Scenario (or a preset path) to its end; returns a Trace (t [s], x [m], v [m/s], "
-        "friction [N], applied [N], element_force [N], element_slip). InputError for a bad scenario, "
-        "SimulationError when the run diverges");
+        "Simulates a Scenario or a preset (path or shipped name) to its end on the one engine. A "
+        "one-body scenario gives a Trace (t [s], x [m], v [m/s], friction [N], applied [N], "
+        "element_force [N], element_slip); an assembled plant (schema 2) a PlantTrace (t, outputs, "
+        "output(name), contact_slip). InputError for a bad scenario, SimulationError when the run "
+        "diverges");
 
   // ---- friction models -------------------------------------------------------------------
   m.def("models", [] {
@@ -373,14 +413,15 @@ PYBIND11_MODULE(_gmslab, m) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
       const bool path = !py::isinstance<Scenario>(scenario);  // str, os.PathLike or a preset name
       req.source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
-      const bool assembled = path && preset_schema_version(parse_json(read_file(req.source), req.source)) == 2;
-      if (assembled || !drive.empty() || !output.empty()) {
-        req.assembly = path ? load_assembly_scenario(req.source) : assembly_from_scenario(scenario.cast<Scenario>());
+      std::optional<Preset> preset;
+      if (path) preset = load_preset(req.source);
+      if ((preset && preset->assembled()) || !drive.empty() || !output.empty()) {
+        req.assembly = preset ? preset->scenario : assembly_from_scenario(scenario.cast<Scenario>());
         choice.source = control::PlantSource::Assembly;
         choice.drive = drive;
         choice.output = output;
       } else {
-        req.scenario = scenario_arg(scenario);
+        req.scenario = preset ? preset->one_body() : scenario.cast<Scenario>();
         if (!path) req.source = req.scenario->name;
       }
     } else {

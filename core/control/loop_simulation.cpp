@@ -231,45 +231,6 @@ double coulomb_feedforward_level(const ModelParams& plant, const Mismatch& m) {
   return (has_scalar(plant, "Fc") ? plant.scalar("Fc") : build_model(plant)->break_away()) * m.force;
 }
 
-LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
-  check_config(s, c);
-  const auto plant_f = build_model(s.friction);
-  std::vector<double> st(plant_f->state_size());
-  plant_f->reset(st);
-  Feedforward feedforward({s.friction}, c);
-  LeadController ctrl(c.C, c.dt, c.sample_time);
-  const Plant& pl = s.plant;
-  const double h = c.dt;
-  const long long steps = std::llround(c.duration / h);
-  double x = 0.0, v = 0.0;
-  LoopTrace tr;
-  auto record = [&](double t, double r, double u, double ff, double f) {
-    tr.t.push_back(t), tr.r.push_back(r), tr.x.push_back(x), tr.v.push_back(v);
-    tr.u.push_back(u), tr.ff.push_back(ff), tr.friction.push_back(f);
-  };
-  const std::size_t n_rec = static_cast<std::size_t>(steps / c.record_every + 2);
-  for (auto* vec : {&tr.t, &tr.r, &tr.x, &tr.v, &tr.u, &tr.ff, &tr.friction}) vec->reserve(n_rec);
-  record(0.0, c.reference(0.0), 0.0, 0.0, 0.0);
-  for (long long k = 0; k < steps; ++k) {
-    const double t = static_cast<double>(k) * h;
-    const double r = c.reference(t);
-    const double u = ctrl.update(k, r - x);
-    const double v_ref = (c.reference(t + h) - r) / h;  // reference velocity over the step
-    const double ff = feedforward.step(v_ref, v, h);
-    const double f_other = u + ff - pl.spring * x - pl.damper * v;
-    const double f = plant_f->step(st, {v, h, f_other, pl.mass});
-    v += h * (f_other - f) / pl.mass;
-    x += h * v;
-    if (!std::isfinite(x) || !std::isfinite(v) || !std::isfinite(f)) {
-      std::ostringstream o;
-      o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
-      throw SimulationError(o.str());
-    }
-    if ((k + 1) % c.record_every == 0 || k + 1 == steps) record(t + h, c.reference(t + h), u, ff, f);
-  }
-  return tr;
-}
-
 double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc) {
   if (drive >= a.drives.size()) throw InputError("loop: drive " + std::to_string(drive) + " is not a drive of the plant");
   Assembly f = a;
@@ -277,6 +238,22 @@ double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc) {
   const double k = d.kind == DrivePart::Kind::Pull ? Kc * d.pull_spring : Kc;
   f.springs.push_back({"controller", d.body, kGround, std::max(0.0, k)});
   return stability_limit_dt(f);
+}
+
+namespace {
+// The loop on an assembled plant whose configuration and port are checked.
+LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c);
+}  // namespace
+
+LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
+  check_config(s, c);
+  // The scenario's plant as its one-body assembly, the controller acting through a force drive.
+  Scenario plant = s;
+  plant.drive = Drive{};
+  AssemblyPort port;
+  port.drive_name = "drive";
+  port.output = "x.mass";
+  return run_loop(assembly_from_scenario(plant), port, c);
 }
 
 LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
@@ -292,6 +269,12 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
       bad.push_back(p);
   }
   throw_problems(bad);
+  return run_loop(s, port, c);
+}
+
+namespace {
+LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
+  const Assembly& a = s.plant;
   AssemblyScenario run = s;
   run.run.dt = c.dt;
   run.run.duration = c.duration;
@@ -349,6 +332,7 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
   }
   return tr;
 }
+}  // namespace
 
 std::vector<double> tracking_error(const LoopTrace& tr) {
   std::vector<double> e(tr.t.size());

@@ -2,10 +2,11 @@
 //
 //   e = x_ref - x;  u = Gc(s) e  (continuous, or Tustin-discretised at T with zero-order hold)
 //   m x'' = u + u_ff - k x - c v - F_f        (F_f from ANY registry model, scenario's plant)
-// Integrator: the one of core/sim/simulation.cpp (friction step with v frozen over h, then
-// v += h (f_other - F_f) / m, x += h v). The continuous lead state w' = -p w + e is advanced
-// exactly over each step (e held), u = Kc e + Kc (z - p) w; a second section in series: the
-// two-state cascade advanced by its exact zero-order-hold discretisation (matrix exponential).
+// Integrator: the assembled plant's (core/sim/assembly.hpp: friction step with v frozen over h,
+// then v += (f_other - F_f) h / m, x += h v); a scenario runs as its one-body assembly. The
+// continuous lead state w' = -p w + e is advanced exactly over each step (e held),
+// u = Kc e + Kc (z - p) w; a second section in series: the two-state cascade advanced by its exact
+// zero-order-hold discretisation (matrix exponential).
 // Tustin at T: u[j] = a u[j-1] + b0 e[j] + b1 e[j-1], s = (2/T)(q - 1)/(q + 1), per section in series.
 // Friction compensation (feedforward u_ff [N]), driven by the velocity of `feedforward_source`:
 //   reference (default) v_ref = (x_ref(t+h) - x_ref(t))/h (it cannot chatter; it does nothing
@@ -85,6 +86,8 @@ ModelParams feedforward_model(const ModelParams& plant_friction, const Mismatch&
 // The Coulomb compensator's level Fc_hat [N]: the plant's Fc (its break-away force when the model
 // has no Fc) times m.force.
 double coulomb_feedforward_level(const ModelParams& plant_friction, const Mismatch& m);
+// The loop on the scenario's plant (its drive replaced by the controller's force): the loop below on
+// the scenario's one-body assembly (assembly_from_scenario), port drive "drive", output x.mass.
 LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 // The loop on an assembled plant (core/sim/assembly.hpp, its own integrator and contacts): the
 // controller's u acts through drive port.drive (a force drive: F = u + u_ff [N]; a pull drive: u is
@@ -95,8 +98,7 @@ LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c);
 // by the drive's body velocity. Trace: x = the output, v =
 // the output body's velocity, friction = the sum of the contacts' forces to ground on their bodies.
 // The assembly's run settings are replaced by c.dt and c.duration. Throws as the one-body loop; the
-// dt limit is assembly_loop_dt_limit. For a one-body assembly of a force-driven scenario
-// (assembly_from_scenario) it gives the one-body loop's trace.
+// dt limit is assembly_loop_dt_limit.
 LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c);
 // Largest stable step of that loop [s]: 2 / w_max with contacts stuck and the controller's
 // high-frequency gain Kc as one more spring from the drive's body to ground (Kc k_p for a pull drive).

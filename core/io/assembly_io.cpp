@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
+#include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 
 namespace gmslab {
@@ -161,7 +162,7 @@ AssemblyScenario assembly_scenario_from_json(const json& j, const std::string& f
 
 AssemblyScenario load_assembly_scenario(const std::string& path) {
   std::error_code ec;
-  if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes > (64u << 20))
+  if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes > kMaxPresetBytes)
     throw InputError(path + ": the file is " + std::to_string(bytes) + " bytes; a preset may be at most 64 MiB");
   return assembly_scenario_from_json(parse_json(read_file(path), path), path);
 }

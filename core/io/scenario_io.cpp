@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
+#include "core/io/preset_io.hpp"
 
 namespace gmslab {
 
@@ -15,7 +16,6 @@ using nlohmann::json;
 namespace {
 constexpr double kBig = 1e12;
 constexpr std::size_t kMaxPoints = 1'000'000;
-constexpr std::uintmax_t kMaxPresetBytes = 64u << 20;  // 1e6 signal points fit in ~30 MB
 }  // namespace
 
 json to_json(const ModelParams& p) {

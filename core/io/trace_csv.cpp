@@ -3,6 +3,7 @@
 #include <charconv>
 
 #include "core/io/atomic_file.hpp"
+#include "core/sim/assembly.hpp"
 
 namespace gmslab {
 
@@ -65,16 +66,16 @@ void save_trace_csv(const Trace& tr, const std::string& path) {
 
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink) {
   constexpr std::size_t kChunkSamples = 1u << 14;
-  Simulation sim(scenario, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
+  AssemblySimulation sim = one_body_simulation(scenario, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
   // Every sample has its element columns (the run has no live edits), so the header is known now.
-  const std::size_t ne = sim.trace().n_elements;
+  const std::size_t ne = sim.one_body_trace().n_elements;
   std::string text;
   append_trace_csv_header(ne, text);
   std::size_t written = 0;
   const auto chunk_steps = kChunkSamples * static_cast<std::size_t>(scenario.run.record_every);
   auto drain = [&] {
-    append_trace_csv_rows(sim.trace(), ne, text);
-    written += sim.trace().size();
+    append_trace_csv_rows(sim.one_body_trace(), ne, text);
+    written += sim.one_body_trace().size();
     sim.clear_trace();
     sink(text);
     text.clear();
@@ -83,7 +84,7 @@ std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(
     sim.advance(chunk_steps);
     drain();
   }
-  if (sim.trace().size() > 0 || !text.empty()) drain();  // a run of zero steps: its first sample
+  if (sim.one_body_trace().size() > 0 || !text.empty()) drain();  // a run of zero steps: its first sample
   return written;
 }
 

@@ -236,8 +236,8 @@ TraceFormat trace_format(const std::string& path, const std::string& what) {
 std::size_t save_trace_file(const Scenario& scenario, const std::string& path) {
   const TraceFormat f = trace_format(path);
   if (f == TraceFormat::Csv) return save_trace_csv_streamed(scenario, path);
-  Simulation sim(scenario, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
-  const std::size_t ne = sim.trace().n_elements;
+  AssemblySimulation sim = one_body_simulation(scenario, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
+  const std::size_t ne = sim.one_body_trace().n_elements;
   std::vector<ColumnSpec> specs = {{"t_s", "s"}, {"x_m", "m"}, {"v_mps", "m/s"}, {"F_friction_N", "N"}, {"F_applied_N", "N"}};
   for (std::size_t i = 0; i < ne; ++i) specs.push_back({"F" + std::to_string(i + 1) + "_N", "N"});
   for (std::size_t i = 0; i < ne; ++i) specs.push_back({"slip" + std::to_string(i + 1), "", true});
@@ -245,7 +245,7 @@ std::size_t save_trace_file(const Scenario& scenario, const std::string& path) {
   std::vector<std::vector<double>> cols(specs.size());
   std::size_t written = 0;
   auto drain = [&] {
-    const Trace& tr = sim.trace();
+    const Trace& tr = sim.one_body_trace();
     const std::size_t k = tr.size();
     cols[0].assign(tr.t.begin(), tr.t.end());
     cols[1].assign(tr.x.begin(), tr.x.end());
@@ -270,7 +270,7 @@ std::size_t save_trace_file(const Scenario& scenario, const std::string& path) {
     sim.advance(chunk_steps);
     drain();
   }
-  if (sim.trace().size() > 0) drain();  // a run of zero steps: its first sample
+  if (sim.one_body_trace().size() > 0) drain();  // a run of zero steps: its first sample
   sink->finish();
   return written;
 }

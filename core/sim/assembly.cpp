@@ -162,6 +162,42 @@ AssemblyScenario assembly_from_scenario(const Scenario& s) {
   return a;
 }
 
+std::optional<Scenario> one_body_scenario(const AssemblyScenario& a) {
+  const Assembly& p = a.plant;
+  if (p.bodies.size() != 1 || p.springs.size() != 1 || p.dampers.size() != 1 || p.contacts.size() != 1 ||
+      p.drives.size() != 1)
+    return std::nullopt;
+  const auto& sp = p.springs[0];
+  const auto& dp = p.dampers[0];
+  const auto& ct = p.contacts[0];
+  const auto& dr = p.drives[0];
+  if (p.bodies[0].name != "mass" || sp.name != "spring" || dp.name != "damper" || ct.name != "friction" ||
+      dr.name != "drive")
+    return std::nullopt;
+  if (sp.a != 0 || sp.b != kGround || dp.a != 0 || dp.b != kGround || ct.a != 0 || ct.b != kGround || dr.body != 0 ||
+      dr.point_velocity)
+    return std::nullopt;
+  Scenario s;
+  s.name = a.name;
+  s.description = a.description;
+  s.run = a.run;
+  s.friction = ct.friction;
+  s.plant = {p.bodies[0].mass, sp.stiffness, dp.damping};
+  s.drive.signal = dr.signal;
+  switch (dr.kind) {
+    case DrivePart::Kind::Displacement: s.drive.kind = Drive::Kind::Displacement; break;
+    case DrivePart::Kind::Velocity: s.drive.kind = Drive::Kind::Velocity; break;
+    case DrivePart::Kind::Force: s.drive.kind = Drive::Kind::Force; break;
+    case DrivePart::Kind::Pull:
+      s.drive.kind = Drive::Kind::Pull;
+      s.drive.pull_spring = dr.pull_spring;
+      s.drive.pull_damper = dr.pull_damper;
+      break;
+  }
+  if (s.drive.kind != Drive::Kind::Pull && (dr.pull_spring != 0.0 || dr.pull_damper != 0.0)) return std::nullopt;
+  return s;
+}
+
 double stuck_stiffness(const ModelParams& p) {
   double k = 0.0;
   const auto& info = model_info(p.model);
@@ -260,12 +296,7 @@ namespace {
 void check(const AssemblyScenario& s) {
   std::vector<std::string> bad = validate(s.plant, "plant");
   const auto& r = s.run;
-  if (!(std::isfinite(r.dt) && r.dt > 0 && r.dt <= 1.0)) bad.push_back("run.dt: must be in (0, 1] s");
-  if (!(std::isfinite(r.duration) && r.duration > 0 && r.duration <= 1e6))
-    bad.push_back("run.duration: must be in (0, 1e6] s");
-  if (r.record_every < 1) bad.push_back("run.record_every: must be >= 1");
-  if (bad.empty() && r.duration / r.dt > 1e10)
-    bad.push_back("run: duration / dt exceeds 1e10 steps; raise dt or shorten the run");
+  append_run_problems(r, bad);
   if (bad.empty()) {
     const double lim = stability_limit_dt(s.plant);
     if (r.dt >= lim) {
@@ -276,16 +307,20 @@ void check(const AssemblyScenario& s) {
       bad.push_back(o.str());
     }
   }
-  if (!bad.empty()) {
-    std::string msg = "invalid scenario '" + s.name + "':";
-    for (const auto& b : bad) msg += "\n  " + b;
-    throw InputError(msg);
-  }
+  throw_if_invalid(s.name, bad);
 }
 }  // namespace
 
-AssemblySimulation::AssemblySimulation(const AssemblyScenario& s, TraceOptions trace) : sc_(s), trace_opts_(trace) {
+AssemblySimulation::AssemblySimulation(const AssemblyScenario& s, TraceOptions trace)
+    : AssemblySimulation(s, trace, false) {}
+
+AssemblySimulation::AssemblySimulation(const AssemblyScenario& s, TraceOptions trace, bool one_body_layout)
+    : sc_(s), trace_opts_(trace) {
   check(sc_);
+  as_scenario_ = one_body_scenario(sc_);
+  body_layout_ = one_body_layout && as_scenario_;
+  body_prescribed_ = body_layout_ && (as_scenario_->drive.kind == Drive::Kind::Displacement ||
+                                      as_scenario_->drive.kind == Drive::Kind::Velocity);
   for (const auto& c : sc_.plant.contacts) models_.push_back(build_model(c.friction));
   channels_ = output_channels(sc_.plant);
   reset();
@@ -331,6 +366,10 @@ void AssemblySimulation::reset() {
     else if (sc_.plant.drives[0].kind == DrivePart::Kind::Force) simple_ = 1;
     else if (sc_.plant.drives[0].kind == DrivePart::Kind::Pull && !sc_.plant.drives[0].point_velocity) simple_ = 2;
   }
+  if (nb == 1 && has_prescribed_ && sc_.plant.drives.size() == 1 && sc_.plant.springs.size() <= 1 &&
+      sc_.plant.dampers.size() <= 1 && sc_.plant.contacts.size() <= 1)
+    simple_ = sc_.plant.drives[0].kind == DrivePart::Kind::Displacement ? 3 : 4;
+  drive_rate_.assign(sc_.plant.drives.size(), 0.0);
   for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
     const auto& d = sc_.plant.drives[i];
     if (d.kind == DrivePart::Kind::Displacement) x_[d.body] = d.signal(0.0);
@@ -368,12 +407,28 @@ void AssemblySimulation::reset() {
   expected = std::min(expected, trace_opts_.reserve_samples);
   if (max_samples_ > 0) expected = std::min(expected, max_samples_);
   expected = std::min<std::size_t>(expected, std::size_t{1} << 22);  // more grows as it comes
-  trace_.t.reserve(expected);
-  trace_.values.reserve(expected * channels_.size());
-  for (std::size_t j = 0; j < models_.size(); ++j) {
-    trace_.element_force[j].reserve(expected * trace_.n_elements[j]);
-    trace_.element_slip[j].reserve(expected * trace_.n_elements[j]);
-    trace_.contact_slip[j].reserve(expected);
+  if (body_layout_) {
+    // As Simulation's trace: its sample size, at least 64 samples, reserved up to the run's count.
+    body_trace_.clear();
+    body_trace_.n_elements = trace_.n_elements[0];
+    max_samples_ = 0;
+    if (trace_opts_.max_bytes > 0)
+      max_samples_ = std::max<std::size_t>(64, trace_opts_.max_bytes / trace_sample_bytes(body_trace_.n_elements));
+    std::size_t want = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
+    want = std::min(want, trace_opts_.reserve_samples);
+    if (max_samples_ > 0) want = std::min(want, max_samples_);
+    for (auto* vec : {&body_trace_.t, &body_trace_.x, &body_trace_.v, &body_trace_.friction, &body_trace_.applied})
+      vec->reserve(want);
+    body_trace_.element_force.reserve(want * body_trace_.n_elements);
+    body_trace_.element_slip.reserve(want * body_trace_.n_elements);
+  } else {
+    trace_.t.reserve(expected);
+    trace_.values.reserve(expected * channels_.size());
+    for (std::size_t j = 0; j < models_.size(); ++j) {
+      trace_.element_force[j].reserve(expected * trace_.n_elements[j]);
+      trace_.element_slip[j].reserve(expected * trace_.n_elements[j]);
+      trace_.contact_slip[j].reserve(expected);
+    }
   }
   // Where each channel's value lives (the output arrays keep their storage until the next reset).
   channel_src_.clear();
@@ -389,10 +444,27 @@ void AssemblySimulation::reset() {
     }
     channel_src_.push_back(src);
   }
+  rebase_energy();
   record();
 }
 
+void AssemblySimulation::record_one_body() {
+  Trace& tr = body_trace_;
+  tr.t.push_back(time());
+  tr.x.push_back(x_[0]);
+  tr.v.push_back(v_[0]);
+  tr.friction.push_back(f_contact_[0]);
+  tr.applied.push_back(body_prescribed_ ? f_contact_[0] : f_drive_[0]);
+  for (std::size_t i = 0; i < tr.n_elements; ++i) {
+    const auto e = models_[0]->element(state_[0], i);
+    tr.element_force.push_back(e.force);
+    tr.element_slip.push_back(e.slipping ? 1 : 0);
+  }
+  if (max_samples_ > 0 && tr.size() >= max_samples_) compact_trace();
+}
+
 void AssemblySimulation::record() {
+  if (body_layout_) return record_one_body();
   trace_.t.push_back(time());
   const std::size_t nc = channel_src_.size(), at = trace_.values.size();
   trace_.values.resize(at + nc);
@@ -416,8 +488,9 @@ void AssemblySimulation::compact_trace() {
   // As Simulation::compact_trace: the current width first (the samples since the last compaction
   // are raw), then doubled until half the room is free. One bucket keeps at most 2 + 2 nc samples
   // and max_samples_ >= 8 (2 + 2 nc), so this ends.
-  bucket_steps_ = compact_to_half(trace_, sc_.run.dt, bucket_steps_,
-                                  static_cast<std::uint64_t>(sc_.run.record_every), max_samples_);
+  const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
+  bucket_steps_ = body_layout_ ? compact_to_half(body_trace_, sc_.run.dt, bucket_steps_, every, max_samples_)
+                               : compact_to_half(trace_, sc_.run.dt, bucket_steps_, every, max_samples_);
 }
 
 std::size_t AssemblyTrace::sample_bytes() const {
@@ -490,6 +563,7 @@ void AssemblySimulation::set_drive_input(std::size_t i, double u) {
   input_[i] = u;
   has_input_[i] = 1;
   any_input_ = true;
+  watch_ = false;  // a controller's input is no passive drive
 }
 
 double AssemblySimulation::drive_force(std::size_t i, double t, double h, double x, double v) {
@@ -510,6 +584,7 @@ double AssemblySimulation::drive_force(std::size_t i, double t, double h, double
     xp = d.signal(t);
     rate = d.signal.rate_at(t);
   }
+  drive_rate_[i] = rate;
   return d.pull_spring * (xp - x) + d.pull_damper * (rate - v);
 }
 
@@ -548,10 +623,18 @@ std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
     v += f * hm;
     x += h * v;
     ++step_;
+    if (watch_)  // one free body: every drive acts on it
+      for (std::size_t i = 0; i < p.drives.size(); ++i)
+        drive_work_ += h * f_drive_[i] * (p.drives[i].kind == DrivePart::Kind::Force ? v : drive_rate_[i]);
     if (!std::isfinite(f + x + v)) {
       x_[0] = x;
       v_[0] = v;
-      diverged();
+      diverged(!std::isfinite(contacts_c_.empty() ? 0.0 : f_contact_[0]));
+    }
+    if (watch_ && (step_ & (kEnergyCheckEvery - 1)) == 0) {
+      x_[0] = x;
+      v_[0] = v;
+      check_energy();
     }
     if (--until_record_ == 0 || step_ == total_steps_) {
       x_[0] = x;
@@ -582,6 +665,7 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
   // The outputs as they stand (the last step's, or the start's).
   double fdrive = f_drive_.empty() ? 0.0 : f_drive_[0], fs = has_k ? f_spring_[0] : 0.0, fd = has_c ? f_damper_[0] : 0.0;
   double F = has_f ? f_contact_[0] : 0.0, vr = has_f ? v_rel_[0] : 0.0;
+  double work = drive_work_;
   std::uint64_t step = step_, left = until_record_;
   auto flush = [&] {
     x_[0] = x;
@@ -592,17 +676,57 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
     if (has_k) f_spring_[0] = fs;
     if (has_c) f_damper_[0] = fd;
     if (has_f) f_contact_[0] = F, v_rel_[0] = vr;
+    drive_work_ = work;
   };
   std::size_t done = 0;
   for (; done < n && step < total; ++done) {
     const double t = static_cast<double>(step) * h;
     double f = 0.0;
-    if constexpr (K == 1) {
+    [[maybe_unused]] double xp_rate = 0.0;  // pull: the drive point's velocity [m/s]
+    if constexpr (K >= 3) {
+      // Prescribed motion (compute_step's sums for one body): the parts at the step's start, the
+      // contact at the velocity over the step, the drive supplying what holds the motion.
+      const double x1 = K == 3 ? d->signal(t + h) : 0.0;
+      const double cv = K == 3 ? (x1 - x) / h : 0.5 * (d->signal(t) + d->signal(t + h));
+      if (has_k) {
+        fs = k * (x - 0.0);
+        f -= fs;
+      }
+      if (has_c) {
+        fd = c * (v - 0.0);
+        f -= fd;
+      }
+      if (has_f) {
+        vr = cv - 0.0;
+        F = model->step(st, {vr, h, 0.0, 0.0});
+        f -= F;
+      }
+      fdrive = -f;
+      if constexpr (K == 3) {
+        x = x1;
+        v = cv;
+      } else {
+        x += cv * h;
+        v = d->signal(t + h);
+      }
+      ++step;
+      if (!std::isfinite(f + x + v)) {
+        flush();
+        diverged(!std::isfinite(F));
+      }
+      if (--left == 0 || step == total) {
+        left = every;
+        flush();
+        record();
+      }
+      continue;
+    } else if constexpr (K == 1) {
       fdrive = d->signal(t);
       f += fdrive;
     } else if constexpr (K == 2) {
-      const double xp = d->signal(t), rate = d->signal.rate_at(t);
-      fdrive = d->pull_spring * (xp - x) + d->pull_damper * (rate - v);
+      xp_rate = d->signal.rate_at(t);
+      const double xp = d->signal(t);
+      fdrive = d->pull_spring * (xp - x) + d->pull_damper * (xp_rate - v);
       f += fdrive;
     }
     if (has_k) {
@@ -620,10 +744,17 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
     }
     v += f * hm;
     x += h * v;
+    // The energy watch's account: work of the drive this step (force: F dx; pull: F dx_p) [J].
+    if constexpr (K == 1) work += h * fdrive * v;
+    else if constexpr (K == 2) work += h * fdrive * xp_rate;
     ++step;
     if (!std::isfinite(f + x + v)) {
       flush();
-      diverged();
+      diverged(!std::isfinite(F));
+    }
+    if ((step & (kEnergyCheckEvery - 1)) == 0) {
+      flush();
+      check_energy();
     }
     if (--left == 0 || step == total) {
       left = every;
@@ -719,13 +850,38 @@ double AssemblySimulation::compute_step() {
   return probe;
 }
 
-void AssemblySimulation::diverged() const {
+std::string AssemblySimulation::divergence_cause() const {
+  if (as_scenario_) return gmslab::divergence_cause(*as_scenario_);
   std::ostringstream o;
-  o << "simulation diverged at t = " << time() << " s (non-finite state). The step limit of this plant "
-    << "with contacts stuck is dt < " << stability_limit_dt(sc_.plant) << " s (run.dt = " << sc_.run.dt
-    << " s); lower run.dt or soften the stiffest part, or lower the dampers (explicit damping needs "
-    << "dt < 2 m / sum c).";
+  o << "The step limit of this plant with contacts stuck is dt < " << stability_limit_dt(sc_.plant)
+    << " s (run.dt = " << sc_.run.dt << " s); lower run.dt or soften the stiffest part, or lower the "
+    << "dampers (explicit damping needs dt < 2 m / sum c).";
+  return o.str();
+}
+
+void AssemblySimulation::diverged(bool friction) const {
+  std::ostringstream o;
+  o << "simulation diverged at t = " << time() << " s (non-finite ";
+  // A one-body scenario's plant names what turned non-finite, as its one-body form does.
+  o << (as_scenario_ && friction ? "friction force" : "state") << "). " << divergence_cause();
   throw SimulationError(o.str());
+}
+
+void AssemblySimulation::rebase_energy() {
+  watch_ = one_body_ && !any_input_;
+  drive_work_ = 0.0;
+  energy0_ = kinetic_energy() + spring_energy();
+  storage_ = 0.0;
+  for (std::size_t j = 0; j < models_.size(); ++j)
+    storage_ += friction_storage(*models_[j], sc_.plant.contacts[j].friction);
+  dt_limit_ = as_scenario_ ? stability_limit_dt(*as_scenario_) : stability_limit_dt(sc_.plant);
+}
+
+void AssemblySimulation::check_energy() const {
+  const double e = kinetic_energy() + spring_energy();
+  const double budget = energy0_ + std::abs(drive_work_) + storage_;
+  if (!(e - energy0_ - drive_work_ - storage_ > energy_margin(budget, sc_.run.dt, dt_limit_))) return;
+  throw SimulationError(energy_growth_message(time(), e, energy0_, drive_work_, storage_) + divergence_cause());
 }
 
 std::size_t AssemblySimulation::advance(std::size_t n) {
@@ -735,6 +891,8 @@ std::size_t AssemblySimulation::advance(std::size_t n) {
     case 0: return advance_simple<0>(n);
     case 1: return advance_simple<1>(n);
     case 2: return advance_simple<2>(n);
+    case 3: return advance_simple<3>(n);
+    case 4: return advance_simple<4>(n);
     default: break;
   }
   if (one_body_) return advance_one_body(n);
@@ -743,7 +901,7 @@ std::size_t AssemblySimulation::advance(std::size_t n) {
   for (; done < n && step_ < total_steps_; ++done) {
     const double probe = compute_step();
     ++step_;
-    if (!std::isfinite(probe)) diverged();
+    if (!std::isfinite(probe)) diverged(false);
     if (--until_record_ == 0 || step_ == total_steps_) {
       record();
       until_record_ = every;
@@ -788,6 +946,17 @@ AssemblyTrace simulate(const AssemblyScenario& s) {
   AssemblySimulation sim(s);
   sim.run_to_end();
   return sim.take_trace();
+}
+
+AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace) {
+  check_scenario(s);
+  return AssemblySimulation(assembly_from_scenario(s), trace, true);
+}
+
+Trace simulate(const Scenario& scenario) {
+  AssemblySimulation sim = one_body_simulation(scenario);
+  sim.run_to_end();
+  return sim.take_one_body_trace();
 }
 
 }  // namespace gmslab

@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -105,6 +106,9 @@ std::vector<std::string> validate(const Assembly& a, const std::string& where = 
 // The one-body v1 scenario as an assembly: body "mass", spring/damper "spring"/"damper" to ground,
 // contact "friction" to ground, drive "drive".
 AssemblyScenario assembly_from_scenario(const Scenario& s);
+// The inverse: the one-body scenario of an assembly of exactly that shape (those names, every part
+// on body 0 and ground, a drive without point_velocity); nullopt for any other assembly.
+std::optional<Scenario> one_body_scenario(const AssemblyScenario& a);
 
 // Stiffness of a contact with every element stuck: sum k_i (+ sigma0) [N/m].
 double stuck_stiffness(const ModelParams& p);
@@ -172,15 +176,30 @@ class AssemblySimulation {
   AssemblySimulation(AssemblySimulation&&) = default;
   AssemblySimulation& operator=(AssemblySimulation&&) = default;
   void reset();
-  std::size_t advance(std::size_t n);  // throws SimulationError on a non-finite state
+  // Advances by n steps (stops at the end of the run); returns the steps done. Throws
+  // SimulationError when the state turns non-finite or - one free body, no drive input - when its
+  // kinetic and spring energy grows beyond its start value + the drives' work + what the contacts
+  // can store elastically (checked every 1024 steps, the margin of energy_margin), naming the
+  // likely cause. A one-body scenario's plant (one_body_scenario) says it in the one-body words
+  // (divergence_cause).
+  std::size_t advance(std::size_t n);
   void run_to_end();
   bool finished() const { return step_ >= total_steps_; }
   double time() const { return static_cast<double>(step_) * sc_.run.dt; }
 
   const AssemblyScenario& scenario() const { return sc_; }
+  // The samples (a run of one_body_simulation: none; they go to one_body_trace()).
   const AssemblyTrace& trace() const { return trace_; }
+  // A run of one_body_simulation records the one-body trace instead: t, x, v, F_f, F_applied
+  // (prescribed motion: F_f) and the contact's element columns, bounded and compacted by the
+  // TraceOptions as Simulation's trace. Empty for any other run.
+  const Trace& one_body_trace() const { return body_trace_; }
+  Trace take_one_body_trace() { return std::move(body_trace_); }
   AssemblyTrace take_trace() { return std::move(trace_); }
-  void clear_trace() { trace_.clear(); }  // samples taken by a streaming consumer
+  void clear_trace() {  // samples taken by a streaming consumer
+    trace_.clear();
+    body_trace_.clear();
+  }
   // Integration steps per bucket of a compacted trace; 0 while every recorded sample is kept.
   std::uint64_t trace_bucket_steps() const { return bucket_steps_; }
   std::size_t trace_max_samples() const { return max_samples_; }
@@ -199,8 +218,14 @@ class AssemblySimulation {
   std::span<const double> contact_state(std::size_t j) const { return state_[j]; }
 
  private:
+  friend AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace);
+  AssemblySimulation(const AssemblyScenario& s, TraceOptions trace, bool one_body_layout);
   void record();
+  void record_one_body();
   void compact_trace();
+  bool body_layout_ = false;      // record body_trace_ (one_body_simulation)
+  bool body_prescribed_ = false;  // its drive prescribes the motion
+  Trace body_trace_;
   // One step of the general plant; returns a sum of the new state and forces (non-finite when
   // any of them is).
   double compute_step();
@@ -209,13 +234,28 @@ class AssemblySimulation {
   // sum lengthens the chain v -> forces -> friction -> v that bounds a step's time.
   std::size_t advance_one_body(std::size_t n);
   // The one-body case with at most one drive (K: 0 none, 1 force, 2 pull by the point's
-  // position), spring, damper and contact, as a v1 preset maps: advance_one_body's sums with the
-  // parts' values, the step counters and the outputs in locals (written back before a sample is
-  // recorded), and the drive inlined - the same loop as Simulation::advance_as.
+  // position, 3 displacement, 4 velocity), spring, damper and contact, as a v1 preset maps:
+  // advance_one_body's (K <= 2) or compute_step's (K >= 3) sums with the parts' values, the step
+  // counters and the outputs in locals (written back before a sample is recorded), and the drive
+  // inlined - the same loop as Simulation::advance_as.
   template <int K>
   std::size_t advance_simple(std::size_t n);
   int simple_ = -1;  // K of advance_simple when it applies, else -1
-  [[noreturn]] void diverged() const;  // one free body, every part to ground: the same sums in registers
+  // Throws SimulationError: "simulation diverged at t = T s (non-finite friction force | state)"
+  // and the likely cause.
+  [[noreturn]] void diverged(bool friction) const;
+  std::string divergence_cause() const;
+  // Energy watch (advance, one free body): on while watch_; the account is rebased at reset.
+  static constexpr std::uint64_t kEnergyCheckEvery = 1024;  // a power of 2
+  void rebase_energy();
+  void check_energy() const;
+  bool watch_ = false;
+  double drive_work_ = 0.0;  // work of the drives since the rebase [J]
+  double energy0_ = 0.0;     // kinetic + spring energy at the rebase [J]
+  double storage_ = 0.0;     // largest elastic energy the contacts can hold [J]
+  double dt_limit_ = 0.0;    // stability limit of the step the margin scales with [s]
+  std::vector<double> drive_rate_;      // per pull drive: its point's velocity this step [m/s]
+  std::optional<Scenario> as_scenario_;  // the one-body scenario this plant is, if it is one
 
   AssemblyScenario sc_;
   std::vector<std::unique_ptr<FrictionModel>> models_;
@@ -248,5 +288,10 @@ class AssemblySimulation {
 };
 
 AssemblyTrace simulate(const AssemblyScenario& s);
+
+// A one-body scenario on the assembled plant's engine: checks it as the one-body Simulation does
+// (check_scenario: its messages), then the simulation of assembly_from_scenario(s), recording the
+// one-body trace (one_body_trace(): Simulation's samples, bit for bit).
+AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace = {});
 
 }  // namespace gmslab

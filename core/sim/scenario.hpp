@@ -11,6 +11,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/friction/model.hpp"
 #include "core/sim/signal.hpp"
@@ -51,6 +52,12 @@ struct Scenario {
 };
 
 const char* to_string(Drive::Kind k);
+// Appends the problems of the run settings, each naming its key ("run.dt: must be in (0, 1] s"):
+// dt in (0, 1] s, duration in (0, 1e6] s, record_every >= 1, and - when `bad` is still empty - at
+// most 1e10 steps. Both engines' validation (Simulation, AssemblySimulation) ends with it.
+void append_run_problems(const RunSettings& r, std::vector<std::string>& bad);
+// Throws InputError "invalid scenario 'NAME':" listing `bad` one per line; nothing when empty.
+void throw_if_invalid(const std::string& name, const std::vector<std::string>& bad);
 // Largest step that resolves the stiffest mode of the plant with the friction elements stuck:
 // 2 / sqrt((k + k_p + sum k_i) / m) for mass-driven kinds, +inf for prescribed motion.
 double stability_limit_dt(const Scenario& s);

@@ -42,7 +42,6 @@ void Trace::clear() {
   ++revision;
 }
 
-namespace {
 void check_scenario(const Scenario& s) {
   std::vector<std::string> bad = validate(s.friction, "friction");
   auto need = [&](bool ok, const std::string& what) {
@@ -52,12 +51,7 @@ void check_scenario(const Scenario& s) {
   need(std::isfinite(s.plant.mass) && s.plant.mass > 0, "plant.mass: must be > 0 kg");
   need(std::isfinite(s.plant.spring) && s.plant.spring >= 0, "plant.spring: must be >= 0 N/m");
   need(std::isfinite(s.plant.damper) && s.plant.damper >= 0, "plant.damper: must be >= 0 N s/m");
-  need(std::isfinite(s.run.dt) && s.run.dt > 0 && s.run.dt <= 1.0, "run.dt: must be in (0, 1] s");
-  need(std::isfinite(s.run.duration) && s.run.duration > 0 && s.run.duration <= 1e6,
-       "run.duration: must be in (0, 1e6] s");
-  need(s.run.record_every >= 1, "run.record_every: must be >= 1");
-  if (bad.empty() && s.run.duration / s.run.dt > 1e10)
-    bad.push_back("run: duration / dt exceeds 1e10 steps; raise dt or shorten the run");
+  append_run_problems(s.run, bad);
   if (bad.empty() && massive) {
     const double lim = stability_limit_dt(s);
     if (s.run.dt >= lim) {
@@ -68,13 +62,24 @@ void check_scenario(const Scenario& s) {
       bad.push_back(o.str());
     }
   }
-  if (!bad.empty()) {
-    std::string msg = "invalid scenario '" + s.name + "':";
-    for (const auto& b : bad) msg += "\n  " + b;
-    throw InputError(msg);
-  }
+  throw_if_invalid(s.name, bad);
 }
-}  // namespace
+
+void append_run_problems(const RunSettings& r, std::vector<std::string>& bad) {
+  if (!(std::isfinite(r.dt) && r.dt > 0 && r.dt <= 1.0)) bad.push_back("run.dt: must be in (0, 1] s");
+  if (!(std::isfinite(r.duration) && r.duration > 0 && r.duration <= 1e6))
+    bad.push_back("run.duration: must be in (0, 1e6] s");
+  if (r.record_every < 1) bad.push_back("run.record_every: must be >= 1");
+  if (bad.empty() && r.duration / r.dt > 1e10)
+    bad.push_back("run: duration / dt exceeds 1e10 steps; raise dt or shorten the run");
+}
+
+void throw_if_invalid(const std::string& name, const std::vector<std::string>& bad) {
+  if (bad.empty()) return;
+  std::string msg = "invalid scenario '" + name + "':";
+  for (const auto& b : bad) msg += "\n  " + b;
+  throw InputError(msg);
+}
 
 Simulation::Simulation(const Scenario& scenario, TraceOptions trace) : sc_(scenario), trace_opts_(trace) {
   check_scenario(sc_);
@@ -297,7 +302,8 @@ double damping_limit_dt(const Scenario& s, double& c) {
   return c > 0.0 ? 2.0 * s.plant.mass / c : std::numeric_limits<double>::infinity();
 }
 
-// "Likely cause: ..." with the numbers: the step against the stiffness and damping limits.
+}  // namespace
+
 std::string divergence_cause(const Scenario& s) {
   const double h = s.run.dt, lim_k = stability_limit_dt(s);
   double c = 0.0;
@@ -321,8 +327,6 @@ std::string divergence_cause(const Scenario& s) {
   return o.str();
 }
 
-// Largest energy the friction can store elastically [J]: Fb^2 / (2 k_min) over its stiffnesses
-// (element k_i, bristle sigma0); 0 for a model without stiffness.
 double friction_storage(const FrictionModel& m, const ModelParams& p) {
   const auto& info = m.info();
   double kmin = std::numeric_limits<double>::infinity();
@@ -332,7 +336,19 @@ double friction_storage(const FrictionModel& m, const ModelParams& p) {
   const double fb = m.break_away();
   return std::isfinite(kmin) && kmin > 0.0 ? fb * fb / (2.0 * kmin) : 0.0;
 }
-}  // namespace
+
+double energy_margin(double budget, double dt, double dt_limit) {
+  const double ratio = std::min(dt / dt_limit, 0.99);
+  return (4.0 + 4.0 * ratio / (1.0 - ratio)) * budget + 1e-12;
+}
+
+std::string energy_growth_message(double t, double e, double e0, double work, double storage) {
+  std::ostringstream o;
+  o << "simulation diverged at t = " << t << " s: the energy of the mass and springs grew to " << e
+    << " J, more than it started with (" << e0 << " J) plus what the drive put in (" << work
+    << " J) plus what the friction can store (" << storage << " J) - the integration creates energy. ";
+  return o.str();
+}
 
 void Simulation::diverged(double ff) const {
   std::ostringstream o;
@@ -363,25 +379,14 @@ void Simulation::rebase_energy() {
 void Simulation::check_energy() const {
   const double e = mechanical_energy();
   const double budget = energy0_ + std::abs(drive_work_) + storage_;
-  const double ratio = std::min(sc_.run.dt / stability_limit_dt(sc_), 0.99);
-  const double margin = (4.0 + 4.0 * ratio / (1.0 - ratio)) * budget + 1e-12;
+  const double margin = energy_margin(budget, sc_.run.dt, stability_limit_dt(sc_));
   if (!(e - energy0_ - drive_work_ - storage_ > margin)) return;
-  std::ostringstream o;
-  o << "simulation diverged at t = " << time() << " s: the energy of the mass and springs grew to "
-    << e << " J, more than it started with (" << energy0_ << " J) plus what the drive put in ("
-    << drive_work_ << " J) plus what the friction can store (" << storage_
-    << " J) - the integration creates energy. " << divergence_cause(sc_);
-  throw SimulationError(o.str());
+  throw SimulationError(energy_growth_message(time(), e, energy0_, drive_work_, storage_) + divergence_cause(sc_));
 }
 
 void Simulation::run_to_end() {
   while (!finished()) advance(1u << 20);
 }
 
-Trace simulate(const Scenario& scenario) {
-  Simulation s(scenario);
-  s.run_to_end();
-  return s.take_trace();
-}
 
 }  // namespace gmslab

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/sim/scenario.hpp"
@@ -142,7 +143,25 @@ class Simulation {
   double storage_ = 0.0;     // largest elastic energy the friction can hold [J]
 };
 
-// Convenience: run a whole scenario and return its trace.
+// Throws InputError listing every problem of the scenario (friction parameters, plant, run, the
+// step against the stiffest mode for force and pull drives), each naming its key.
+void check_scenario(const Scenario& s);
+// "Likely cause: ..." of a diverged one-body run, with the numbers: the step against the stiffness
+// and damping limits (2 / sqrt(sum k / m), 2 m / sum c).
+std::string divergence_cause(const Scenario& s);
+// Largest energy a friction model can store elastically [J]: Fb^2 / (2 k_min) over its
+// stiffnesses (element k_i, bristle sigma0); 0 for a model without stiffness.
+double friction_storage(const FrictionModel& m, const ModelParams& p);
+// The energy watch's tolerance [J] above the budget (start energy + |drive work| + friction
+// storage): symplectic Euler's energy wobbles by up to 1 / (1 - dt / dt_limit) around a conserved
+// value, so (4 + 4 r / (1 - r)) budget with r = min(dt / dt_limit, 0.99), + 1e-12 J.
+double energy_margin(double budget, double dt, double dt_limit);
+// "simulation diverged at t = T s: the energy of the mass and springs grew to ... - the integration
+// creates energy. " (the cause follows).
+std::string energy_growth_message(double t, double e, double e0, double work, double storage);
+
+// Runs a whole scenario and returns its trace: on the assembled plant's engine
+// (one_body_simulation, core/sim/assembly.hpp), the samples as Simulation records them.
 Trace simulate(const Scenario& scenario);
 
 }  // namespace gmslab

@@ -155,6 +155,26 @@ def test_design_of_a_scenario_with_a_compensator_matches_cli(cli, seed):
     assert "limit_cycles" in mine and "limit_cycles" in mine["typed_compensator"]
 
 
+@pytest.mark.parametrize("name", ["two_mass_drive", "three_body_chain"])
+def test_simulate_an_assembled_preset_matches_cli_trace(cli, tmp_path, name):
+    """An assembled plant (schema 2) simulates on the same engine as `gmslab simulate`: every output."""
+    preset = os.path.join(PRESETS, name + ".json")
+    tr = gmslab.simulate(preset)
+    assert isinstance(tr, gmslab.PlantTrace)
+    out = tmp_path / "trace.csv"
+    cli("simulate", preset, "--out", str(out))
+    ref = read_csv(out)
+    assert len(tr) == len(ref["t_s"]) > 10
+    np.testing.assert_array_equal(tr.t, ref["t_s"])
+    unit = {"x": "m", "v": "mps", "F": "N"}
+    for output in tr.outputs:  # CSV columns NAME_UNIT: x.motor_m, v.motor_mps, F.shaft_N
+        np.testing.assert_array_equal(tr.output(output), ref[output + "_" + unit[output[0]]])
+    for contact, slip in tr.contact_slip.items():
+        np.testing.assert_array_equal(slip, ref["slip." + contact] != 0)
+    with pytest.raises(gmslab.InputError, match="no such output"):
+        tr.output("x.nothing")
+
+
 @pytest.mark.parametrize("output", ["x.motor", "x.load"])
 def test_design_on_the_assembled_plant_matches_cli(cli, output):
     """The assembled two-mass train from its force drive to a body: the same plant and design as the CLI."""

@@ -17,6 +17,7 @@ from ._gmslab import (  # noqa: F401
     Model,
     ModelParams,
     Plant,
+    PlantTrace,
     RunSettings,
     Scenario,
     SimulationError,
@@ -54,7 +55,7 @@ def to_json(obj):
 
 
 __all__ = [
-    "InputError", "InternalError", "IoError", "Model", "ModelParams", "Plant", "RunSettings",
+    "InputError", "InternalError", "IoError", "Model", "ModelParams", "Plant", "PlantTrace", "RunSettings",
     "Scenario", "SimulationError", "Trace", "design", "figure", "figure_ids", "identify",
     "load_record", "load_scenario", "load_trace", "to_json", "models", "root_locus", "save_scenario", "simulate",
 ]
