@@ -4,7 +4,9 @@
 // (credit by ablation, core/ident/ablation.hpp). The base fit's distance to the floor is printed.
 // The one-body presets with back-and-forth motion are used (stick-slip and lag presets move one
 // way: not identifiable). fig2c_periodic_0p1hz noise-free is left out and said in
-// docs/identification-credit.md: its base fit stays at 6.7x the floor and the loop names effects.
+// docs/identification-credit.md: its base fit stops on the Stribeck ridge (sliding below a third
+// of Vs), far above the floor, and the loop names effects. `gmslab_study self` runs all presets
+// at three sample rates.
 #include <gtest/gtest.h>
 
 #include <algorithm>
