@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "ui/popups.hpp"
+
 namespace gmslab::ui {
 
 namespace fs = std::filesystem;
@@ -155,6 +157,7 @@ void request_save(AppState& s) { s.pending.save_path = save_target(s); }
 }  // namespace
 
 void handle_shortcuts(AppState& s) {
+  if (close_popup_on_escape()) return;  // Escape closed a menu: it does nothing else
   const ImGuiIO& io = ImGui::GetIO();
   if (io.WantTextInput) return;  // typing: keys belong to the field
   const bool ctrl = io.KeyCtrl;
@@ -379,7 +382,7 @@ void draw_file_dialogs(AppState& s) {
     ImGui::SameLine();
     if (ImGui::Button(b.saving ? "Save" : "Open")) go = true;
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+    if (ImGui::Button("Cancel") || escape_cancels_popup()) ImGui::CloseCurrentPopup();
     if (go && !b.name.empty()) {
       std::string name = b.name;
       if (fs::path(name).extension() != ".json") name += ".json";
@@ -402,7 +405,7 @@ void draw_file_dialogs(AppState& s) {
       ImGui::CloseCurrentPopup();
     }
     ImGui::SameLine();
-    if (ImGui::Button("Cancel")) {
+    if (ImGui::Button("Cancel") || escape_cancels_popup()) {
       s.confirm_replace.clear();
       s.note("not saved");
       ImGui::CloseCurrentPopup();

@@ -8,6 +8,7 @@
 #include "ui/plot.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -66,6 +67,9 @@ struct Building {
   double hy0 = 0, hy1 = 1;  // ... and this y range
   double lx0 = 0, lx1 = 1, ly0 = 0, ly1 = 1;
   std::vector<SeriesRef> series;
+  // Every place inside the plot area would hide data: the legend goes outside it (rows above, or a
+  // column on the right when the rows would be more than two), for paper figures too.
+  bool legend_outside = false;
 };
 
 }  // namespace
@@ -280,6 +284,7 @@ struct Layout {
   // Live plots: the legend's rows above the plot area, the first series of each (empty: a boxed
   // legend, or none).
   std::vector<std::size_t> legend_rows;
+  bool legend_column = false;  // the boxed legend stands right of the plot area
 };
 
 float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw);
@@ -287,9 +292,9 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw);
 // Live plots' legends go in rows above the plot area, right-aligned: one row beside the y label
 // when it fits there, else two, the upper as wide as the plot area, the lower beside the y label
 // (the plot gives up a line of height); more would eat the plot, so then the legend is a box
-// inside it (empty result).
+// inside it (empty result). Paper figures: a box inside, unless every place there hides data.
 std::vector<std::size_t> legend_row_starts(const Building& b, float area_w) {
-  if (b.opt.paper || !b.opt.legend || b.series.empty()) return {};
+  if ((b.opt.paper && !b.legend_outside) || !b.opt.legend || b.series.empty()) return {};
   const float fh = ImGui::GetFontSize(), gap = 1.2f * fh;
   const float beside = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;  // the y label's row
   std::vector<float> w;
@@ -315,10 +320,20 @@ std::vector<std::string> labels(const Ticks& t) {
   return out;
 }
 
-Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -1) {
+// The width a legend column right of the plot area takes: the box and a gap on each side.
+float legend_column_width(const Building& b) {
+  const float fh = ImGui::GetFontSize();
+  float w = 0.0f;
+  for (const auto& s : b.series) w = std::max(w, legend_entry(nullptr, s, {}, false));
+  return w + 0.8f * fh + 0.6f * fh;
+}
+
+Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -1, float column = 0.0f) {
   if (extra_rows < 0) {  // as many rows as the legend takes at the plot's width
     Layout one = layout(b, v, frame, 0);
     one.legend_rows = legend_row_starts(b, one.area.GetWidth());
+    if (one.legend_rows.empty() && b.legend_outside && b.opt.legend && !b.series.empty())
+      return layout(b, v, frame, 0, legend_column_width(b));  // more than two rows: a column on the right
     if (one.legend_rows.size() <= 1) return one;
     Layout two = layout(b, v, frame, static_cast<int>(one.legend_rows.size()) - 1);
     two.legend_rows = one.legend_rows;
@@ -337,7 +352,8 @@ Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -
   float wmax = 0.0f;
   for (const auto& s : L.yl) wmax = std::max(wmax, ImGui::CalcTextSize(s.c_str()).x);
   const float left = wmax + fh * 0.9f;
-  const float right = fh * 1.2f;
+  const float right = fh * 1.2f + column;
+  L.legend_column = column > 0.0f;
   L.area = ImRect(ImVec2(frame.Min.x + left, frame.Min.y + top),
                   ImVec2(std::max(frame.Min.x + left + 10, frame.Max.x - right),
                          frame.Min.y + top + plot_h));
@@ -453,7 +469,8 @@ float legend_entry(ImDrawList* dl, const SeriesRef& s, ImVec2 at, bool draw) {
 }
 
 // Live plots: the legend goes in rows above the plot area (Layout::legend_rows), so it never
-// hides data. Paper figures (or when it does not fit): a box in the emptiest place.
+// hides data. Paper figures (or when it does not fit): a box in a place inside that hides no data,
+// else outside the plot area (Building::legend_outside).
 bool legend_in_row(const Building&, const Layout& L) { return !L.legend_rows.empty(); }
 
 // The boxed legend's size; zero when there is none (no legend, or it goes in the row above).
@@ -465,6 +482,27 @@ ImVec2 legend_box_size(const Building& b, const Layout& L) {
   return ImVec2(w + 0.8f * fh, fh * 1.25f * static_cast<float>(b.series.size()) + 0.5f * fh);
 }
 
+// What a legend drawn at [min, end] hides, for the tests: of the drawn segments inside the plot
+// area, those that meet it (bounded if nobody takes them).
+void record_legend(const Building& b, const Layout& L, const PlotTransform& t, ImVec2 min, ImVec2 end) {
+  if (g_ctx->legend_stats.size() >= 256) return;
+  LegendStat st{b.opt.title ? b.opt.title : "", ImVec4(min.x, min.y, end.x, end.y), 0, 0};
+  for (const auto& s : b.series)
+    for (std::size_t j = 1; j < s.drawn.size(); ++j) {
+      const double ax = t.to_px_x(s.x[s.drawn[j - 1]]), ay = t.to_px_y(s.y[s.drawn[j - 1]]);
+      const double bx = t.to_px_x(s.x[s.drawn[j]]), by = t.to_px_y(s.y[s.drawn[j]]);
+      if (!std::isfinite(ax + ay + bx + by)) continue;
+      // only segments inside the plot area count (a zoomed view clips the others)
+      if (std::max(ax, bx) < L.area.Min.x || std::min(ax, bx) > L.area.Max.x || std::max(ay, by) < L.area.Min.y ||
+          std::min(ay, by) > L.area.Max.y)
+        continue;
+      ++st.segments;
+      st.hidden += std::max(ax, bx) >= min.x && std::min(ax, bx) <= end.x && std::max(ay, by) >= min.y &&
+                   std::min(ay, by) <= end.y;
+    }
+  g_ctx->legend_stats.push_back(std::move(st));
+}
+
 void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotTransform& t, View& v) {
   v.legend_box = ImRect();
   if (!b.opt.legend || b.series.empty()) return;
@@ -472,41 +510,31 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
   const float gap = 1.2f * fh;
   if (legend_in_row(b, L)) {
     const std::size_t rows = L.legend_rows.size();
+    ImRect all(ImVec2(FLT_MAX, FLT_MAX), ImVec2(-FLT_MAX, -FLT_MAX));
     for (std::size_t r = 0; r < rows; ++r) {
       const std::size_t i0 = L.legend_rows[r], i1 = r + 1 < rows ? L.legend_rows[r + 1] : b.series.size();
       float total = 0.0f;
       for (std::size_t i = i0; i < i1; ++i) total += legend_entry(dl, b.series[i], {}, false) + gap;
       float x = L.area.Max.x - (total - gap);
       const float y = L.area.Min.y - 1.3f * fh * static_cast<float>(rows - r);
+      all.Add(ImRect(ImVec2(x, y), ImVec2(L.area.Max.x, y + fh)));
       for (std::size_t i = i0; i < i1; ++i) x += legend_entry(dl, b.series[i], ImVec2(x, y), true) + gap;
     }
+    v.legend_box = all;
+    record_legend(b, L, t, all.Min, all.Max);
     return;
   }
   const float line_h = fh * 1.25f;
   const ImVec2 box = legend_box_size(b, L);
   ImVec2 min = legend_best(b, L, box, t);
-  if (v.legend_placed)  // where the user put it, kept inside the plot area
+  if (L.legend_column)  // right of the plot area, level with its top
+    min = ImVec2(L.area.Max.x + 0.6f * fh, L.area.Min.y);
+  else if (v.legend_placed)  // where the user put it, kept inside the plot area
     min = ImVec2(std::clamp(L.area.Min.x + v.legend_fx * L.area.GetWidth(), L.area.Min.x, std::max(L.area.Min.x, L.area.Max.x - box.x)),
                  std::clamp(L.area.Min.y + v.legend_fy * L.area.GetHeight(), L.area.Min.y, std::max(L.area.Min.y, L.area.Max.y - box.y)));
   const ImVec2 end(min.x + box.x, min.y + box.y);
   v.legend_box = ImRect(min, end);
-  if (g_ctx->legend_stats.size() < 256) {  // what it hides, for the tests (bounded if nobody takes them)
-    LegendStat st{b.opt.title ? b.opt.title : "", ImVec4(min.x, min.y, end.x, end.y), 0, 0};
-    for (const auto& s : b.series)
-      for (std::size_t j = 1; j < s.drawn.size(); ++j) {
-        const double ax = t.to_px_x(s.x[s.drawn[j - 1]]), ay = t.to_px_y(s.y[s.drawn[j - 1]]);
-        const double bx = t.to_px_x(s.x[s.drawn[j]]), by = t.to_px_y(s.y[s.drawn[j]]);
-        if (!std::isfinite(ax + ay + bx + by)) continue;
-        // only segments inside the plot area count (a zoomed view clips the others)
-        if (std::max(ax, bx) < L.area.Min.x || std::min(ax, bx) > L.area.Max.x || std::max(ay, by) < L.area.Min.y ||
-            std::min(ay, by) > L.area.Max.y)
-          continue;
-        ++st.segments;
-        st.hidden += std::max(ax, bx) >= min.x && std::min(ax, bx) <= end.x && std::max(ay, by) >= min.y &&
-                     std::min(ay, by) <= end.y;
-      }
-    g_ctx->legend_stats.push_back(std::move(st));
-  }
+  record_legend(b, L, t, min, end);
   dl->AddRectFilled(min, end, IM_COL32(255, 255, 255, 235));
   dl->AddRect(min, end, IM_COL32(150, 150, 150, 255));
   float y = min.y + 0.25f * fh + 0.125f * fh;
@@ -756,9 +784,24 @@ void EndPlot() {
       for (auto& s : b.series) decimate(s, t);
       std::size_t hidden = 0;
       legend_best(b, L2, box, t, &hidden);
-          if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
+      if (hidden > 0 || b.has_hint_y) {  // panels sharing one y scale all take it, so they stay alike
         v.y1 = v.y0 + (v.y1 - v.y0) * H / (H - band);
         choose_prefix(b.ay, v.y0, v.y1);
+        L2 = layout(b, v, L.frame);
+        t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
+      }
+    }
+  }
+  // A boxed legend that would hide data wherever it goes inside the plot area (fixed limits, a
+  // legend too tall for the room above the data, data up to the top): it goes outside the area.
+  if (!v.legend_placed) {
+    const ImVec2 box = legend_box_size(b, L2);
+    if (box.y > 0.0f) {
+      for (auto& s : b.series) decimate(s, t);
+      std::size_t hidden = 0;
+      legend_best(b, L2, box, t, &hidden);
+      if (hidden > 0) {
+        b.legend_outside = true;
         L2 = layout(b, v, L.frame);
         t = {v.x0, v.x1, v.y0, v.y1, L2.area.Min.x, L2.area.Min.y, L2.area.Max.x, L2.area.Max.y};
       }

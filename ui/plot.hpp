@@ -94,13 +94,16 @@ void EndPlot();
 
 // Transform used by the last EndPlot (for tests and overlays).
 PlotTransform LastPlotTransform();
-// The boxed legend of the last EndPlot (min x, min y, max x, max y in screen pixels); zero size
-// when the legend was drawn in a row above the plot or not at all. The box goes where it hides
-// the fewest drawn segments (nine places, as matplotlib's "best"); drag it to move it (kept per
-// plot, as a fraction of the plot area), double-click it to return to the automatic place.
+// The legend of the last EndPlot (min x, min y, max x, max y in screen pixels; zero size when it
+// was not drawn). Live plots put it in rows above the plot area; paper figures (or rows that do
+// not fit) in a box inside, in the first of nine places (as matplotlib's "best") that hides no
+// drawn segment, after making room above the data in a view that follows it. When every place
+// inside hides data, the legend goes outside the plot area: rows above it, or a column on its
+// right when more than two rows would be needed. Drag a box inside to move it (kept per plot, as
+// a fraction of the plot area), double-click it to return to the automatic place.
 ImVec4 LastLegendBox();
-// Every boxed legend drawn since the last call (taken once; for tests): the plot's title, the box,
-// and how many of the drawn (decimated) segments inside the plot area meet it.
+// Every legend drawn since the last call (taken once; for tests): the plot's title, the legend's
+// box, and how many of the drawn (decimated) segments inside the plot area meet it.
 struct LegendStat {
   std::string plot;
   ImVec4 box;

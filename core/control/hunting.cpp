@@ -189,6 +189,230 @@ const HuntingCycle* HuntingReport::hunting() const {
   return nullptr;
 }
 
+namespace {
+// The block's integration step bound the options leave at 0: limit_fraction x the stability limit
+// of the block with the fast part's high-frequency gain as one more spring (as in the loop
+// simulation's check), and at most 0.2 m / c with a damper.
+double default_max_step(const Plant& pl, const ModelParams& friction, const FastPart& fp, double limit_fraction) {
+  Scenario s;
+  s.plant = pl;
+  s.friction = friction;
+  s.drive.kind = Drive::Kind::Force;
+  const double lim = stability_limit_dt(s);
+  const double k_eq = (std::isfinite(lim) ? 4.0 / (lim * lim) * pl.mass : 0.0) + std::max(0.0, fp.d);
+  double max_step = 0.0;
+  if (k_eq > 0.0) max_step = limit_fraction * 2.0 / std::sqrt(k_eq / pl.mass);
+  if (pl.damper > 0.0) max_step = std::min(max_step > 0.0 ? max_step : 1e300, 0.2 * pl.mass / pl.damper);
+  return max_step;
+}
+
+// Relative waveform error of the force the loop feeds back in the cycle, -R int x dt over the
+// period (x: the block's motion over it), against the assumed wave with the same first harmonic.
+double waveform_error(std::vector<double> x, double R, const HuntingCycle& hc, DriveWave wave) {
+  const int n = std::max(1, static_cast<int>(x.size()));
+  x.resize(static_cast<std::size_t>(n));
+  const double h = hc.period / n;
+  std::vector<double> ui(static_cast<std::size_t>(n)), ua(static_cast<std::size_t>(n));
+  double acc = 0.0, mean = 0.0;
+  for (int k = 0; k < n; ++k) acc += -R * x[k] * h, ui[k] = acc, mean += acc / n;
+  cplx Ui;
+  for (int k = 0; k < n; ++k) {
+    ui[k] -= mean;
+    const double th = 2.0 * kPi * (k + 1) / n;
+    ua[k] = hc.force_amplitude * wave_at(wave, std::sin(th));
+    Ui += ui[k] * cplx(std::cos(th), -std::sin(th));
+  }
+  const double scale = hc.force_amplitude * first_harmonic_of(wave) / (std::abs(Ui) * 2.0 / n);
+  double se = 0.0, sa = 0.0;
+  for (int k = 0; k < n; ++k) se += std::pow(ui[k] * scale - ua[k], 2), sa += ua[k] * ua[k];
+  return sa > 0.0 ? std::sqrt(se / sa) : kNaN;
+}
+
+// The harmonic balance of the integral force u_I (amplitude A, frequency w) and the block, in
+// log coordinates lA = ln A, lw = ln w; every block run counts in the report's evaluations.
+class HuntingSearch {
+ public:
+  // At frequency lw: the A of the phase balance arg P = -90 deg (exact), or the sustain threshold.
+  struct Balance {
+    double lA = kNaN;
+    PlantHarmonics ph;
+    bool exact = false;
+  };
+  // The gain balance R |P| / w = 1 along the phase balance.
+  struct Solution {
+    Balance b;
+    double lw = 0.0;
+    bool converged = false;
+  };
+
+  HuntingSearch(const Plant& pl, const FrictionModel& model, const IntegralSplit& split, const HuntingOptions& opt,
+                HuntingReport& r)
+      : pl_(pl), model_(model), fp_(split.fast), R_(split.R), opt_(opt), r_(r),
+        // A stick-slip motion, not the creep of a stick band or a presliding model's elastic motion.
+        x_scale_(r.break_away / std::max(1e-300, fp_.d + (fp_.a > 0.0 ? fp_.cst / fp_.a : 0.0) + pl.spring)),
+        la0_(std::log(0.2 * r.break_away)), la1_(std::log(100.0 * r.break_away)) {}
+
+  Solution solve();
+  HuntingCycle cycle(const Solution& s);
+  bool moving(const PlantHarmonics& ph) const { return ph.half_pp > 1e-3 * x_scale_; }
+
+ private:
+  PlantHarmonics eval(double lA, double lw);
+  static double phase_err(const PlantHarmonics& ph) { return wrap(std::arg(ph.P) + 0.5 * kPi); }
+  Balance balance(double lw, double lA0);
+  Balance scan(const std::vector<double>& las, double lw);
+  Balance bisect_phase(double lo, double hi, double flo, double lw);
+  Balance bisect_threshold(double lo, double hi, const PlantHarmonics& p1, double lw);
+  bool stable(const Balance& b, double lw, const PlantHarmonics& full);
+
+  const Plant& pl_;
+  const FrictionModel& model_;
+  const FastPart& fp_;
+  const double R_;
+  const HuntingOptions& opt_;
+  HuntingReport& r_;
+  const double x_scale_, la0_, la1_;
+};
+
+PlantHarmonics HuntingSearch::eval(double lA, double lw) {
+  ++r_.evaluations;
+  try {
+    return plant_harmonics(pl_, model_, fp_, std::exp(lA), std::exp(lw), opt_);
+  } catch (const Error&) {  // a frequency too slow for the step bound, a diverging block: no motion
+    return PlantHarmonics{};
+  }
+}
+
+// At frequency lw: the A of the phase balance (bisection on a sign change of the phase error), or,
+// when the sustained cycles of the block never lag the drive by 90 deg, the A closest to it: the
+// sustain threshold (bisection between stuck and moving). `lA0`: where to look first (a bracket of
+// +-0.15 around it), NaN: the whole grid of opt.amplitudes in [0.2, 100] x break-away.
+HuntingSearch::Balance HuntingSearch::balance(double lw, double lA0) {
+  Balance out;
+  std::vector<double> las;
+  if (std::isfinite(lA0)) las = {lA0 - 0.15, lA0 + 0.15};
+  for (int pass = 0; pass < 2 && !std::isfinite(out.lA); ++pass) {
+    if (pass == 1) {
+      if (!std::isfinite(lA0)) break;
+      las.clear();
+    }
+    const int na = opt_.amplitudes;
+    if (las.empty())
+      for (int i = 0; i < na; ++i) las.push_back(la0_ + (la1_ - la0_) * i / (na - 1));
+    out = scan(las, lw);
+  }
+  return out;
+}
+
+// The first interval of `las` (ascending lA) that brackets the phase balance or the threshold.
+HuntingSearch::Balance HuntingSearch::scan(const std::vector<double>& las, double lw) {
+  Balance out;
+  std::vector<PlantHarmonics> phs;
+  for (double la : las) phs.push_back(eval(la, lw));
+  for (std::size_t i = 0; i + 1 < las.size() && !std::isfinite(out.lA); ++i) {
+    const PlantHarmonics &p0 = phs[i], &p1 = phs[i + 1];
+    if (moving(p0) && moving(p1) && (phase_err(p0) > 0) != (phase_err(p1) > 0) &&
+        std::abs(phase_err(p0)) < 0.5 * kPi && std::abs(phase_err(p1)) < 0.5 * kPi)
+      out = bisect_phase(las[i], las[i + 1], phase_err(p0), lw);
+    else if (!moving(p0) && moving(p1) && phase_err(p1) > 0.0)
+      out = bisect_threshold(las[i], las[i + 1], p1, lw);  // lags less than 90 deg above it, stuck below
+  }
+  return out;
+}
+
+// Bisection on the sign of the phase error between lo and hi (phase error flo at lo).
+HuntingSearch::Balance HuntingSearch::bisect_phase(double lo, double hi, double flo, double lw) {
+  Balance out;
+  out.exact = true;
+  for (int it = 0; it < (opt_.shooting >= 12 ? 10 : 7); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    out.ph = eval(mid, lw), out.lA = mid;
+    const double fm = moving(out.ph) ? phase_err(out.ph) : -1.0;
+    if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
+    else hi = mid;
+  }
+  return out;
+}
+
+// Bisection between stuck (lo) and moving (hi, with harmonics p1): the lowest moving A found.
+HuntingSearch::Balance HuntingSearch::bisect_threshold(double lo, double hi, const PlantHarmonics& p1, double lw) {
+  Balance out;
+  out.ph = p1, out.lA = hi;
+  for (int it = 0; it < (opt_.shooting >= 12 ? 8 : 5); ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const PlantHarmonics pm = eval(mid, lw);
+    if (moving(pm)) hi = mid, out.ph = pm, out.lA = mid;
+    else lo = mid;
+  }
+  return out;
+}
+
+// The gain balance R |P| / w = 1 by the fixed point w <- R |P(A(w), w)| (P depends little on w for
+// stick-slip: a square wave of x whose level the slips set), damped when it oscillates; from the
+// fast part's corner (R / its low-frequency gain), at most 100x away from it.
+HuntingSearch::Solution HuntingSearch::solve() {
+  const double cf0 = fp_.d + (fp_.a > 0.0 ? fp_.cst / fp_.a : 0.0);
+  const double lw_seed = std::log(cf0 > 0.0 ? R_ / cf0 : R_ / std::max(fp_.d, 1e-300));
+  Solution s;
+  s.lw = lw_seed;
+  s.b = balance(s.lw, kNaN);
+  double prev_step = 0.0;
+  for (int it = 0; it < 24 && std::isfinite(s.b.lA); ++it) {
+    double step = std::log(R_ * std::abs(s.b.ph.P)) - s.lw;
+    if (std::abs(step) < 5e-3) {
+      s.converged = true;
+      break;
+    }
+    if (prev_step != 0.0 && step * prev_step < 0.0) step *= 0.5;
+    prev_step = step;
+    s.lw += std::clamp(step, -1.5, 1.5);
+    if (std::abs(s.lw - lw_seed) > 4.6) break;  // beyond 100x the seed: outside the prediction's range
+    Balance nb = balance(s.lw, s.b.lA);
+    if (!std::isfinite(nb.lA)) nb = balance(s.lw, kNaN);
+    s.b = nb;
+  }
+  return s;
+}
+
+// Stability: stick-slip cycles of the block exist only above the threshold and lag less there as
+// A grows (Loeb with g = ln(R |P| / w) + j (arg P + 90 deg): Im(g_A / g_w) < 0); a cycle at the
+// threshold is the attracting one the integrator winds up to.
+bool HuntingSearch::stable(const Balance& b, double lw, const PlantHarmonics& full) {
+  const double d = 0.02;
+  const auto g = [&](const PlantHarmonics& ph, double l) { return cplx(std::log(R_ * std::abs(ph.P)) - l, phase_err(ph)); };
+  const PlantHarmonics pa = eval(b.lA + d, lw), pw = eval(b.lA, lw + d);
+  if (!b.exact) return true;  // at the sustain threshold (see the header)
+  if (!moving(pa) || !moving(pw)) return false;
+  const cplx g0 = g(full, lw), gA = (g(pa, lw) - g0) / d, gw = (g(pw, lw + d) - g0) / d;
+  return (gA / gw).imag() < 0.0;
+}
+
+// The predicted cycle at a solution: the block's motion in it, its stability and how well the
+// assumed wave matches the force the loop feeds back.
+HuntingCycle HuntingSearch::cycle(const Solution& s) {
+  HuntingCycle hc;
+  hc.force_amplitude = std::exp(s.b.lA);
+  hc.frequency = std::exp(s.lw);
+  hc.period = 2.0 * kPi / hc.frequency;
+  hc.converged = s.converged;
+  hc.phase_residual = phase_err(s.b.ph);
+  PlantHarmonics full;
+  try {
+    full = plant_harmonics(pl_, model_, fp_, hc.force_amplitude, hc.frequency, opt_, true);
+  } catch (const Error&) {
+  }
+  ++r_.evaluations;
+  hc.plant_gain = full.P;
+  hc.amplitude = full.half_pp;
+  hc.first_harmonic = std::abs(full.X1);
+  hc.stable = stable(s.b, s.lw, full);
+  hc.waveform_error = waveform_error(full.x, R_, hc, opt_.wave);
+  hc.valid = hc.converged && std::abs(hc.phase_residual) <= kHuntingPhaseLimit &&
+             hc.waveform_error <= kHuntingWaveformLimit;
+  return hc;
+}
+}  // namespace
+
 HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, const LeadCompensator& comp,
                               const HuntingOptions& opt_in) {
   if (!(pl.mass > 0.0)) throw InputError("hunting prediction: need m > 0 kg");
@@ -211,156 +435,11 @@ HuntingReport predict_hunting(const Plant& pl, const ModelParams& friction, cons
     r.note = "the friction has no break-away force: nothing sticks, no hunting";
     return r;
   }
-  const FastPart& fp = split->fast;
-  const double R = split->R;
   HuntingOptions opt = opt_in;
-  if (opt.max_step == 0.0) {
-    Scenario s;
-    s.plant = pl;
-    s.friction = friction;
-    s.drive.kind = Drive::Kind::Force;
-    const double lim = stability_limit_dt(s);
-    // The fast part's high-frequency gain acts as one more spring (as in the loop simulation's check).
-    const double k_eq = (std::isfinite(lim) ? 4.0 / (lim * lim) * pl.mass : 0.0) + std::max(0.0, fp.d);
-    if (k_eq > 0.0) opt.max_step = opt.limit_fraction * 2.0 / std::sqrt(k_eq / pl.mass);
-    if (pl.damper > 0.0) opt.max_step = std::min(opt.max_step > 0.0 ? opt.max_step : 1e300, 0.2 * pl.mass / pl.damper);
-  }
-  const auto eval = [&](double lA, double lw) {
-    ++r.evaluations;
-    try {
-      return plant_harmonics(pl, *model, fp, std::exp(lA), std::exp(lw), opt);
-    } catch (const Error&) {  // a frequency too slow for the step bound, a diverging block: no motion
-      return PlantHarmonics{};
-    }
-  };
-  const auto phase_err = [](const PlantHarmonics& ph) { return wrap(std::arg(ph.P) + 0.5 * kPi); };
-  // A stick-slip motion, not the creep of a stick band or a presliding model's elastic motion.
-  const double x_scale = r.break_away / std::max(1e-300, fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0) + pl.spring);
-  const auto moving = [&](const PlantHarmonics& ph) { return ph.half_pp > 1e-3 * x_scale; };
-  const double la0 = std::log(0.2 * r.break_away), la1 = std::log(100.0 * r.break_away);
-  const int na = opt.amplitudes;
-  // At frequency lw: the A of the phase balance arg P = -90 deg (bisection on a sign change of the
-  // phase error), or, when the sustained cycles of the block never lag the drive by 90 deg, the A
-  // closest to it: the sustain threshold (bisection between stuck and moving). `lA0`: where to look
-  // first (a bracket of +-0.15 around it), NaN: the whole grid.
-  struct Balance {
-    double lA = kNaN;
-    PlantHarmonics ph;
-    bool exact = false;
-  };
-  const auto balance = [&](double lw, double lA0) {
-    Balance out;
-    std::vector<double> las;
-    if (std::isfinite(lA0)) las = {lA0 - 0.15, lA0 + 0.15};
-    for (int pass = 0; pass < 2 && !std::isfinite(out.lA); ++pass) {
-      if (pass == 1) {
-        if (!std::isfinite(lA0)) break;
-        las.clear();
-      }
-      if (las.empty())
-        for (int i = 0; i < na; ++i) las.push_back(la0 + (la1 - la0) * i / (na - 1));
-      std::vector<PlantHarmonics> phs;
-      for (double la : las) phs.push_back(eval(la, lw));
-      for (std::size_t i = 0; i + 1 < las.size() && !std::isfinite(out.lA); ++i) {
-        const PlantHarmonics &p0 = phs[i], &p1 = phs[i + 1];
-        double lo = las[i], hi = las[i + 1];
-        if (moving(p0) && moving(p1) && (phase_err(p0) > 0) != (phase_err(p1) > 0) &&
-            std::abs(phase_err(p0)) < 0.5 * kPi && std::abs(phase_err(p1)) < 0.5 * kPi) {
-          double flo = phase_err(p0);
-          out.exact = true;
-          for (int it = 0; it < (opt.shooting >= 12 ? 10 : 7); ++it) {
-            const double mid = 0.5 * (lo + hi);
-            out.ph = eval(mid, lw), out.lA = mid;
-            const double fm = moving(out.ph) ? phase_err(out.ph) : -1.0;
-            if ((fm > 0) == (flo > 0)) lo = mid, flo = fm;
-            else hi = mid;
-          }
-        } else if (!moving(p0) && moving(p1) && phase_err(p1) > 0.0) {
-          // The threshold: lags less than 90 deg above it, stuck below.
-          out.ph = p1, out.lA = hi;
-          for (int it = 0; it < (opt.shooting >= 12 ? 8 : 5); ++it) {
-            const double mid = 0.5 * (lo + hi);
-            const PlantHarmonics pm = eval(mid, lw);
-            if (moving(pm)) hi = mid, out.ph = pm, out.lA = mid;
-            else lo = mid;
-          }
-        }
-      }
-    }
-    return out;
-  };
-  // The gain balance R |P| / w = 1 by the fixed point w <- R |P(A(w), w)| (P depends little on w
-  // for stick-slip: a square wave of x whose level the slips set), damped when it oscillates.
-  const double cf0 = fp.d + (fp.a > 0.0 ? fp.cst / fp.a : 0.0);
-  const double lw_seed = std::log(cf0 > 0.0 ? R / cf0 : R / std::max(fp.d, 1e-300));
-  double lw = lw_seed;
-  Balance b = balance(lw, kNaN);
-  bool conv = false;
-  double prev_step = 0.0;
-  for (int it = 0; it < 24 && std::isfinite(b.lA); ++it) {
-    double step = std::log(R * std::abs(b.ph.P)) - lw;
-    if (std::abs(step) < 5e-3) {
-      conv = true;
-      break;
-    }
-    if (prev_step != 0.0 && step * prev_step < 0.0) step *= 0.5;
-    prev_step = step;
-    lw += std::clamp(step, -1.5, 1.5);
-    if (std::abs(lw - lw_seed) > 4.6) break;  // beyond 100x the seed: outside the prediction's range
-    Balance nb = balance(lw, b.lA);
-    if (!std::isfinite(nb.lA)) nb = balance(lw, kNaN);
-    b = nb;
-  }
-  if (std::isfinite(b.lA) && moving(b.ph)) {
-    HuntingCycle hc;
-    hc.force_amplitude = std::exp(b.lA);
-    hc.frequency = std::exp(lw);
-    hc.period = 2.0 * kPi / hc.frequency;
-    hc.converged = conv;
-    hc.phase_residual = phase_err(b.ph);
-    PlantHarmonics full;
-    try {
-      full = plant_harmonics(pl, *model, fp, hc.force_amplitude, hc.frequency, opt, true);
-    } catch (const Error&) {
-    }
-    ++r.evaluations;
-    hc.plant_gain = full.P;
-    hc.amplitude = full.half_pp;
-    hc.first_harmonic = std::abs(full.X1);
-    // Stability: stick-slip cycles of the block exist only above the threshold and lag less there
-    // as A grows (Loeb with g = ln(R |P| / w) + j (arg P + 90 deg): Im(g_A / g_w) < 0); a cycle
-    // at the threshold is the attracting one the integrator winds up to.
-    const double d = 0.02;
-    const auto g = [&](const PlantHarmonics& ph, double l) { return cplx(std::log(R * std::abs(ph.P)) - l, phase_err(ph)); };
-    const PlantHarmonics pa = eval(b.lA + d, lw), pw = eval(b.lA, lw + d);
-    if (!b.exact) {
-      hc.stable = true;  // at the sustain threshold (see the header)
-    } else if (moving(pa) && moving(pw)) {
-      const cplx g0 = g(full, lw), gA = (g(pa, lw) - g0) / d, gw = (g(pw, lw + d) - g0) / d;
-      hc.stable = (gA / gw).imag() < 0.0;
-    }
-    // Waveform the loop feeds back, -R int x dt, against the assumed wave (same first harmonic).
-    const int n = std::max(1, static_cast<int>(full.x.size()));
-    full.x.resize(static_cast<std::size_t>(n));
-    const double h = hc.period / n;
-    std::vector<double> ui(static_cast<std::size_t>(n)), ua(static_cast<std::size_t>(n));
-    double acc = 0.0, mean = 0.0;
-    for (int k = 0; k < n; ++k) acc += -R * full.x[k] * h, ui[k] = acc, mean += acc / n;
-    cplx Ui;
-    for (int k = 0; k < n; ++k) {
-      ui[k] -= mean;
-      const double th = 2.0 * kPi * (k + 1) / n;
-      ua[k] = hc.force_amplitude * wave_at(opt.wave, std::sin(th));
-      Ui += ui[k] * cplx(std::cos(th), -std::sin(th));
-    }
-    const double scale = hc.force_amplitude * first_harmonic_of(opt.wave) / (std::abs(Ui) * 2.0 / n);
-    double se = 0.0, sa = 0.0;
-    for (int k = 0; k < n; ++k) se += std::pow(ui[k] * scale - ua[k], 2), sa += ua[k] * ua[k];
-    hc.waveform_error = sa > 0.0 ? std::sqrt(se / sa) : kNaN;
-    hc.valid = hc.converged && std::abs(hc.phase_residual) <= kHuntingPhaseLimit &&
-               hc.waveform_error <= kHuntingWaveformLimit;
-    r.cycles.push_back(hc);
-  }
+  if (opt.max_step == 0.0) opt.max_step = default_max_step(pl, friction, split->fast, opt.limit_fraction);
+  HuntingSearch search(pl, *model, *split, opt, r);
+  const HuntingSearch::Solution s = search.solve();
+  if (std::isfinite(s.b.lA) && search.moving(s.b.ph)) r.cycles.push_back(search.cycle(s));
   std::sort(r.cycles.begin(), r.cycles.end(),
             [](const HuntingCycle& a, const HuntingCycle& b) { return a.force_amplitude < b.force_amplitude; });
   if (r.cycles.empty())

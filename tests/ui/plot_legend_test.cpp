@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "tests/ui/imgui_test_context.hpp"
@@ -21,7 +22,9 @@ struct Harness {
   std::vector<std::vector<double>> xs, ys;  // one series each
   ImVec4 box;
   ui::PlotTransform t;
-  bool fixed = true;  // limits [0, 1]^2 always (else the view follows the data)
+  bool fixed = true;  // limits `lim` always (else the view follows the data)
+  double lim[4] = {0, 1, 0, 1};
+  std::vector<std::string> names;  // series labels (default: a long one, then "s")
   Harness() {
     uitest::make_headless_imgui(ImVec2(900, 800));
   }
@@ -39,9 +42,11 @@ struct Harness {
     o.paper = true;  // boxed legend
     if (ui::BeginPlot("##p", ImVec2(-1, -1), o)) {
       ui::SetupAxes("x [-]", "y [-]");
-      if (fixed) ui::SetupAxisLimits(0, 1, 0, 1, true);
+      if (fixed) ui::SetupAxisLimits(lim[0], lim[1], lim[2], lim[3], true);
       for (std::size_t k = 0; k < xs.size(); ++k)
-        if (!xs[k].empty()) ui::PlotLine(k == 0 ? "a long series label" : "s", xs[k].data(), ys[k].data(), xs[k].size());
+        if (!xs[k].empty())
+          ui::PlotLine(k < names.size() ? names[k].c_str() : k == 0 ? "a long series label" : "s", xs[k].data(),
+                       ys[k].data(), xs[k].size(), {.x_sorted = std::is_sorted(xs[k].begin(), xs[k].end())});
       ui::EndPlot();
       box = ui::LastLegendBox();
       t = ui::LastPlotTransform();
@@ -119,15 +124,15 @@ TEST(PlotLegend, DraggingMovesTheLegendNotTheViewAndDoubleClickPutsItBack) {
   EXPECT_NEAR(h.box.y, b0.y, 1.0);
 }
 
-// Every cell of a 3x3 grid holds data; the four corner cells hold far fewer samples than the
-// others, in a random order of density: the legend goes into the emptiest corner (the corner cell
-// with the fewest samples), through the same EndPlot the window draws with.
+// Every cell of a 3x3 grid but one corner holds data; the other corner cells hold far fewer samples
+// than the rest, in a random order of density: the legend goes into the empty corner, through the
+// same EndPlot the window draws with.
 TEST(PlotLegend, GoesIntoTheEmptiestCorner) {
   std::mt19937 rng(1515);
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < 16; ++trial) {
     Harness h;
-    int dens[4] = {6, 60, 150, 260};
+    int dens[4] = {0, 6, 60, 150};
     std::shuffle(dens, dens + 4, rng);
     const int corner_i[4] = {0, 2, 0, 2}, corner_j[4] = {0, 0, 2, 2};
     for (int i = 0; i < 3; ++i)
@@ -181,6 +186,50 @@ TEST(PlotLegend, AutoFittedViewMakesRoomAboveTheDataForTheLegend) {
     for (const auto& ys : h.ys)
       for (double y : ys) top = std::min(top, h.t.to_px_y(y));
     EXPECT_LT(h.box.w, top) << "trial " << trial;
+  }
+}
+
+// Residuals as the Identify report's panels B and D show them: a dense noise band across the whole
+// x range and sparse spikes, up and down, at random places, reaching into every place a box could
+// take inside the plot; the limits fixed to the data's range (no room above it), at several
+// scales, with 1 to 6 series (long labels: more than two rows, so a column beside the plot).
+// No sample lies under the legend: it goes outside the plot area (fixed seeds).
+TEST(PlotLegend, NeverCoversResidualSpikesThatReachEveryPlaceInside) {
+  std::mt19937 rng(2727);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 12; ++trial) {
+    Harness h;
+    const double x0 = -50 + 100 * u(rng), sx = std::pow(10.0, -4 + 8 * u(rng));
+    const double y0 = -50 + 100 * u(rng), sy = std::pow(10.0, -4 + 8 * u(rng));
+    const int n_series = 1 + trial % 6;
+    for (int k = 0; k < n_series; ++k) {
+      auto& xs = h.xs.emplace_back();
+      auto& ys = h.ys.emplace_back();
+      h.names.push_back(trial % 3 == 2 ? "+ residual after round " + std::to_string(k + 1) + " (velocity_extra)"
+                                       : "+ round " + std::to_string(k + 1));
+      const int n = 1500;
+      for (int i = 0; i < n; ++i) {
+        xs.push_back(static_cast<double>(i) / (n - 1));
+        double y = 0.5 + 0.06 * (u(rng) - 0.5);  // the noise band
+        if (rng() % 10 == 0) y = u(rng);         // a spike anywhere in y
+        ys.push_back(y);
+      }
+      ys.front() = 0.0, ys.back() = 1.0;  // the data spans the limits
+    }
+    for (auto& xs : h.xs)
+      for (double& x : xs) x = x0 + sx * x;
+    for (auto& ys : h.ys)
+      for (double& y : ys) y = y0 + sy * y;
+    h.lim[0] = x0, h.lim[1] = x0 + sx, h.lim[2] = y0, h.lim[3] = y0 + sy;
+    h.fixed = trial % 2 == 0;  // fixed limits, or a view that follows the data
+    h.frame();
+    h.frame();
+    SCOPED_TRACE("trial " + std::to_string(trial) + ", " + std::to_string(n_series) + " series");
+    ASSERT_GT(h.box.z - h.box.x, 10.0f) << "no legend drawn";
+    EXPECT_EQ(h.covered(), 0) << "samples under the legend";
+    const std::vector<ui::LegendStat> stats = ui::TakeLegendStats();
+    ASSERT_FALSE(stats.empty());
+    EXPECT_EQ(stats.back().hidden, 0u) << "drawn segments under the legend";
   }
 }
 #endif
