@@ -510,14 +510,16 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
   if (!st.error.empty()) ImGui::TextColored(red, "%s", st.error.c_str());
   if (st.result) {
     const auto& r = st.result->report;
-    std::string added;
-    for (auto e : r.effects_added) added += (added.empty() ? "" : ", ") + std::string(ident::effect_name(e));
-    added = ident::named_effects(r.ablation, r.effects_added);
+    const std::string added = ident::named_effects(r.ablation, r.effects_added);
     ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); %s%s", r.rms_before_validation,
                 r.rms_after_validation, r.rms_before_train, r.rms_after_train,
                 added.empty() ? "nothing added: no catalog effect is credited by the data" : "effects added: ",
                 added.c_str());
-    if (!r.optimum.verified) ImGui::TextColored(red, "Not converged: %s; no standard errors", r.optimum.reason.c_str());
+    if (!r.optimum.verified) {
+      ImGui::PushStyleColor(ImGuiCol_Text, red);
+      TextWrappedAtSpaces("Not converged: " + r.optimum.reason + "; no standard errors");
+      ImGui::PopStyleColor();
+    }
     ImGui::Text("Base model: %s, %zu element%s found", r.model.c_str(), r.final_fit().spec.elements,
                 r.final_fit().spec.elements == 1 ? "" : "s");
     if (r.screen_every > 1) {
