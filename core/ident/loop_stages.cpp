@@ -126,7 +126,6 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
       out.push_back({ts[j].effect, ts[j].name, ts[j].unit, ts[j].value, 0});
     }
   }
-  const std::size_t nlin = cols.size();
   // The scalars: derivative of the effect's contribution sum_j theta_j c_j with respect to them.
   struct Scalar { Effect e; std::string name, unit; double value; int index = -1; };
   std::vector<Scalar> sc;
@@ -208,7 +207,6 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
     const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
     out[static_cast<std::size_t>(live[j])].std_error = std::sqrt(std::max(0.0, var)) * sc_(jj);
   }
-  (void)nlin;
   // Leave out the unused ripple slots.
   std::vector<ParameterEstimate> kept;
   for (std::size_t j = 0; j < out.size(); ++j)
