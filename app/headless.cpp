@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "ui/figure_svg.hpp"
+#include "ui/figures/figure_svg.hpp"
 
 #include <GL/osmesa.h>
 #include <backends/imgui_impl_opengl2.h>
@@ -34,10 +34,10 @@
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
-#include "ui/figure_view.hpp"
-#include "ui/identify_panel.hpp"
+#include "ui/figures/figure_view.hpp"
+#include "ui/identify/identify_panel.hpp"
 #include "ui/panels.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/style.hpp"
 
 namespace gmslab::app {

@@ -31,8 +31,8 @@
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
 #include "ui/frame_policy.hpp"
-#include "ui/identify_panel.hpp"
-#include "ui/plot.hpp"
+#include "ui/identify/identify_panel.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/style.hpp"
 
 namespace gmslab::app {

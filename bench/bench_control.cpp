@@ -241,7 +241,7 @@ BENCHMARK(BM_ZRootLocusSampledLoop)->Unit(benchmark::kMillisecond);
 #if __has_include(<imgui.h>)  // built with the app: time a whole drag frame of the Design panel
 #include "app/headless.hpp"
 #include "ui/app.hpp"
-#include "ui/design_view.hpp"
+#include "ui/design/design_view.hpp"
 
 // One drag frame: s_d moved (so locus, design, step and both friction loops are recomputed),
 // then the full window drawn and rasterised by OSMesa (llvmpipe, CPU: an upper bound for the

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "app/headless.hpp"
-#include "ui/decimate.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/decimate.hpp"
+#include "ui/plot/plot.hpp"
 
 namespace {
 struct Trace1e6 {

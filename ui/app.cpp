@@ -18,10 +18,10 @@
 #include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
-#include "ui/identify_panel.hpp"
+#include "ui/identify/identify_panel.hpp"
 #include "ui/panels.hpp"
-#include "ui/plant_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/plant/plant_view.hpp"
+#include "ui/plot/plot.hpp"
 
 namespace gmslab::ui {
 

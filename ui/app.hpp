@@ -21,7 +21,7 @@
 #include "core/sim/simulation.hpp"
 #include "ui/frame_policy.hpp"
 #include "ui/panel_state.hpp"
-#include "ui/plant_view.hpp"
+#include "ui/plant/plant_view.hpp"
 
 namespace gmslab::ui {
 
@@ -131,7 +131,7 @@ struct AppState {
   FiguresState figures;
   DesignViewState design;
   IdentifyState identify;
-  PlantPanelState plant;  // the Plant panel's own assembled plant and run (ui/plant_view.hpp)
+  PlantPanelState plant;  // the Plant panel's own assembled plant and run (ui/plant/plant_view.hpp)
 
   // Errors reach the user in one place: every failure is reported here, with its panel. The
   // error is shown in that panel (its error field) and on the status line.

@@ -21,7 +21,7 @@
 #include "core/ident/loop.hpp"
 #include "core/io/session_io.hpp"
 #include "core/sim/scenario.hpp"
-#include "ui/plot_transform.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 namespace gmslab::ui {
 
@@ -65,7 +65,7 @@ struct FiguresState {
   ErrorKind error_kind = ErrorKind::Internal;
 };
 
-// The Design panel (root-locus design view, ui/design_view.hpp).
+// The Design panel (root-locus design view, ui/design/design_view.hpp).
 struct DesignViewState {
   DesignSettings settings;           // what the user chose (the panel edits it; the session saves it)
   int generation = -1;               // scenario generation the inputs were taken from
@@ -93,7 +93,7 @@ struct DesignViewState {
   PlotTransform z_canvas;            // data <-> pixel map of the z-plane canvas (zoom: in.z_locus_view)
 };
 
-// The Identify panel (ui/identify_panel.hpp).
+// The Identify panel (ui/identify/identify_panel.hpp).
 struct IdentifyResult {
   ident::IdentReport report;
   ident::Dataset train, val;

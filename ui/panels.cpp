@@ -1,9 +1,9 @@
 #include "ui/panels.hpp"
 
 #include "ui/app_files.hpp"
-#include "ui/design_view.hpp"
-#include "ui/identify_panel.hpp"
-#include "ui/panel_figures.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/identify/identify_panel.hpp"
+#include "ui/figures/panel_figures.hpp"
 
 #include <strings.h>
 

@@ -10,8 +10,8 @@
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/app_frame.hpp"
 #include "ui/app.hpp"
-#include "ui/design_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/plot/plot.hpp"
 
 using namespace gmslab;
 using gmslab::control::cplx;

@@ -1,4 +1,4 @@
-// The Identify panel's actions (ui/identify_panel.hpp) without drawing: a run on the worker thread
+// The Identify panel's actions (ui/identify/identify_panel.hpp) without drawing: a run on the worker thread
 // finishes with the report, the identified model reaches the plant through the pending-request
 // path, and Cancel stops a run.
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 
 #include "tests/ident/synthetic.hpp"
 #include "ui/app.hpp"
-#include "ui/identify_panel.hpp"
+#include "ui/identify/identify_panel.hpp"
 
 using namespace gmslab;
 

@@ -20,7 +20,7 @@
 #include "tests/ui/imgui_test_context.hpp"
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 
 using namespace gmslab;
 namespace fs = std::filesystem;

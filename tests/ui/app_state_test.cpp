@@ -8,8 +8,8 @@
 
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
-#include "ui/design_view.hpp"
-#include "ui/identify_panel.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/identify/identify_panel.hpp"
 
 using namespace gmslab;
 

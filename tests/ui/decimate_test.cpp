@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "ui/decimate.hpp"
+#include "ui/plot/decimate.hpp"
 
 using namespace gmslab::ui;
 

@@ -1,4 +1,4 @@
-// The Design tab's plant source (ui/design_panel.cpp) in the whole window: a typed plant's rejected
+// The Design tab's plant source (ui/design/design_panel.cpp) in the whole window: a typed plant's rejected
 // edit keeps the value in force and says why, naming the field; a valid one is designed for; the
 // assembled plant of the Plant tab is designed for, collocated or not, with its loops. Built only
 // with the app (ImGui).

@@ -7,7 +7,7 @@
 
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 
 using namespace gmslab;

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "core/figures/figure_set.hpp"
-#include "ui/figure_svg.hpp"
+#include "ui/figures/figure_svg.hpp"
 
 using namespace gmslab;
 namespace fs = std::filesystem;

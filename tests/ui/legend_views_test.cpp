@@ -20,8 +20,8 @@
 #include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/app_frame.hpp"
-#include "ui/identify_panel.hpp"
-#include "ui/plant_view.hpp"
+#include "ui/identify/identify_panel.hpp"
+#include "ui/plant/plant_view.hpp"
 #include "ui/style.hpp"
 
 using namespace gmslab;

@@ -16,8 +16,8 @@
 #include "core/io/session_io.hpp"
 #include "tests/ui/app_frame.hpp"
 #include "ui/app.hpp"
-#include "ui/plant_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/plant/plant_view.hpp"
+#include "ui/plot/plot.hpp"
 
 using namespace gmslab;
 using ui::PartRef;

@@ -15,8 +15,8 @@
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/app_frame.hpp"
 #include "ui/app.hpp"
-#include "ui/plant_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/plant/plant_view.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/style.hpp"
 
 using namespace gmslab;

@@ -14,7 +14,7 @@
 
 #include "core/friction/gms.hpp"
 #include "core/io/assembly_io.hpp"
-#include "ui/plant_view.hpp"
+#include "ui/plant/plant_view.hpp"
 
 namespace gmslab::ui {
 namespace {

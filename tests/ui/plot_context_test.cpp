@@ -6,7 +6,7 @@
 
 #include <cfloat>
 
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 
 using namespace gmslab;

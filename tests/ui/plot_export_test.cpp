@@ -17,7 +17,7 @@
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 #include "ui/app.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 
 using namespace gmslab;
 namespace fs = std::filesystem;

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "tests/ui/imgui_test_context.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 
 using namespace gmslab;
 

@@ -1,7 +1,7 @@
 // The plot's data-to-pixel transform: round trips, zoom about the cursor, pan by the drag.
 #include <gtest/gtest.h>
 
-#include "ui/plot_transform.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 using gmslab::ui::PlotTransform;
 

@@ -16,7 +16,7 @@
 #include "core/io/scenario_io.hpp"
 #include "tests/ui/imgui_test_context.hpp"
 #include "ui/app.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/popups.hpp"
 
 using namespace gmslab;

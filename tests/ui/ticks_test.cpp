@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "ui/ticks.hpp"
+#include "ui/plot/ticks.hpp"
 
 using gmslab::ui::format_tick;
 using gmslab::ui::nice_ticks;

@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "ui/plot_transform.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 namespace gmslab::ui {
 

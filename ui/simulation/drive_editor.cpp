@@ -1,4 +1,4 @@
-#include "ui/drive_editor.hpp"
+#include "ui/simulation/drive_editor.hpp"
 
 #include <imgui.h>
 

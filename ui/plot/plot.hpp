@@ -10,7 +10,7 @@
 // zooms about the cursor (Shift: x only, Ctrl: y only), left drag pans, double-click returns to
 // autoscale (the view then follows the data as it grows). Hovering shows the nearest drawn sample.
 // Data pointers must stay valid until EndPlot (the data is not copied; labels are). Long traces are decimated per
-// pixel column (ui/decimate.hpp), so 10^6 samples draw in well under a frame.
+// pixel column (ui/plot/decimate.hpp), so 10^6 samples draw in well under a frame.
 #pragma once
 
 #include <imgui.h>
@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "ui/figure_export.hpp"
-#include "ui/plot_transform.hpp"
+#include "ui/figures/figure_export.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 namespace gmslab::ui {
 
@@ -112,7 +112,7 @@ struct LegendStat {
 std::vector<LegendStat> TakeLegendStats();
 
 // Export (right-click on an interactive plot: PNG, SVG, CSV of its series). The plot becomes a
-// one-panel Figure in the units shown (ui/figure_export.hpp writes it into export_dir()). The
+// one-panel Figure in the units shown (ui/figures/figure_export.hpp writes it into export_dir()). The
 // host provides how a Figure becomes a PNG (the window: gmslab-headless plot-figure; tests: their
 // own); without one, PNG is not offered. The message of the last export ("wrote PATH" or the
 // error) is taken once by TakePlotMessage (the app puts it on the status line).

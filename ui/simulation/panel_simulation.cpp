@@ -1,5 +1,5 @@
 // gmslab ui: the Simulation panel. Left: scenario file, run controls, plant, drive, run settings,
-// friction model, overlay model, display options. Right: the live plots (ui/sim_plots.cpp).
+// friction model, overlay model, display options. Right: the live plots (ui/simulation/sim_plots.cpp).
 //
 // Edits go to a scratch copy (SimPanelState). A valid edit becomes a pending request; an invalid
 // one stays in the scratch copy with its validation message shown inline and is not applied.
@@ -11,10 +11,10 @@
 
 #include "core/error.hpp"
 #include "ui/app_files.hpp"
-#include "ui/drive_editor.hpp"
+#include "ui/simulation/drive_editor.hpp"
 #include "ui/panels.hpp"
 #include "ui/param_editor.hpp"
-#include "ui/sim_plots.hpp"
+#include "ui/simulation/sim_plots.hpp"
 #include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {

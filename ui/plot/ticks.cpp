@@ -1,4 +1,4 @@
-#include "ui/ticks.hpp"
+#include "ui/plot/ticks.hpp"
 
 #include <algorithm>
 #include <cmath>

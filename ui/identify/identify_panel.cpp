@@ -1,4 +1,4 @@
-#include "ui/identify_panel.hpp"
+#include "ui/identify/identify_panel.hpp"
 
 
 #include <imgui.h>
@@ -15,8 +15,8 @@
 #include "core/ident/dataset.hpp"
 #include "core/ident/job.hpp"
 #include "core/ident/loop.hpp"
-#include "ui/figure_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/figures/figure_view.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {

@@ -1,4 +1,4 @@
-// gmslab ui: the root-locus canvas of the design view (see ui/design_view.hpp).
+// gmslab ui: the root-locus canvas of the design view (see ui/design/design_view.hpp).
 #include <imgui.h>
 
 #include <vector>
@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <numbers>
 
-#include "ui/design_view.hpp"
-#include "ui/plot.hpp"
-#include "ui/plot_transform.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/plot/plot.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 namespace gmslab::ui {
 

@@ -1,4 +1,4 @@
-#include "ui/sim_plots.hpp"
+#include "ui/simulation/sim_plots.hpp"
 
 #include <imgui.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 
 namespace gmslab::ui {
 

@@ -3,10 +3,10 @@
 #include <imgui.h>
 
 #include "core/figures/figure_set.hpp"
-#include "ui/figure_export.hpp"
-#include "ui/figure_view.hpp"
-#include "ui/plot.hpp"
-#include "ui/panel_figures.hpp"
+#include "ui/figures/figure_export.hpp"
+#include "ui/figures/figure_view.hpp"
+#include "ui/plot/plot.hpp"
+#include "ui/figures/panel_figures.hpp"
 
 namespace gmslab::ui {
 

@@ -1,4 +1,4 @@
-#include "ui/decimate.hpp"
+#include "ui/plot/decimate.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "ui/figure_svg.hpp"
+#include "ui/figures/figure_svg.hpp"
 
 #include <imgui.h>
 
@@ -8,9 +8,9 @@
 #include <limits>
 
 #include "core/io/atomic_file.hpp"
-#include "ui/figure_view.hpp"
-#include "ui/plot.hpp"
-#include "ui/ticks.hpp"
+#include "ui/figures/figure_view.hpp"
+#include "ui/plot/plot.hpp"
+#include "ui/plot/ticks.hpp"
 
 namespace gmslab::ui {
 

@@ -1,7 +1,7 @@
 // gmslab ui: the Design panel - phase-lead design on the root locus with the largest reachable
 // error constant (shared/reference/phase_lead_design.md), linked to the loop simulated with the
 // scenario's friction. Left: controls and results; right: the root-locus canvas
-// (ui/design_locus.cpp) above the linked responses (ui/design_responses.cpp).
+// (ui/design/design_locus.cpp) above the linked responses (ui/design/design_responses.cpp).
 #include <imgui.h>
 
 #include "ui/param_editor.hpp"
@@ -15,7 +15,7 @@
 
 #include "core/control/design_json.hpp"
 #include "core/error.hpp"
-#include "ui/design_view.hpp"
+#include "ui/design/design_view.hpp"
 #include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {

@@ -1,4 +1,4 @@
-#include "ui/plant_view.hpp"
+#include "ui/plant/plant_view.hpp"
 
 #include <imgui.h>
 #include <imgui_stdlib.h>
@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "ui/param_editor.hpp"
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {

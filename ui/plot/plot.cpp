@@ -5,7 +5,7 @@
 //   [SECTION] axes       grid, ticks, tick labels, axis labels, title, legend
 //   [SECTION] input      zoom, pan, autoscale, hover readout
 //   [SECTION] api        BeginPlot / SetupAxes / PlotLine / EndPlot
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 
 #include <algorithm>
 #include <cfloat>
@@ -17,9 +17,9 @@
 
 #include <imgui_internal.h>
 
-#include "ui/decimate.hpp"
-#include "ui/figure_export.hpp"
-#include "ui/ticks.hpp"
+#include "ui/plot/decimate.hpp"
+#include "ui/figures/figure_export.hpp"
+#include "ui/plot/ticks.hpp"
 
 namespace gmslab::ui {
 

@@ -1,4 +1,4 @@
-// gmslab ui: the design view's linked responses (see ui/design_view.hpp): the linear closed-loop
+// gmslab ui: the design view's linked responses (see ui/design/design_view.hpp): the linear closed-loop
 // step response and the loop simulated with the scenario's friction, without and with
 // compensation, against the reference.
 #include <imgui.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "ui/design_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/plot/plot.hpp"
 
 namespace gmslab::ui {
 

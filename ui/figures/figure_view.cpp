@@ -1,4 +1,4 @@
-#include "ui/figure_view.hpp"
+#include "ui/figures/figure_view.hpp"
 
 #include <imgui.h>
 
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <optional>
 
-#include "ui/plot.hpp"
+#include "ui/plot/plot.hpp"
 #include "ui/text_wrap.hpp"
 
 namespace gmslab::ui {

@@ -21,7 +21,7 @@
 #include "core/control/design_session.hpp"
 #include "core/io/session_io.hpp"
 #include "ui/panel_state.hpp"
-#include "ui/plot_transform.hpp"
+#include "ui/plot/plot_transform.hpp"
 
 namespace gmslab::ui {
 
@@ -45,7 +45,7 @@ bool apply_coefficient_edit(DesignViewState& d, bool den, const std::string& tex
 
 void draw_design_locus(DesignViewState& d, ImVec2 size);
 void draw_design_responses(const DesignViewState& d, ImVec2 size);
-// Bode (open loop with margins, closed-loop magnitude) beside the Nyquist plot (ui/design_frequency.cpp).
+// Bode (open loop with margins, closed-loop magnitude) beside the Nyquist plot (ui/design/design_frequency.cpp).
 void draw_design_frequency(DesignViewState& d, ImVec2 size);
 void draw_design_nyquist(DesignViewState& d, ImVec2 size);
 

@@ -1,4 +1,4 @@
-// gmslab ui: the design view's frequency responses (see ui/design_view.hpp): open-loop Bode
+// gmslab ui: the design view's frequency responses (see ui/design/design_view.hpp): open-loop Bode
 // (magnitude and phase, crossovers and margins marked), closed-loop magnitude, and the Nyquist
 // plot of the same loop with the critical point -1. All from DesignOutputs::frequency, which the
 // panel recomputes with the locus on every drag.
@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "ui/design_view.hpp"
-#include "ui/plot.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/plot/plot.hpp"
 
 namespace gmslab::ui {
 

@@ -1,4 +1,4 @@
-#include "ui/figure_export.hpp"
+#include "ui/figures/figure_export.hpp"
 
 #include <cctype>
 #include <cstdlib>
@@ -7,7 +7,7 @@
 
 #include "core/figures/figure_set.hpp"
 #include "core/io/atomic_file.hpp"
-#include "ui/figure_svg.hpp"
+#include "ui/figures/figure_svg.hpp"
 
 namespace gmslab::ui {
 
