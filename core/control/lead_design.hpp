@@ -1,5 +1,5 @@
 // gmslab core/control: phase-lead design with the largest reachable error constant
-// (method and worked examples: shared/reference/phase_lead_design.md).
+// (method and worked examples: docs/references.md).
 //
 // Plant G(s) = K0 N(s) / (s^n D(s)), N(0) = D(0) = 1, K0 > 0; unity feedback; compensator
 // Gc(s) = Kc (s + z) / (s + p), 0 < z < p. Error constant K = Kc (z / p) K0 (Kp, Kv, Ka: n = 0, 1, 2).

@@ -35,7 +35,7 @@ struct GmsParams {
 
   static GmsParams from(const ModelParams& p);
   ModelParams to_params() const;
-  // The reference set of friction_models.md (N = 4), with or without micro-damping.
+  // The reference set of docs/references.md (N = 4), with or without micro-damping.
   static GmsParams reference(bool micro_damping);
 };
 

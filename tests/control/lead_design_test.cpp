@@ -1,5 +1,5 @@
 // Phase-lead design with the largest reachable error constant: every worked example of
-// shared/reference/phase_lead_design.md (G1 to G4, relocation), to 1e-4.
+// docs/references.md (G1 to G4, relocation), to 1e-4.
 #include <gtest/gtest.h>
 
 #include <algorithm>

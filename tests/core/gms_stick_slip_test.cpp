@@ -1,5 +1,5 @@
 // GMS stick-slip (seed Figs. 3/4): a 1 kg mass pulled through a 2 N/m spring at 0.1 m/s.
-// Reference numbers from friction_models.md; the vibration frequency from sqrt(sum k_i / m).
+// Reference numbers from docs/references.md; the vibration frequency from sqrt(sum k_i / m).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -105,7 +105,7 @@ TEST_F(GmsStickSlip, StickVibratesAtElementStiffnessFrequency) {
   const double f_measured =
       (crossings.size() - 1) / (2 * (crossings.back() - crossings.front()));
   EXPECT_NEAR(f_measured, f_expected, 0.03 * f_expected);
-  EXPECT_NEAR(f_expected, 72.9, 0.5);  // friction_models.md: about 72 Hz
+  EXPECT_NEAR(f_expected, 72.9, 0.5);  // docs/references.md: about 72 Hz
 }
 
 TEST_F(GmsStickSlip, MicroDampingDampsTheStickVibration) {

@@ -1,5 +1,5 @@
 // The figure set: every figure is drawable (labelled axes with units, non-empty series), and each
-// figure's CSV (write_figure_csv) carries the reference numbers of friction_models.md.
+// figure's CSV (write_figure_csv) carries the reference numbers of docs/references.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>

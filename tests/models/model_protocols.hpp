@@ -1,4 +1,4 @@
-// Test helpers shared by tests/models and tests/figures: the protocols of friction_models.md run
+// Test helpers shared by tests/models and tests/figures: the protocols of docs/references.md run
 // with any registered model, and the measurements the reference numbers are stated in.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The properties that tell the friction models apart (the property table of friction_models.md),
+// The properties that tell the friction models apart (the property table of docs/references.md),
 // each measured on the protocols of the seed's figures and run over the models it concerns.
 #include <gtest/gtest.h>
 
@@ -57,7 +57,7 @@ TEST(NonlocalMemory, InnerLoopDoesNotCloseForDahlAndLuGre) {
 }
 
 // Maxwell-slip is exactly Masing: the virgin curve is sum min(k_i x, W_i), and the Fig. 2A turning
-// point forces of friction_models.md follow (GMS at 10 um/s has S = Fs to 1e-4 N).
+// point forces of docs/references.md follow (GMS at 10 um/s has S = Fs to 1e-4 N).
 TEST(NonlocalMemory, MaxwellSlipTurningPointsAreTheReferenceNumbers) {
   const Scenario s = preset_with("fig2a_presliding.json", "maxwell_slip");
   const Trace tr = simulate(s);
@@ -192,7 +192,7 @@ TEST(BreakAway, DependsOnForceRateForRateStateModels) {
   }
 }
 
-// friction_models.md says the break-away force "rises with force rate" for LuGre and GMS. The
+// The literature (docs/references.md) says the break-away force "rises with force rate" for LuGre and GMS. The
 // applied force at which the body reaches gross sliding does rise, but for every model with
 // stiction, rate-state or not, because it includes the inertial force m a of the mass accelerating
 // away. For the Coulomb law with its Karnopp band (m = 1 kg, ramp r): held at Fs until

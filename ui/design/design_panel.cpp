@@ -1,5 +1,5 @@
 // gmslab ui: the Design panel - phase-lead design on the root locus with the largest reachable
-// error constant (shared/reference/phase_lead_design.md), linked to the loop simulated with the
+// error constant (docs/references.md), linked to the loop simulated with the
 // scenario's friction. Left: controls and results; right: the root-locus canvas
 // (ui/design/design_locus.cpp) above the linked responses (ui/design/design_responses.cpp).
 #include <imgui.h>
