@@ -98,161 +98,220 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
   return rms_of(d, sum);
 }
 
+namespace {
+
+// One ablation: the records, the final fit's shape every refit starts from, the options, and the
+// model every test is against (`full`: all effects, all elements).
+class AblationRun {
+ public:
+  AblationRun(const FitResult& final_fit, const Dataset& train, const Dataset& val,
+              const EffectContext& c, const AblationOptions& o)
+      : train_(train),
+        val_(val),
+        c_(c),
+        o_(o),
+        warm_(final_fit.u),
+        fo_(serialised_progress(o.refit)) {
+    fo_.data_start = false;
+  }
+
+  // Every refit starts from the final shape with the same options: a pure function of its inputs,
+  // so they run at once (two at a time on two cores) with the results of one after the other.
+  std::future<Scored> refit(FitSpec spec, std::string stage) const {
+    FitOptions f = fo_;
+    f.stage = std::move(stage);
+    return std::async(std::launch::async, [this, spec = std::move(spec), f = std::move(f)] {
+      return scored(fit_model(spec, train_, c_, f, &warm_));
+    });
+  }
+
+  Scored scored(FitResult fit) const {
+    Scored s;
+    s.fit = std::move(fit);
+    s.res = residual_on(s.fit, val_, c_);
+    s.rms = rms_of(val_, s.res);
+    return s;
+  }
+
+  // The model every test is against: the refit with all effects, or the final fit where that is
+  // better (same spec, the budget's own optimisation). The floor is an estimate: a model that
+  // predicts the held-out record better shows it lower (as the loop's own guards take it).
+  Scored start(const FitResult& final_fit, double floor_estimate) {
+    Scored cur = refit(final_fit.spec, "ablation: refit with all effects").get();
+    Scored kept = scored(final_fit);
+    if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
+    full_ = cur;
+    floor_ = std::min(floor_estimate, full_.rms);
+    return cur;
+  }
+  double floor() const { return floor_; }
+
+  // Resolvable: consistent over the time blocks, or a rise of the validation MSE larger than the
+  // floor's own variance (an effect confined to a few blocks, e.g. at reversals, leaves the block
+  // test without power, but noise, quantisation and the sampled path cannot make the refit
+  // without it this much worse). Every test is against the model the loop ended with, not the
+  // model left after earlier drops: drops each below the resolution must not add up to one the
+  // data resolve.
+  bool resolvable(const BlockTest& t, double rms) const {
+    return t.z >= o_.z_crit || rms * rms - full_.rms * full_.rms >= floor_ * floor_;
+  }
+
+  // The row of one effect, judged from the refit without it.
+  AblationRow judge(const Scored& cur, Effect e, const Scored& without_e) const {
+    AblationRow r;
+    r.effect = e;
+    r.rms_validation_without = without_e.rms;
+    r.test = block_test(val_, without_e.res, full_.res, o_.blocks);
+    r.contribution = contribution_rms(cur.fit, e, train_, c_);
+    const bool significant = resolvable(r.test, without_e.rms);
+    const bool big = r.contribution >= o_.min_size * floor_;
+    const bool needed = without_e.rms > o_.near_floor * floor_;
+    // A mass is positive: a negative one is the model lagging along the sampled path (a force
+    // that leads the modelled one by a fraction of a step looks like -M a), not an inertia.
+    double mass = 1.0;
+    if (e == Effect::Inertia)
+      for (const auto& t : cur.fit.terms)
+        if (t.effect == effect_name(Effect::Inertia) && t.name == "M") mass = t.value;
+    const bool physical = mass > 0;
+    r.credited = significant && big && needed && physical;
+    r.verdict = verdict(r, without_e.rms, significant, big, physical, mass);
+    return r;
+  }
+
+  std::string verdict(const AblationRow& r, double rms, bool significant, bool big, bool physical,
+                      double mass) const {
+    if (!physical)
+      return "not credited: negative mass M = " + fmt(mass) +
+             " kg: not an inertia (the model lags along the sampled path)";
+    if (r.credited)
+      return "credited: without it validation " + fmt(rms) + " N against " + fmt(full_.rms) +
+             " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +
+             (r.test.z >= o_.z_crit ? std::string()
+                                    : "; the MSE rise exceeds the floor's variance (" +
+                                          fmt(floor_ * floor_) + " N^2)");
+    if (!significant)
+      return "not credited: without it validation " + fmt(rms) + " N against " + fmt(full_.rms) +
+             " N, z = " + fmt(r.test.z) + " < " + fmt(o_.z_crit) +
+             " and an MSE rise below the floor's variance: the refit without it does as well";
+    if (!big)
+      return "not credited: contribution " + fmt(r.contribution) + " N below " + fmt(o_.min_size) +
+             " x the floor (" + fmt(floor_) + " N)";
+    return "not credited: without it validation " + fmt(rms) + " N is within " +
+           fmt(o_.near_floor) + " x the floor (" + fmt(floor_) + " N)";
+  }
+
+  // Drops, one at a time, the effect the data resolve least until every effect left is credited.
+  void drop_effects(Scored& cur, Ablation& table) const {
+    for (;;) {
+      const auto& effects = cur.fit.spec.effects;
+      std::vector<std::future<Scored>> fits;
+      for (Effect e : effects)
+        fits.push_back(refit(without(cur.fit.spec, e),
+                             "ablation: refit without " + std::string(effect_name(e))));
+      std::vector<AblationRow> rows;
+      std::vector<Scored> wo;
+      for (std::size_t i = 0; i < effects.size(); ++i) {
+        wo.push_back(fits[i].get());
+        rows.push_back(judge(cur, effects[i], wo.back()));
+      }
+      std::size_t worst = rows.size();
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        if (!rows[i].credited && (worst == rows.size() || rows[i].test.z < rows[worst].test.z))
+          worst = i;
+      if (worst == rows.size()) {
+        table.rows = std::move(rows);
+        return;
+      }
+      table.dropped.push_back(rows[worst]);
+      cur = std::move(wo[worst]);
+    }
+  }
+
+  // The element count: the lightest element left out while the data do not resolve it.
+  void drop_elements(Scored& cur, Ablation& table) const {
+    const ModelInfo& info = model_info(cur.fit.spec.model);
+    const auto alpha = info.column_index("alpha");
+    while (alpha >= 0 && cur.fit.spec.elements >= 2) {
+      const Parameterization par(info, cur.fit.spec.elements, c_);
+      if (cur.fit.u.size() != par.size()) break;
+      const ModelParams m = par.unit_model(cur.fit.u);
+      std::size_t light = 0;
+      for (std::size_t i = 1; i < m.elements.size(); ++i)
+        if (m.elements[i][static_cast<std::size_t>(alpha)] <
+            m.elements[light][static_cast<std::size_t>(alpha)])
+          light = i;
+      const std::vector<double> u = shape_without_element(cur.fit, light, c_);
+      if (u.empty()) break;
+      FitSpec spec = cur.fit.spec;
+      spec.elements -= 1;
+      FitOptions f = fo_;
+      f.stage = "ablation: " + std::to_string(spec.elements) + " elements";
+      Scored s = scored(fit_model(spec, train_, c_, f, &u));
+      ElementAblation e;
+      e.elements = spec.elements;
+      e.rms_validation_without = s.rms;
+      e.test = block_test(val_, s.res, full_.res, o_.blocks);
+      const bool needed = s.rms > o_.near_floor * floor_;
+      e.dropped = !(resolvable(e.test, s.rms) && needed) && s.fit.spec.elements == spec.elements;
+      e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
+                  std::to_string(spec.elements) + " elements validation " + fmt(s.rms) +
+                  " N against " + fmt(full_.rms) + " N, z = " + fmt(e.test.z);
+      table.elements.push_back(e);
+      if (!e.dropped) return;
+      cur = std::move(s);
+    }
+  }
+
+  // Alternatives the data cannot tell from a credited effect.
+  void find_alike(const Scored& cur, Ablation& table,
+                  const std::vector<std::pair<Effect, Effect>>& alternatives) const {
+    const auto& kept = cur.fit.spec.effects;
+    for (auto& r : table.rows) {
+      std::vector<Effect> alts;
+      for (const auto& [e, alt] : alternatives)
+        if (e == r.effect && alt != r.effect &&
+            std::find(kept.begin(), kept.end(), alt) == kept.end() &&
+            std::find(alts.begin(), alts.end(), alt) == alts.end())
+          alts.push_back(alt);
+      std::vector<std::future<Scored>> fits;
+      for (Effect alt : alts)
+        fits.push_back(refit(replaced(cur.fit.spec, r.effect, alt),
+                             "ablation: " + std::string(effect_name(alt)) + " in place of " +
+                                 std::string(effect_name(r.effect))));
+      for (std::size_t i = 0; i < alts.size(); ++i) {
+        const Scored s = fits[i].get();
+        if (block_test(val_, s.res, cur.res, o_.blocks).z < o_.z_crit) r.alike.push_back(alts[i]);
+      }
+    }
+  }
+
+ private:
+  const Dataset& train_;
+  const Dataset& val_;
+  const EffectContext& c_;
+  const AblationOptions& o_;
+  const std::vector<double> warm_;
+  FitOptions fo_;
+  Scored full_;
+  double floor_ = 0;
+};
+
+}  // namespace
+
 AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
                       const EffectContext& c, double floor_estimate,
-                      const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o) {
+                      const std::vector<std::pair<Effect, Effect>>& alternatives,
+                      const AblationOptions& o) {
   AblationResult out;
   out.table.elements_before = final_fit.spec.elements;
   out.table.ran = true;
-  double floor = floor_estimate;
   out.table.z_crit = o.z_crit;
-  FitOptions fo = serialised_progress(o.refit);
-  fo.data_start = false;
-  const std::vector<double> warm = final_fit.u;
-  // Every refit starts from the final shape with the same options: a pure function of its inputs,
-  // so they run at once (two at a time on two cores) with the results of one after the other.
-  auto refit = [&](FitSpec spec, std::string stage) {
-    FitOptions f = fo;
-    f.stage = std::move(stage);
-    return std::async(std::launch::async, [&train, &val, &c, &warm, spec = std::move(spec), f = std::move(f)] {
-      Scored s;
-      s.fit = fit_model(spec, train, c, f, &warm);
-      s.res = residual_on(s.fit, val, c);
-      s.rms = rms_of(val, s.res);
-      return s;
-    });
-  };
-  auto all = refit(final_fit.spec, "ablation: refit with all effects");
-  Scored cur = all.get();
-  // The refit never replaces a better final fit (same spec, the budget's own optimisation).
-  {
-    Scored kept;
-    kept.fit = final_fit;
-    kept.res = residual_on(final_fit, val, c);
-    kept.rms = rms_of(val, kept.res);
-    if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
-  }
-  // Every test is against the model the loop ended with (all effects, all elements), not against
-  // the model left after earlier drops: drops whose losses are each below the resolution must not
-  // add up to one the data resolve.
-  const Scored full = cur;
-  // The floor is an estimate: a model that predicts the held-out record better shows it lower
-  // (as the loop's own guards take it).
-  floor = std::min(floor, full.rms);
-  out.table.floor = floor;
-  auto resolvable = [&](const BlockTest& t, double rms) {
-    return t.z >= o.z_crit || rms * rms - full.rms * full.rms >= floor * floor;
-  };
-  for (;;) {
-    const auto& effects = cur.fit.spec.effects;
-    std::vector<std::future<Scored>> fits;
-    for (Effect e : effects)
-      fits.push_back(refit(without(cur.fit.spec, e), "ablation: refit without " + std::string(effect_name(e))));
-    std::vector<AblationRow> rows;
-    std::vector<Scored> wo;
-    for (std::size_t i = 0; i < effects.size(); ++i) {
-      Scored s = fits[i].get();
-      AblationRow r;
-      r.effect = effects[i];
-      r.rms_validation_without = s.rms;
-      r.test = block_test(val, s.res, full.res, o.blocks);
-      r.contribution = contribution_rms(cur.fit, effects[i], train, c);
-      // Resolvable: consistent over the time blocks, or a rise of the validation MSE larger than
-      // the floor's own variance (an effect confined to a few blocks, e.g. at reversals, leaves
-      // the block test without power, but noise, quantisation and the sampled path cannot make
-      // the refit without it this much worse).
-      const bool significant = resolvable(r.test, s.rms);
-      const bool big = r.contribution >= o.min_size * floor;
-      const bool needed = s.rms > o.near_floor * floor;
-      // A mass is positive: a negative one is the model lagging along the sampled path (a force
-      // that leads the modelled one by a fraction of a step looks like -M a), not an inertia.
-      double mass = 1.0;
-      if (effects[i] == Effect::Inertia)
-        for (const auto& t : cur.fit.terms)
-          if (t.effect == effect_name(Effect::Inertia) && t.name == "M") mass = t.value;
-      const bool physical = mass > 0;
-      r.credited = significant && big && needed && physical;
-      if (!physical)
-        r.verdict = "not credited: negative mass M = " + fmt(mass) +
-                    " kg: not an inertia (the model lags along the sampled path)";
-      else if (r.credited)
-        r.verdict = "credited: without it validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
-                    " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +
-                    (r.test.z >= o.z_crit ? std::string()
-                                          : "; the MSE rise exceeds the floor's variance (" + fmt(floor * floor) + " N^2)");
-      else if (!significant)
-        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
-                    " N, z = " + fmt(r.test.z) + " < " + fmt(o.z_crit) +
-                    " and an MSE rise below the floor's variance: the refit without it does as well";
-      else if (!big)
-        r.verdict = "not credited: contribution " + fmt(r.contribution) + " N below " + fmt(o.min_size) +
-                    " x the floor (" + fmt(floor) + " N)";
-      else
-        r.verdict = "not credited: without it validation " + fmt(s.rms) + " N is within " + fmt(o.near_floor) +
-                    " x the floor (" + fmt(floor) + " N)";
-      rows.push_back(std::move(r));
-      wo.push_back(std::move(s));
-    }
-    std::size_t worst = rows.size();
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      if (!rows[i].credited && (worst == rows.size() || rows[i].test.z < rows[worst].test.z)) worst = i;
-    if (worst == rows.size()) {
-      out.table.rows = std::move(rows);
-      break;
-    }
-    out.table.dropped.push_back(rows[worst]);
-    cur = std::move(wo[worst]);
-  }
-  // The element count: the lightest element left out while the data do not resolve it.
-  const ModelInfo& info = model_info(cur.fit.spec.model);
-  const auto alpha = info.column_index("alpha");
-  while (alpha >= 0 && cur.fit.spec.elements >= 2) {
-    const Parameterization par(info, cur.fit.spec.elements, c);
-    if (cur.fit.u.size() != par.size()) break;
-    const ModelParams m = par.unit_model(cur.fit.u);
-    std::size_t light = 0;
-    for (std::size_t i = 1; i < m.elements.size(); ++i)
-      if (m.elements[i][static_cast<std::size_t>(alpha)] < m.elements[light][static_cast<std::size_t>(alpha)]) light = i;
-    const std::vector<double> u = shape_without_element(cur.fit, light, c);
-    if (u.empty()) break;
-    FitSpec spec = cur.fit.spec;
-    spec.elements -= 1;
-    FitOptions f = fo;
-    f.stage = "ablation: " + std::to_string(spec.elements) + " elements";
-    Scored s;
-    s.fit = fit_model(spec, train, c, f, &u);
-    s.res = residual_on(s.fit, val, c);
-    s.rms = rms_of(val, s.res);
-    ElementAblation e;
-    e.elements = spec.elements;
-    e.rms_validation_without = s.rms;
-    e.test = block_test(val, s.res, full.res, o.blocks);
-    const bool needed = s.rms > o.near_floor * floor;
-    e.dropped = !(resolvable(e.test, s.rms) && needed) && s.fit.spec.elements == spec.elements;
-    e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
-                std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " + fmt(full.rms) +
-                " N, z = " + fmt(e.test.z);
-    out.table.elements.push_back(e);
-    if (!e.dropped) break;
-    cur = std::move(s);
-  }
-  // Alternatives the data cannot tell from a credited effect.
-  for (auto& r : out.table.rows) {
-    std::vector<Effect> alts;
-    for (const auto& [e, alt] : alternatives)
-      if (e == r.effect && alt != r.effect &&
-          std::find(cur.fit.spec.effects.begin(), cur.fit.spec.effects.end(), alt) == cur.fit.spec.effects.end() &&
-          std::find(alts.begin(), alts.end(), alt) == alts.end())
-        alts.push_back(alt);
-    std::vector<std::future<Scored>> fits;
-    for (Effect alt : alts)
-      fits.push_back(refit(replaced(cur.fit.spec, r.effect, alt), "ablation: " + std::string(effect_name(alt)) +
-                                                                      " in place of " + std::string(effect_name(r.effect))));
-    for (std::size_t i = 0; i < alts.size(); ++i) {
-      const Scored s = fits[i].get();
-      if (block_test(val, s.res, cur.res, o.blocks).z < o.z_crit) r.alike.push_back(alts[i]);
-    }
-  }
+  AblationRun run(final_fit, train, val, c, o);
+  Scored cur = run.start(final_fit, floor_estimate);
+  out.table.floor = run.floor();
+  run.drop_effects(cur, out.table);
+  run.drop_elements(cur, out.table);
+  run.find_alike(cur, out.table, alternatives);
   out.table.rms_validation_all = cur.rms;
   out.rms_validation = cur.rms;
   out.model = std::move(cur.fit);

@@ -414,47 +414,41 @@ nlopt::algorithm algorithm_of(const std::string& m) {
 
 }  // namespace
 
-FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
-                    const FitOptions& o, const std::vector<double>* warm) {
-  // Element models whose effects do not multiply g: variable projection with the element
-  // weights linear (element_fit.hpp): over an element grid, or from the warm start.
-  if (has_linear_elements(spec.model) && spec.elements > 0) {
-    bool g_free = true;
-    for (Effect e : spec.effects)
-      for (const auto& col : effect_columns(e)) g_free &= !col.uses_g;
-    if (g_free && !warm) return fit_elements(spec, train, c, o);
-    if (g_free && warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size()) {
-      // From the warm start, and with the element table chosen afresh on the grid at the warm
-      // shape: a new effect can free the table from what it had bent itself into (e.g. a soft
-      // element standing in for an offset).
-      if (!o.data_start || o.polish_only) return polish_elements(spec, train, c, o, *warm);
-      FitResult w, g;
-      const FitOptions po = serialised_progress(o);
-      run_both([&] { g = regrid_elements(spec, train, c, po, *warm); },
-               [&] { w = polish_elements(spec, train, c, po, *warm); });
-      const int evals = w.evaluations + g.evaluations;
-      FitResult& best = g.rms_train < w.rms_train ? g : w;
-      best.evaluations = evals;
-      return best;
-    }
-  }
-  // Effects that multiply the friction (g columns) on an element model with a warm start: the
-  // element polish with g frozen at the warm shape (a stand-in that moves little when an effect is
-  // added; its final linear solve, refit_linear, uses the true g), competing with the shape search.
-  const bool with_frozen = !o.polish_only && has_linear_elements(spec.model) && spec.elements > 0 && warm &&
-                           warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
-  const Parameterization par(model_info(spec.model), spec.elements, c);
-  Evaluator ev(spec, par, train, c);
-  const auto alg = algorithm_of(o.method);
-  const std::size_t n = par.size();
-  std::vector<double> best_u = par.initial();
-  Eigen::VectorXd best_th;
-  double best = ev.cost(best_u, &best_th);
-  // Start points: the warm start (if any), the data-based guess, then jittered copies of the
-  // first; finally a polishing restart from the best point found.
+namespace {
+
+// Element models whose effects do not multiply g: variable projection with the element weights
+// linear (element_fit.hpp): over an element grid, or from the warm start. Empty where the model or
+// its effects need the general shape search.
+std::optional<FitResult> fit_by_elements(const FitSpec& spec, const Dataset& train,
+                                         const EffectContext& c, const FitOptions& o,
+                                         const std::vector<double>* warm) {
+  if (!has_linear_elements(spec.model) || spec.elements <= 0) return std::nullopt;
+  bool g_free = true;
+  for (Effect e : spec.effects)
+    for (const auto& col : effect_columns(e)) g_free &= !col.uses_g;
+  if (!g_free) return std::nullopt;
+  if (!warm) return fit_elements(spec, train, c, o);
+  if (warm->size() != Parameterization(model_info(spec.model), spec.elements, c).size())
+    return std::nullopt;
+  // From the warm start, and with the element table chosen afresh on the grid at the warm shape:
+  // a new effect can free the table from what it had bent itself into (e.g. a soft element
+  // standing in for an offset).
+  if (!o.data_start || o.polish_only) return polish_elements(spec, train, c, o, *warm);
+  FitResult w, g;
+  const FitOptions po = serialised_progress(o);
+  run_both([&] { g = regrid_elements(spec, train, c, po, *warm); },
+           [&] { w = polish_elements(spec, train, c, po, *warm); });
+  const int evals = w.evaluations + g.evaluations;
+  FitResult& best = g.rms_train < w.rms_train ? g : w;
+  best.evaluations = evals;
+  return best;
+}
+
+// Start points: the warm start (if any), the data-based guess, then jittered copies of the first.
+std::vector<std::vector<double>> start_points(const Parameterization& par, const FitOptions& o,
+                                              const std::vector<double>* warm, bool polish_only) {
   std::vector<std::vector<double>> starts;
-  const bool polish_only = o.polish_only && warm && warm->size() == n;
-  if (warm && warm->size() == n) starts.push_back(*warm);
+  if (warm && warm->size() == par.size()) starts.push_back(*warm);
   if (starts.empty() || (o.data_start && !polish_only)) starts.push_back(par.initial());
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> jitter(-0.2, 0.2);
@@ -463,75 +457,119 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     for (auto& xi : x) xi = std::clamp(xi + jitter(rng), 0.0, 1.0);
     starts.push_back(x);
   }
+  return starts;
+}
+
+// One local search's outcome: the first best point it saw (as one shared search over all starts
+// would keep it), its evaluations, whether it hit the time budget.
+struct SearchRun {
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> best_u;
+  int evals = 0;
+  bool time_limited = false;
+};
+
+// The settings every local search of one fit shares.
+struct SearchSettings {
+  nlopt::algorithm alg;
+  std::size_t n;
+  const FitOptions* o;   // the caller's options (time budget, cancel)
+  const FitOptions* so;  // with serialised progress
+  std::chrono::steady_clock::time_point t_start;
+  int max_evaluations, polish_evaluations, budget;
+};
+
+// One bounded local search (NLopt) on the unit box from x.
+SearchRun local_search(const SearchSettings& ss, Evaluator& e, std::vector<double> x, bool polish,
+                       const std::string& stage) {
+  SearchRun run;
+  const std::size_t n = ss.n;
+  if (n == 0) return run;
+  nlopt::opt opt(ss.alg, static_cast<unsigned>(n));
+  if (ss.o->max_seconds > 0) {
+    const double left =
+        ss.o->max_seconds -
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - ss.t_start).count();
+    if (left <= 0) {
+      run.time_limited = true;
+      return run;
+    }
+    opt.set_maxtime(left);
+  }
+  opt.set_lower_bounds(std::vector<double>(n, 0.0));
+  opt.set_upper_bounds(std::vector<double>(n, 1.0));
+  opt.set_maxeval(polish ? ss.polish_evaluations : ss.max_evaluations);
+  opt.set_ftol_rel(ss.o->rel_tol);
+  opt.set_initial_step(std::vector<double>(n, polish ? 0.03 : 0.1));
+  struct Ctx {
+    Evaluator* ev;
+    const FitOptions* o;
+    SearchRun* run;
+    int budget;
+    const std::string* stage;
+  } ctx{&e, ss.so, &run, ss.budget, &stage};
+  opt.set_min_objective(
+      [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
+        auto& cx = *static_cast<Ctx*>(p);
+        if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
+        const double f = cx.ev->cost(u);
+        ++cx.run->evals;
+        if (f < cx.run->best) cx.run->best = f, cx.run->best_u = u;
+        if (cx.o->progress && cx.run->evals % 25 == 0)
+          cx.o->progress({*cx.stage, cx.run->evals, cx.run->best, cx.budget});
+        return f;
+      },
+      &ctx);
+  double f = 0;
+  try {
+    if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) run.time_limited = true;
+  } catch (const nlopt::forced_stop&) {
+  } catch (const Error&) {
+    throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
+  } catch (const std::invalid_argument& e) {  // NLopt rejected the problem it was given: a bug here
+    throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
+  } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
+  }
+  if (ss.o->cancel && ss.o->cancel->load()) throw Cancelled();
+  return run;
+}
+
+}  // namespace
+
+FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
+                    const FitOptions& o, const std::vector<double>* warm) {
+  if (auto r = fit_by_elements(spec, train, c, o, warm)) return std::move(*r);
+  // Effects that multiply the friction (g columns) on an element model with a warm start: the
+  // element polish with g frozen at the warm shape (a stand-in that moves little when an effect is
+  // added; its final linear solve, refit_linear, uses the true g), competing with the shape search.
+  const bool with_frozen = !o.polish_only && has_linear_elements(spec.model) && spec.elements > 0 && warm &&
+                           warm->size() == Parameterization(model_info(spec.model), spec.elements, c).size();
+  const Parameterization par(model_info(spec.model), spec.elements, c);
+  Evaluator ev(spec, par, train, c);
+  const std::size_t n = par.size();
+  std::vector<double> best_u = par.initial();
+  Eigen::VectorXd best_th;
+  double best = ev.cost(best_u, &best_th);
+  // The starts, then a polishing restart from the best point found.
+  const bool polish_only = o.polish_only && warm && warm->size() == n;
+  const auto starts = start_points(par, o, warm, polish_only);
   const int total = static_cast<int>(starts.size()) + 1;
-  const auto t_start = std::chrono::steady_clock::now();
   const int polish_evaluations = std::max(100, o.max_evaluations / 3);
-  const int budget = (total - 1) * o.max_evaluations + polish_evaluations;
   const FitOptions so = serialised_progress(o);
-  // One local search from x with evaluator e: the first best point it saw (as one shared search
-  // over all starts would keep it), its evaluations, whether it hit the time budget.
-  struct Run {
-    double best = std::numeric_limits<double>::infinity();
-    std::vector<double> best_u;
-    int evals = 0;
-    bool time_limited = false;
-  };
-  auto local_search = [&](Evaluator& e, std::vector<double> x, bool polish, const std::string& stage) {
-    Run run;
-    if (n == 0) return run;
-    nlopt::opt opt(alg, static_cast<unsigned>(n));
-    if (o.max_seconds > 0) {
-      const double left =
-          o.max_seconds - std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-      if (left <= 0) {
-        run.time_limited = true;
-        return run;
-      }
-      opt.set_maxtime(left);
-    }
-    opt.set_lower_bounds(std::vector<double>(n, 0.0));
-    opt.set_upper_bounds(std::vector<double>(n, 1.0));
-    opt.set_maxeval(polish ? polish_evaluations : o.max_evaluations);
-    opt.set_ftol_rel(o.rel_tol);
-    opt.set_initial_step(std::vector<double>(n, polish ? 0.03 : 0.1));
-    struct Ctx {
-      Evaluator* ev;
-      const FitOptions* o;
-      Run* run;
-      int budget;
-      const std::string* stage;
-    } ctx{&e, &so, &run, budget, &stage};
-    opt.set_min_objective(
-        [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
-          auto& cx = *static_cast<Ctx*>(p);
-          if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
-          const double f = cx.ev->cost(u);
-          ++cx.run->evals;
-          if (f < cx.run->best) cx.run->best = f, cx.run->best_u = u;
-          if (cx.o->progress && cx.run->evals % 25 == 0)
-            cx.o->progress({*cx.stage, cx.run->evals, cx.run->best, cx.budget});
-          return f;
-        },
-        &ctx);
-    double f = 0;
-    try {
-      if (opt.optimize(x, f) == nlopt::MAXTIME_REACHED) run.time_limited = true;
-    } catch (const nlopt::forced_stop&) {
-    } catch (const Error&) {
-      throw;  // gmslab's typed errors (input, simulation, I/O, internal) are never swallowed
-    } catch (const std::invalid_argument& e) {  // NLopt rejected the problem it was given: a bug here
-      throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
-    } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
-    }
-    if (o.cancel && o.cancel->load()) throw Cancelled();
-    return run;
-  };
+  const SearchSettings ss{algorithm_of(o.method),
+                          n,
+                          &o,
+                          &so,
+                          std::chrono::steady_clock::now(),
+                          o.max_evaluations,
+                          polish_evaluations,
+                          (total - 1) * o.max_evaluations + polish_evaluations};
   // The frozen-g polish and the starts are independent searches: on two workers (parallel.hpp),
   // each with its own evaluator; merged in the order one thread would have run them.
   std::optional<FitResult> frozen;
   const std::size_t first_start = with_frozen ? 1 : 0;
   const std::size_t tasks = first_start + (n > 0 ? starts.size() : 0);
-  std::vector<Run> runs(starts.size());
+  std::vector<SearchRun> runs(starts.size());
   std::optional<Evaluator> ev2;
   if (tasks >= 2 && t_parallel_depth == 0 && n > 0) ev2.emplace(spec, par, train, c);
   run_tasks(tasks, [&](std::size_t t, int worker) {
@@ -545,8 +583,9 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       return;
     }
     const std::size_t s = t - first_start;
-    runs[s] = local_search(worker == 1 ? *ev2 : ev, starts[s], polish_only,
-                           o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(total - 1));
+    runs[s] = local_search(
+        ss, worker == 1 ? *ev2 : ev, starts[s], polish_only,
+        o.stage + ", start " + std::to_string(s + 1) + "/" + std::to_string(total - 1));
   });
   int evals = 1;
   bool time_limited = false;
@@ -556,13 +595,13 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
     if (run.best < best) best = run.best, best_u = run.best_u;
   }
   if (n > 0 && !time_limited && !polish_only) {
-    const Run run = local_search(ev, best_u, true, o.stage + ", polish");
+    const SearchRun run = local_search(ss, ev, best_u, true, o.stage + ", polish");
     evals += run.evals;
     time_limited |= run.time_limited;
     if (run.best < best) best = run.best, best_u = run.best_u;
   }
   best = ev.cost(best_u, &best_th);
-  if (o.progress) o.progress({o.stage + ", done", evals, best, budget});
+  if (o.progress) o.progress({o.stage + ", done", evals, best, ss.budget});
   FitResult r = make_result(spec, par, ev, best_u, best_th, best, evals);
   r.time_limited = time_limited;
   if (frozen && frozen->rms_train < r.rms_train) {
