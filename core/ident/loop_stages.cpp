@@ -231,6 +231,7 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
   const double c0 = refit_linear(f.spec, d, c, f.u).rms_train;
   const double h = 1e-3;
   double worst = 0;
+  std::string pinned;
   for (std::size_t i = 0; i < f.u.size(); ++i) {
     double side[2] = {c0, c0};
     for (int k = 0; k < 2; ++k) {
@@ -247,7 +248,21 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
       out.reason = "a step of 1e-3 of its range in " + par.params()[i].name + " lowers the training RMS by " +
                    fmt(100 * drop) + " %: not at a minimum";
     }
+    // Pinned at an end of its search range: at the upper end, or at the lower end with the cost
+    // rising inwards (a lower end where the parameter merely fades to nothing, e.g. a viscous
+    // coefficient the data do not need, is not a pin). The data may want a value beyond the end,
+    // which the search cannot reach. Said before anything else: it is the cause.
+    const bool at_lo = f.u[i] <= h, at_hi = f.u[i] >= 1.0 - h;
+    const double rise = side[0] / std::max(c0, 1e-300) - 1.0;
+    if (pinned.empty() && (at_hi || (at_lo && rise > 1e-5))) {
+      const ShapeParam& sp = par.params()[i];
+      pinned = sp.name + " is pinned at the " + (at_hi ? "upper" : "lower") +
+               " end of its search range [" + fmt(sp.lo) + ", " + fmt(sp.hi) + "] (" + sp.unit +
+               "): the data may want a value beyond it, and the fit is the closest model within "
+               "the range";
+    }
   }
+  if (!pinned.empty()) out.verified = false, out.reason = pinned;
   return out;
 }
 
