@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -25,7 +26,7 @@ struct Check {
     if (end - got != n || std::memcmp(want, got, static_cast<std::size_t>(n)) != 0) {
       if (++wrong <= 5)
         ADD_FAILURE() << "x = " << std::to_string(x) << ": printf '" << want << "', format_g10 '"
-                      << std::string(got, end) << "'";
+                      << std::string(static_cast<const char*>(got), end) << "'";
     }
   }
 };
@@ -67,7 +68,8 @@ TEST(FormatG10, DecadeAndRoundingBoundariesAsPrintf) {
     }
   }
   for (double x : {0.0, -0.0, 0.5, 1234567890.5, 9999999999.5, 12345.678905, 1e-4, 1e-5, 9.99999999995e-5,
-                   1e10, 1e300, -1e-300, 5e-324, 1.7976931348623157e308, INFINITY, -INFINITY, NAN})
+                   1e10, 1e300, -1e-300, 5e-324, 1.7976931348623157e308, std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()})
     check(x);
   EXPECT_EQ(check.cases, 63 * 7 * 4 + 17);
   EXPECT_EQ(check.wrong, 0);
