@@ -5,6 +5,7 @@
 #include <climits>
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
@@ -86,8 +87,7 @@ std::string resolve_preset(const std::string& arg, const std::string& dir, const
   fs::path p(arg);
   // "presets/NAME.json" as the README writes it, typed outside the source tree.
   if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
-  if (p.has_parent_path() && p.parent_path() != ".")
-    throw InputError(named + ": no such file" + (fs::is_directory(arg, ec) ? " (it is a folder)" : ""));
+  if (p.has_parent_path() && p.parent_path() != ".") return arg;  // another folder: its loader says what is wrong
   if (std::string found = shipped_preset(p.filename().string(), dir); !found.empty()) return found;
   const std::string stem = p.extension() == ".json" ? p.stem().string() : p.filename().string();
   const std::string list = preset_names(dir);

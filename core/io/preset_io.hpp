@@ -47,9 +47,10 @@ std::string presets_dir(const std::optional<std::string>& beside = std::nullopt)
 // A preset argument as every front end takes it (CLI simulate / design / render, the window's
 // --open, Python's load_scenario): `arg` when a file of that name exists; else a bare name
 // ("fig4_stick_slip" or "fig4_stick_slip.json", also "presets/NAME.json" typed outside the source
-// tree) resolved among the presets in `dir`. Throws InputError for neither: "WHAT 'ARG': no such
-// file, and no preset 'NAME' in DIR; did you mean 'CLOSEST'? (presets: a, b, ...)" (`what` names the
-// option, e.g. "--open"; "" for a positional argument).
+// tree) resolved among the presets in `dir`; a path into another folder as given (its loader names
+// it when it cannot be read). Throws InputError for a name that is neither: "WHAT 'ARG': no such
+// file, and no preset 'NAME' in DIR; did you mean 'CLOSEST'? (presets: a, b, ...)" (`what` names
+// the option, e.g. "--open"; "" for a positional argument).
 std::string resolve_preset(const std::string& arg, const std::string& dir, const std::string& what = "");
 
 }  // namespace gmslab

@@ -136,11 +136,15 @@ TEST_F(PresetLookup, TheCliSaysWhichPresetsThereAreAndExits2) {
 }
 
 TEST_F(PresetLookup, APathInAnotherFolderIsNeverLookedUpAmongThePresets) {
+  // As given: the loader names it ("cannot open file"), not the list of presets.
+  EXPECT_EQ(resolve_preset("elsewhere/fig4_stick_slip.json", presets_dir(), "--open"), "elsewhere/fig4_stick_slip.json");
   try {
-    (void)resolve_preset("elsewhere/fig4_stick_slip.json", presets_dir(), "--open");
+    (void)load_preset(resolve_preset("elsewhere/fig4_stick_slip.json", presets_dir()));
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "--open 'elsewhere/fig4_stick_slip.json': no such file");
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("elsewhere/fig4_stick_slip.json: ", 0), 0u) << m;
+    EXPECT_EQ(m.find("presets:"), std::string::npos) << m;
   }
   EXPECT_THROW((void)resolve_preset("", presets_dir()), InputError);
 }
