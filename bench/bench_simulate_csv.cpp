@@ -62,7 +62,8 @@ void write_trace_csv_before(const Trace& tr, std::ostream& out) {
 double process_cpu_s() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 void report(benchmark::State& st, const std::string& path) {
@@ -101,7 +102,8 @@ static void BM_SimulateCsv_Streamed(benchmark::State& st) {
   const double cpu0 = process_cpu_s();
   for (auto _ : st) save_trace_csv_streamed(s, path);
   // Both threads' CPU time (the benchmark's CPU column counts the calling thread only).
-  st.counters["process_cpu_ns_per_step"] = (process_cpu_s() - cpu0) * 1e9 / (1e6 * static_cast<double>(st.iterations()));
+  st.counters["process_cpu_ns_per_step"] =
+      (process_cpu_s() - cpu0) * 1e9 / (1e6 * static_cast<double>(st.iterations()));
   report(st, path);
 }
 BENCHMARK(BM_SimulateCsv_Streamed)->Unit(benchmark::kMillisecond)->UseRealTime();

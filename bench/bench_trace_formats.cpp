@@ -1,13 +1,14 @@
 // The trace writers of `gmslab simulate --out` (core/io/trace_csv.hpp, core/io/trace_file.hpp):
-//   BM_FormatG10 / BM_ToCharsG10: one number as %.10g, format_g10 / std::to_chars (general, 10
-//     digits), over the values of a recorded Fig. 4 trace (ns per number).
-//   BM_TraceCsvRows: CSV text of a recorded Fig. 4 trace (13 columns), formatting only (ns per row).
-//   BM_Simulate1e8_NoOutput: the Fig. 4 preset run for 1000 s at dt = 1e-5 s (10^8 steps) with the
-//     preset's record_every (10: 10^7 samples), the samples taken in chunks as the writers take them
-//     and dropped: the simulation's share of the runs below.
-//   BM_SimulateHdf5_1e8: the same run to an HDF5 file (save_trace_file), the issue's "10^8 steps to
-//     HDF5"; counters: file size and the process's peak RSS (meaningful when run alone:
-//     --benchmark_filter=BM_SimulateHdf5_1e8).
+// - BM_FormatG10 / BM_ToCharsG10: one number as %.10g, format_g10 / std::to_chars (general, 10
+//   digits), over the values of a recorded Fig. 4 trace (ns per number).
+// - BM_TraceCsvRows: CSV text of a recorded Fig. 4 trace (13 columns), formatting only (ns per
+//   row).
+// - BM_Simulate1e8_NoOutput: the Fig. 4 preset run for 1000 s at dt = 1e-5 s (10^8 steps) with
+//   the preset's record_every (10: 10^7 samples), the samples taken in chunks as the writers take
+//   them and dropped: the simulation's share of the runs below.
+// - BM_SimulateHdf5_1e8: the same run to an HDF5 file (save_trace_file), 10^8 steps to HDF5;
+//   counters: file size, the CPU time of both threads and the process's peak RSS (meaningful when
+//   run alone: --benchmark_filter=BM_SimulateHdf5_1e8).
 // One iteration each for the 10^8-step runs (about 5 to 15 s); wall time.
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
@@ -26,7 +27,9 @@
 using namespace gmslab;
 
 namespace {
-Scenario fig4() { return load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"); }
+Scenario fig4() {
+  return load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
+}
 
 // 10^5 samples of Fig. 4 with every step recorded (its stick-slip phase: all columns moving).
 const Trace& recorded() {
@@ -56,7 +59,8 @@ Scenario run_1e8() {
 double process_cpu_s() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 double peak_rss_mb() {
@@ -71,8 +75,9 @@ static void BM_FormatG10(benchmark::State& st) {
   char buf[kFormatG10MaxChars];
   for (auto _ : st)
     for (double x : v) benchmark::DoNotOptimize(format_g10(x, buf));
-  st.counters["ns_per_number"] = benchmark::Counter(static_cast<double>(v.size()) * static_cast<double>(st.iterations()),
-                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_per_number"] =
+      benchmark::Counter(static_cast<double>(v.size()) * static_cast<double>(st.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_FormatG10)->Unit(benchmark::kMillisecond);
 
@@ -80,9 +85,12 @@ static void BM_ToCharsG10(benchmark::State& st) {
   const std::vector<double> v = trace_values();
   char buf[32];
   for (auto _ : st)
-    for (double x : v) benchmark::DoNotOptimize(std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 10).ptr);
-  st.counters["ns_per_number"] = benchmark::Counter(static_cast<double>(v.size()) * static_cast<double>(st.iterations()),
-                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    for (double x : v)
+      benchmark::DoNotOptimize(
+          std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 10).ptr);
+  st.counters["ns_per_number"] =
+      benchmark::Counter(static_cast<double>(v.size()) * static_cast<double>(st.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_ToCharsG10)->Unit(benchmark::kMillisecond);
 
@@ -95,8 +103,9 @@ static void BM_TraceCsvRows(benchmark::State& st) {
     append_trace_csv_rows(tr, ne, text);
     benchmark::DoNotOptimize(text.data());
   }
-  st.counters["ns_per_row"] = benchmark::Counter(static_cast<double>(tr.size()) * static_cast<double>(st.iterations()),
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_per_row"] =
+      benchmark::Counter(static_cast<double>(tr.size()) * static_cast<double>(st.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["bytes_per_row"] = static_cast<double>(text.size()) / static_cast<double>(tr.size());
 }
 BENCHMARK(BM_TraceCsvRows)->Unit(benchmark::kMillisecond);
@@ -106,7 +115,8 @@ static void BM_Simulate1e8_NoOutput(benchmark::State& st) {
   std::size_t samples = 0;
   const double cpu0 = process_cpu_s();
   for (auto _ : st) {
-    AssemblySimulation sim = one_body_simulation(s, TraceOptions{.max_bytes = 0, .reserve_samples = (1u << 14) + 2});
+    AssemblySimulation sim =
+        one_body_simulation(s, TraceOptions{.max_bytes = 0, .reserve_samples = (1u << 14) + 2});
     samples = 0;
     while (!sim.finished()) {
       sim.advance((1u << 14) * static_cast<std::size_t>(s.run.record_every));
@@ -121,8 +131,9 @@ BENCHMARK(BM_Simulate1e8_NoOutput)->Unit(benchmark::kSecond)->Iterations(1)->Use
 
 static void BM_SimulateHdf5_1e8(benchmark::State& st) {
   const Scenario s = run_1e8();
-  const std::string path =
-      (std::filesystem::temp_directory_path() / ("gmslab_bench_" + std::to_string(::getpid()) + ".h5")).string();
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("gmslab_bench_" + std::to_string(::getpid()) + ".h5"))
+                               .string();
   std::size_t samples = 0;
   const double cpu0 = process_cpu_s();
   for (auto _ : st) samples = save_trace_file(s, path);

@@ -446,7 +446,9 @@ std::string ui_status_json(const AppState& s, long long frames) {
   return buf;
 }
 
-std::string resolve_preset(const std::string& preset) { return gmslab::resolve_preset(preset, presets_dir(), "--open"); }
+std::string resolve_preset(const std::string& preset) {
+  return gmslab::resolve_preset(preset, presets_dir(), "--open");
+}
 
 namespace {
 const char* const kLaunchTabs[] = {"Simulation", "Figures", "Design", "Identify", "Plant"};

@@ -193,8 +193,9 @@ struct LaunchRequest {
   std::string tab;     // simulation | design | plant | identify (any case); "": the preset's own tab
   bool run = false;    // start the run of that tab (Simulation or Plant)
 };
-// The preset's file (gmslab::resolve_preset): `preset` when it exists, else presets_dir()/preset[.json].
-// Throws InputError naming --open, the path tried, the closest shipped preset and all of them.
+// The preset's file (gmslab::resolve_preset): `preset` when it exists, else
+// presets_dir()/preset[.json]. Throws InputError naming --open, the path tried, the closest shipped
+// preset and all of them.
 std::string resolve_preset(const std::string& preset);
 // Checks the request without a window (throws InputError naming what is wrong and how to fix it):
 // the preset loads; the tab is one of the four; an assembled plant (schema_version 2) opens in the

@@ -1,11 +1,11 @@
 #include "app/cli/cli.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <utility>
 #include <vector>
-#include <algorithm>
 
 #include "core/error.hpp"
 #include "core/text/closest_word.hpp"
@@ -13,7 +13,9 @@
 namespace gmslab::cli {
 
 void add_render_options(CLI::App& sub, RenderOptions& o) {
-  sub.add_option("preset", o.preset, "Scenario preset: a JSON file, or a shipped preset's name (fig4_stick_slip)")->required();
+  sub.add_option("preset", o.preset,
+                 "Scenario preset: a JSON file, or a shipped preset's name (fig4_stick_slip)")
+      ->required();
   sub.add_option("--out,-o", o.out, "File to write (PNG, or SVG with --format svg)")->required();
   sub.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify, plant")

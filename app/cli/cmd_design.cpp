@@ -207,7 +207,8 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--num", o->num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
   sub->add_option("--den", o->den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
   sub->add_option("--preset", o->preset,
-                  "Design for this preset's plant (a JSON file or a shipped preset's name): a scenario (force -> position of the mass) or an assembled "
+                  "Design for this preset's plant (a JSON file or a shipped preset's name): a "
+                  "scenario (force -> position of the mass) or an assembled "
                   "plant (schema 2: from --drive to --output)");
   sub->add_option("--drive", o->drive,
                   "Assembled plant: the force or pull drive the controller acts through (default: the first)");

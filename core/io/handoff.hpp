@@ -1,8 +1,8 @@
 // gmslab core: a producer and one consumer thread with one slot between them, so that a long run
 // computes its next chunk while the previous one is formatted, compressed and written (the trace
 // writers of core/io/trace_csv.hpp and core/io/trace_file.hpp). The consumer takes the items in the
-// order they were put, one at a time: the output is that of the same calls made in turn. At most two
-// items exist at once (the one in the slot, the one being consumed).
+// order they were put, one at a time: the output is that of the same calls made in turn. At most
+// two items exist at once (the one in the slot, the one being consumed).
 #pragma once
 
 #include <condition_variable>
@@ -18,7 +18,8 @@ template <class Item>
 class Handoff {
  public:
   // `consume` runs on the consumer thread, for each item put, in order.
-  explicit Handoff(std::function<void(Item&)> consume) : consume_(std::move(consume)), worker_([this] { run(); }) {}
+  explicit Handoff(std::function<void(Item&)> consume)
+      : consume_(std::move(consume)), worker_([this] { run(); }) {}
   // Stops the consumer; an item not yet consumed is dropped (a run that failed).
   ~Handoff() {
     {
@@ -32,7 +33,8 @@ class Handoff {
   Handoff& operator=(const Handoff&) = delete;
 
   // Waits for the slot to be free, fills it (`fill(item)`, on this thread) and hands it over.
-  // Throws what an earlier `consume` threw (and puts nothing; no item after a failed one is consumed).
+  // Throws what an earlier `consume` threw (and puts nothing; no item after a failed one is
+  // consumed).
   void put(const std::function<void(Item&)>& fill) {
     std::unique_lock<std::mutex> lock(m_);
     cv_.wait(lock, [this] { return !full_ || error_; });

@@ -79,15 +79,19 @@ std::string presets_dir(const std::optional<std::string>& beside) {
   return GMSLAB_INSTALLED_PRESETS;
 }
 
-std::string resolve_preset(const std::string& arg, const std::string& dir, const std::string& what) {
+std::string resolve_preset(const std::string& arg, const std::string& dir,
+                           const std::string& what) {
   std::error_code ec;
   const std::string named = (what.empty() ? "" : what + " ") + "'" + arg + "'";
-  if (arg.empty()) throw InputError(named + ": no preset given; name a preset file or a shipped preset");
+  if (arg.empty())
+    throw InputError(named + ": no preset given; name a preset file or a shipped preset");
   if (fs::is_regular_file(arg, ec)) return arg;
   fs::path p(arg);
   // "presets/NAME.json" as the README writes it, typed outside the source tree.
-  if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
-  if (p.has_parent_path() && p.parent_path() != ".") return arg;  // another folder: its loader says what is wrong
+  if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets")
+    p = p.lexically_relative("presets");
+  if (p.has_parent_path() && p.parent_path() != ".")
+    return arg;  // another folder: its loader says what is wrong
   if (std::string found = shipped_preset(p.filename().string(), dir); !found.empty()) return found;
   const std::string stem = p.extension() == ".json" ? p.stem().string() : p.filename().string();
   const std::string list = preset_names(dir);

@@ -238,7 +238,8 @@ class PipelinedSink final : public ColumnSink {
 };
 
 std::unique_ptr<ColumnSink> make_sink(TraceFormat f, const std::string& path, const std::vector<ColumnSpec>& specs) {
-  if (f == TraceFormat::Hdf5) return std::make_unique<PipelinedSink>(std::make_unique<Hdf5Sink>(path, specs));
+  if (f == TraceFormat::Hdf5)
+    return std::make_unique<PipelinedSink>(std::make_unique<Hdf5Sink>(path, specs));
   return std::make_unique<PipelinedSink>(std::make_unique<MatSink>(path, specs));
 }
 

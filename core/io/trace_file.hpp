@@ -1,5 +1,5 @@
-// gmslab core: a simulation trace in the format analysis tools read, chosen by the file's extension:
-//   .csv         text, the header t_s,x_m,v_mps,F_friction_N,F_applied_N,... (core/io/trace_csv.hpp)
+// gmslab core: a simulation trace in the format analysis tools read, chosen by the file extension:
+//   .csv         text, the header t_s,x_m,v_mps,F_friction_N,F_applied_N,... (trace_csv.hpp)
 //   .h5, .hdf5   HDF5: one 1-D dataset per CSV column, with the CSV header's name ("t_s",
 //                "F_friction_N", "slip1"), an attribute "unit" ("s", "m", "m/s", "N", "" for a slip
 //                flag); doubles, slip flags as uint8; chunked (65,536 samples), shuffled and

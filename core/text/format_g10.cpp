@@ -9,14 +9,17 @@ namespace gmslab {
 
 namespace {
 
-constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                               1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-// 10^j for j in [-14, 32] (the double nearest; only a first guess of the decade, checked by the digits).
+constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+// 10^j for j in [-14, 32] (the double nearest; only a first guess of the decade, checked by the
+// digits).
 constexpr int kDecadeLow = -14;
-constexpr double kDecade[] = {1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3,
-                              1e-2,  1e-1,  1e0,   1e1,   1e2,   1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,
-                              1e10,  1e11,  1e12,  1e13,  1e14,  1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21,
-                              1e22,  1e23,  1e24,  1e25,  1e26,  1e27, 1e28, 1e29, 1e30, 1e31, 1e32};
+constexpr double kDecade[] = {1e-14, 1e-13, 1e-12, 1e-11, 1e-10, 1e-9, 1e-8, 1e-7, 1e-6, 1e-5,
+                              1e-4,  1e-3,  1e-2,  1e-1,  1e0,   1e1,  1e2,  1e3,  1e4,  1e5,
+                              1e6,   1e7,   1e8,   1e9,   1e10,  1e11, 1e12, 1e13, 1e14, 1e15,
+                              1e16,  1e17,  1e18,  1e19,  1e20,  1e21, 1e22, 1e23, 1e24, 1e25,
+                              1e26,  1e27,  1e28,  1e29,  1e30,  1e31, 1e32};
 
 constexpr char kPairs[] =
     "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
@@ -54,7 +57,8 @@ char* format_g10(double x, char* out) {
   // then corrected by the digits (10 digits that round up to 11 are one decade higher).
   std::uint64_t bits = 0;
   std::memcpy(&bits, &a, sizeof bits);
-  const int e2 = static_cast<int>((bits >> 52) & 0x7ff) - 1022;  // a in [2^(e2-1), 2^e2) (a is normal)
+  const int e2 =
+      static_cast<int>((bits >> 52) & 0x7ff) - 1022;  // a in [2^(e2-1), 2^e2) (a is normal)
   int k = ((e2 - 1) * 78913) >> 18;  // floor((e2 - 1) log10 2): floor(log10 a) or one less
   if (a >= kDecade[k + 1 - kDecadeLow]) ++k;
   std::int64_t m = 0;
@@ -63,8 +67,14 @@ char* format_g10(double x, char* out) {
     if (s > 22 || s < -22 || tries > 2) return exact(x, out);
     m = scaled(a, s);
     if (m < 0) return exact(x, out);
-    if (m >= 10000000000) { ++k; continue; }
-    if (m < 1000000000) { --k; continue; }
+    if (m >= 10000000000) {
+      ++k;
+      continue;
+    }
+    if (m < 1000000000) {
+      --k;
+      continue;
+    }
     break;
   }
   char d[24] = {};  // the 10 digits, then room for the fixed-size copies below

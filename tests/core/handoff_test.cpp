@@ -1,6 +1,8 @@
 // Handoff (core/io/handoff.hpp): the consumer thread sees every item in the order put, whatever the
 // timing of either side; an error of the consumer is thrown by the next put or drain; and the trace
 // writers built on it give the text of doing everything in turn, also when the sink fails.
+#include "core/io/handoff.hpp"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -10,7 +12,6 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/io/handoff.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
 #include "test_util.hpp"
@@ -27,11 +28,13 @@ TEST(Handoff, EveryItemInOrderWhateverTheTiming) {
     const int n = 50 + static_cast<int>(rng() % 150);
     {
       Handoff<std::vector<int>> h([&](std::vector<int>& item) {
-        std::this_thread::sleep_for(std::chrono::microseconds(50 * delays[static_cast<std::size_t>(item[0]) % 200]));
+        std::this_thread::sleep_for(
+            std::chrono::microseconds(50 * delays[static_cast<std::size_t>(item[0]) % 200]));
         seen.insert(seen.end(), item.begin(), item.end());
       });
       for (int i = 0; i < n; ++i) {
-        std::this_thread::sleep_for(std::chrono::microseconds(50 * delays[(static_cast<std::size_t>(i) * 7) % 200]));
+        std::this_thread::sleep_for(
+            std::chrono::microseconds(50 * delays[(static_cast<std::size_t>(i) * 7) % 200]));
         h.put([&](std::vector<int>& item) { item.assign({i, i}); });
       }
       h.drain();
