@@ -224,7 +224,9 @@ std::vector<std::string> split_ids(const std::string& only) {
 }
 }  // namespace
 
-int render_command(const cli::RenderOptions& o) {
+namespace {
+// render_command once its preset names a file.
+int render_resolved(const cli::RenderOptions& o) {
   int w = 0, h = 0;
   cli::parse_size(o.size, w, h);
   const ui::PanelEntry* panel = ui::find_panel(o.view.c_str());
@@ -366,6 +368,14 @@ int render_command(const cli::RenderOptions& o) {
             << (plant_view && !assembled ? s.plant.sim->time() : s.main.sim->time()) << " s, title \""
             << ui::window_title(s) << "\")\n";
   return 0;
+}
+}  // namespace
+
+int render_command(const cli::RenderOptions& given) {
+  // A preset file, or a shipped preset's bare name (fig4_stick_slip), as every front end takes it.
+  cli::RenderOptions o = given;
+  o.preset = resolve_preset(given.preset, presets_dir());
+  return render_resolved(o);
 }
 
 int figures_command(const cli::FiguresOptions& o) {

@@ -46,7 +46,8 @@ void write_png(const std::string& path, int width, int height, const std::vector
 // Draws a Figure filling the whole frame on white, as in the paper (inside Offscreen::render).
 void draw_figure_window(const Figure& f);
 
-// `gmslab render`: load the preset, simulate to --time (or the end), draw the app's view, write PNG.
+// `gmslab render`: load the preset (a file or a shipped preset's name), simulate to --time (or the
+// end), draw the app's view, write PNG.
 int render_command(const cli::RenderOptions& o);
 // `gmslab figures`: every figure (or --only) to DIR/id.png + DIR/id.csv, with progress on stderr.
 int figures_command(const cli::FiguresOptions& o);

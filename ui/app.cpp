@@ -176,14 +176,7 @@ void AppState::forward_error(Panel p) {
   }
 }
 
-std::string presets_dir() {
-  const char* env = std::getenv("GMSLAB_PRESETS");
-  if (env && *env) return env;
-  std::error_code ec;
-  // An installed gmslab (the source tree gone or elsewhere) uses the presets installed with it.
-  if (!std::filesystem::is_directory(GMSLAB_SOURCE_DIR "/presets", ec)) return GMSLAB_INSTALLED_PRESETS;
-  return GMSLAB_SOURCE_DIR "/presets";
-}
+std::string presets_dir() { return gmslab::presets_dir(); }
 
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path) {
   // Validates before anything changes.
@@ -454,17 +447,7 @@ std::string ui_status_json(const AppState& s, long long frames) {
 }
 
 std::string resolve_preset(const std::string& preset) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (preset.empty()) throw InputError("--open: no preset given; name a preset file, e.g. --open presets/two_mass_drive.json");
-  if (fs::is_regular_file(preset, ec)) return preset;
-  const fs::path dir = presets_dir();
-  if (std::string found = shipped_preset(preset, dir.string()); !found.empty()) return found;
-  const std::string list = preset_names(dir.string());
-  throw InputError("--open '" + preset + "': no such file" +
-                   (preset.find('/') == std::string::npos ? ", and no preset of that name in " + dir.string() : "") +
-                   "; give a preset file's path or the name of a shipped preset (" +
-                   (list.empty() ? std::string("none found") : list) + ")");
+  return gmslab::resolve_preset(preset, presets_dir(), "--open");
 }
 
 namespace {

@@ -148,8 +148,8 @@ struct AppState {
   std::array<std::string, kPanelCount> on_status_{};  // per panel, the error last put on the line
 };
 
-// Folder of the preset files: env GMSLAB_PRESETS, else GMSLAB_SOURCE_DIR "/presets" when it
-// exists, else the installed PREFIX/share/gmslab/presets.
+// Folder of the preset files (gmslab::presets_dir, core/io/preset_io.hpp): env GMSLAB_PRESETS,
+// else the source tree's presets/ when it exists, else the installed PREFIX/share/gmslab/presets.
 std::string presets_dir();
 // Builds the state for a scenario (validated: throws InputError). path may be empty.
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path);
@@ -193,8 +193,9 @@ struct LaunchRequest {
   std::string tab;     // simulation | design | plant | identify (any case); "": the preset's own tab
   bool run = false;    // start the run of that tab (Simulation or Plant)
 };
-// The preset's file: `preset` when it exists, else presets_dir()/preset[.json]. Throws InputError
-// naming the path tried and the shipped presets.
+// The preset's file (gmslab::resolve_preset): `preset` when it exists, else
+// presets_dir()/preset[.json]. Throws InputError naming --open, the path tried, the closest shipped
+// preset and all of them.
 std::string resolve_preset(const std::string& preset);
 // Checks the request without a window (throws InputError naming what is wrong and how to fix it):
 // the preset loads; the tab is one of the four; an assembled plant (schema_version 2) opens in the

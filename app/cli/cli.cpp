@@ -1,18 +1,21 @@
 #include "app/cli/cli.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <utility>
 #include <vector>
-#include <algorithm>
 
 #include "core/error.hpp"
+#include "core/text/closest_word.hpp"
 
 namespace gmslab::cli {
 
 void add_render_options(CLI::App& sub, RenderOptions& o) {
-  sub.add_option("preset", o.preset, "Scenario preset (JSON)")->required();
+  sub.add_option("preset", o.preset,
+                 "Scenario preset: a JSON file, or a shipped preset's name (fig4_stick_slip)")
+      ->required();
   sub.add_option("--out,-o", o.out, "File to write (PNG, or SVG with --format svg)")->required();
   sub.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   sub.add_option("--view", o.view, "View to draw: auto, simulation, design, identify, plant")
@@ -120,32 +123,8 @@ std::string Cli::command_list() const {
   return out;
 }
 
-namespace {
-// Edit distance (insert, delete, substitute: 1 each).
-std::size_t distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-}  // namespace
-
 std::string suggest(const std::string& word, const std::vector<std::string>& known) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (const auto& k : known) {
-    const std::size_t d = distance(word, k);
-    if (d < best_d || (d == best_d && !best.empty() && k < best)) best_d = d, best = k;
-  }
-  return best;
+  return closest_word(word, known);
 }
 
 std::vector<std::string> Cli::known_words(const std::string& word) const {

@@ -140,10 +140,12 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
 
 int run_design(const Opts& o) {
   DesignRequest req;
+  std::string file;  // the preset's file (a shipped preset's bare name resolved)
   if (!o.preset.empty()) {
     if (!o.num.empty() || !o.den.empty())
       throw InputError("give either --preset or --num/--den, not both");
-    const Preset preset = load_preset(o.preset);
+    file = resolve_preset(o.preset, presets_dir(), "--preset");
+    const Preset preset = load_preset(file);
     if (preset.assembled() || !o.drive.empty() || !o.output.empty()) {
       // An assembled plant; a v1 preset with --drive / --output as its one-body assembly.
       req.assembly = preset.scenario;
@@ -162,7 +164,7 @@ int run_design(const Opts& o) {
     req.plant.num = o.num;
     req.plant.den = o.den;
   }
-  req.source = o.preset;
+  req.source = file;
   req.regime = regime_from_string(o.regime);
   req.velocity = o.velocity;
   if (o.simulate && !req.scenario && !req.assembly)
@@ -205,7 +207,8 @@ void register_design(CLI::App& app, Action& action) {
   sub->add_option("--num", o->num, "Plant numerator coefficients, highest power first, e.g. \"4\"");
   sub->add_option("--den", o->den, "Plant denominator coefficients, highest power first, e.g. \"1 2 0\"");
   sub->add_option("--preset", o->preset,
-                  "Design for this preset's plant: a scenario (force -> position of the mass) or an assembled "
+                  "Design for this preset's plant (a JSON file or a shipped preset's name): a "
+                  "scenario (force -> position of the mass) or an assembled "
                   "plant (schema 2: from --drive to --output)");
   sub->add_option("--drive", o->drive,
                   "Assembled plant: the force or pull drive the controller acts through (default: the first)");

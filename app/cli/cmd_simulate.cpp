@@ -1,4 +1,4 @@
-// gmslab simulate PRESET.json --out trace.csv|trace.h5|trace.mat|-
+// gmslab simulate PRESET[.json] --out trace.csv|trace.h5|trace.mat|-
 #include <iostream>
 #include <memory>
 
@@ -21,7 +21,9 @@ void register_simulate(CLI::App& app, Action& action) {
   // Owned by the app (its callbacks hold it): each Cli has its own options.
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand("simulate", "Simulate a scenario preset and write its trace (CSV, HDF5 or MATLAB by the extension)");
-  sub->add_option("preset", o->preset, "Scenario preset (JSON)")->required();
+  sub->add_option("preset", o->preset,
+                  "Scenario preset: a JSON file, or a shipped preset's name (fig4_stick_slip)")
+      ->required();
   sub->add_option("--out,-o", o->out,
                   "Trace file: .csv, .h5/.hdf5 (HDF5, a dataset per column with its unit) or .mat "
                   "(MATLAB v7.3); columns t_s, x_m, v_mps, F_friction_N, F_applied_N, per-element force "
@@ -33,7 +35,9 @@ void register_simulate(CLI::App& app, Action& action) {
     action = [o] {
       if (o->out != "-") (void)trace_format(o->out);  // an unknown extension: before any work
       // An assembled plant (schema_version 2): every named output, streamed as it is computed.
-      const Preset preset = load_preset(o->preset);
+      // A preset file or a shipped preset's bare name (fig4_stick_slip), as every front end.
+      const std::string file = resolve_preset(o->preset, presets_dir());
+      const Preset preset = load_preset(file);
       if (preset.assembled()) {
         const AssemblyScenario& as = preset.scenario;
         if (o->out == "-") {
@@ -56,7 +60,7 @@ void register_simulate(CLI::App& app, Action& action) {
           std::cerr << "wrote " << n << " samples to " << o->out << '\n';
         }
       } catch (const InputError& e) {  // e.g. a step too large for this plant: name the file
-        throw InputError(o->preset + ": " + e.what());
+        throw InputError(file + ": " + e.what());
       }
       return 0;
     };

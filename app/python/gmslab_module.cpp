@@ -52,19 +52,13 @@ py::array_t<std::complex<double>> carr(const std::vector<control::cplx>& v) {
   return py::array_t<std::complex<double>>(v.size(), v.data());
 }
 
-// The presets: env GMSLAB_PRESETS, the source tree's, the installed ones next to this package
-// (PREFIX/lib/python3/dist-packages/gmslab -> PREFIX/share/gmslab/presets, as the .deb lays them
-// out), or those under the configured install prefix. Called with the GIL held.
+// The presets (gmslab::presets_dir): env GMSLAB_PRESETS, the source tree's, the installed ones next
+// to this package (PREFIX/lib/python3/dist-packages/gmslab -> PREFIX/share/gmslab/presets, as the
+// .deb lays them out), or those under the configured install prefix. Called with the GIL held.
 std::string preset_dir() {
-  if (const char* e = std::getenv("GMSLAB_PRESETS")) return e;
   namespace fs = std::filesystem;
-  std::error_code ec;
-  const std::string src = std::string(GMSLAB_SOURCE_DIR) + "/presets";
-  if (fs::is_directory(src, ec)) return src;
   const fs::path here = fs::path(py::module_::import("gmslab").attr("__file__").cast<std::string>()).parent_path();
-  const fs::path installed = here / "../../../../share/gmslab/presets";
-  if (fs::is_directory(installed, ec)) return installed.lexically_normal().string();
-  return GMSLAB_INSTALLED_PRESETS;
+  return presets_dir((here / "../../../../share/gmslab/presets").string());
 }
 
 // The design dict with its roots as complex numbers, as root_locus gives them: every
@@ -115,24 +109,15 @@ std::string path_arg(const py::object& o, const char* what) {
                        py::str(py::type::of(o).attr("__name__")).cast<std::string>());
 }
 
-// A preset path as given, or, when no such file exists, resolved among the presets (preset_dir):
-// a bare name ("fig2a_presliding" or "fig2a_presliding.json") or "presets/NAME.json" typed from
-// outside the source tree. The error lists the presets there are.
-std::string resolve_preset(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (path.empty() || fs::exists(path, ec)) return path;
-  fs::path p(path);
-  if (p.is_relative() && p.has_parent_path() && *p.begin() == "presets") p = p.lexically_relative("presets");
-  if (p.has_parent_path() && p.parent_path() != ".") return path;  // another folder: as given
-  const std::string dir = preset_dir();
-  if (std::string found = shipped_preset(p.filename().string(), dir); !found.empty()) return found;
-  const std::string list = preset_names(dir);
-  throw InputError(path + ": no such file, and no preset '" + p.stem().string() + "' in " + dir +
-                " (presets: " + (list.empty() ? "none" : list) + ")");
+// A preset path as given, or a shipped preset's bare name (gmslab::resolve_preset, as the CLI and
+// the window's --open take it); the error names the closest preset and lists them.
+std::string resolve_preset_arg(const std::string& path) {
+  return resolve_preset(path, preset_dir());
 }
 
-Scenario load_scenario_arg(const py::object& o) { return load_scenario(resolve_preset(path_arg(o, "path"))); }
+Scenario load_scenario_arg(const py::object& o) {
+  return load_scenario(resolve_preset_arg(path_arg(o, "path")));
+}
 
 // A scenario checked the way a preset file is (every key, type and range; messages name the key).
 Scenario validated(const Scenario& s, const std::string& where) { return scenario_from_json(to_json(s), where); }
@@ -305,7 +290,7 @@ PYBIND11_MODULE(_gmslab, m) {
     if (py::isinstance<Scenario>(sc_or_path)) {
       sc = sc_or_path.cast<Scenario>();
     } else {
-      const Preset preset = load_preset(resolve_preset(path_arg(sc_or_path, "path")));
+      const Preset preset = load_preset(resolve_preset_arg(path_arg(sc_or_path, "path")));
       if (preset.assembled()) plant = preset.scenario;
       else sc = preset.one_body();
     }
@@ -412,7 +397,7 @@ PYBIND11_MODULE(_gmslab, m) {
     if (!scenario.is_none()) {
       if (num || den) throw InputError("give either scenario or num/den, not both");
       const bool path = !py::isinstance<Scenario>(scenario);  // str, os.PathLike or a preset name
-      req.source = path ? resolve_preset(path_arg(scenario, "scenario")) : std::string();
+      req.source = path ? resolve_preset_arg(path_arg(scenario, "scenario")) : std::string();
       std::optional<Preset> preset;
       if (path) preset = load_preset(req.source);
       if ((preset && preset->assembled()) || !drive.empty() || !output.empty()) {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "core/sim/assembly.hpp"
@@ -36,5 +37,21 @@ inline constexpr std::uintmax_t kMaxPresetBytes = 64u << 20;
 Preset preset_from_json(const nlohmann::json& j, const std::string& file);
 // Reads `path` once: refuses a file over kMaxPresetBytes before reading it, parses it, checks it.
 Preset load_preset(const std::string& path);
+
+// The folder of the shipped presets, the first that applies of: env GMSLAB_PRESETS (non-empty);
+// the presets installed with this front end, `beside`, when that folder exists (default: those of
+// this process's executable, EXE/../share/gmslab/presets, so an installed gmslab uses its own at
+// any prefix; the Python module passes PREFIX/share/gmslab/presets from its package); the source
+// tree's presets/ when it exists (a build tree); the configured install prefix's.
+std::string presets_dir(const std::optional<std::string>& beside = std::nullopt);
+// A preset argument as every front end takes it (CLI simulate / design / render, the window's
+// --open, Python's load_scenario): `arg` when a file of that name exists; else a bare name
+// ("fig4_stick_slip" or "fig4_stick_slip.json", also "presets/NAME.json" typed outside the source
+// tree) resolved among the presets in `dir`; a path into another folder as given (its loader names
+// it when it cannot be read). Throws InputError for a name that is neither: "WHAT 'ARG': no such
+// file, and no preset 'NAME' in DIR; did you mean 'CLOSEST'? (presets: a, b, ...)" (`what` names
+// the option, e.g. "--open"; "" for a positional argument).
+std::string resolve_preset(const std::string& arg, const std::string& dir,
+                           const std::string& what = "");
 
 }  // namespace gmslab

@@ -1,20 +1,13 @@
 #include "core/io/trace_csv.hpp"
 
-#include <charconv>
+#include <vector>
 
 #include "core/io/atomic_file.hpp"
+#include "core/io/handoff.hpp"
 #include "core/sim/assembly.hpp"
+#include "core/text/format_g10.hpp"
 
 namespace gmslab {
-
-namespace {
-// %.10g (std::to_chars in general format with a precision is specified as printf's %.*g).
-inline void put(double x, std::string& out) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 10);
-  out.append(buf, r.ptr);
-}
-}  // namespace
 
 std::size_t trace_csv_elements(const Trace& tr) {
   return tr.element_force.size() == tr.size() * tr.n_elements && tr.element_slip.size() == tr.size() * tr.n_elements
@@ -30,22 +23,35 @@ void append_trace_csv_header(std::size_t ne, std::string& out) {
 }
 
 void append_trace_csv_rows(const Trace& tr, std::size_t ne, std::string& out) {
+  // Rows are written in place into a block with room for 256 of their longest text (format_g10:
+  // printf's %.10g), appended to `out` a block at a time.
+  const std::size_t row_room = (5 + ne) * (kFormatG10MaxChars + 1) + 2 * ne + 1;
+  std::vector<char> block(256 * row_room);
+  char* const end = block.data() + block.size();
+  char* o = block.data();
+  out.reserve(out.size() + tr.size() * (6 + ne) * 12);
   for (std::size_t k = 0; k < tr.size(); ++k) {
-    put(tr.t[k], out);
+    if (static_cast<std::size_t>(end - o) < row_room) {
+      out.append(block.data(), o);
+      o = block.data();
+    }
+    o = format_g10(tr.t[k], o);
     for (double x : {tr.x[k], tr.v[k], tr.friction[k], tr.applied[k]}) {
-      out += ',';
-      put(x, out);
+      *o++ = ',';
+      o = format_g10(x, o);
     }
     for (std::size_t i = 0; i < ne; ++i) {
-      out += ',';
-      put(tr.element_force[k * ne + i], out);
+      *o++ = ',';
+      o = format_g10(tr.element_force[k * ne + i], o);
     }
     for (std::size_t i = 0; i < ne; ++i) {
-      out += ',';
-      out += static_cast<char>('0' + tr.element_slip[k * ne + i]);
+      o[0] = ',';
+      o[1] = static_cast<char>('0' + tr.element_slip[k * ne + i]);
+      o += 2;
     }
-    out += '\n';
+    *o++ = '\n';
   }
+  out.append(block.data(), o);
 }
 
 void write_trace_csv(const Trace& tr, std::ostream& out) {
@@ -71,20 +77,39 @@ std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(
   const std::size_t ne = sim.one_body_trace().n_elements;
   std::string text;
   append_trace_csv_header(ne, text);
-  std::size_t written = 0;
-  const auto chunk_steps = kChunkSamples * static_cast<std::size_t>(scenario.run.record_every);
-  auto drain = [&] {
-    append_trace_csv_rows(sim.one_body_trace(), ne, text);
-    written += sim.one_body_trace().size();
-    sim.clear_trace();
-    sink(text);
+  sink(text);
+  // The text is formatted and passed to the sink on a second thread (Handoff) while the next
+  // chunk is simulated; the sink sees the same text in the same order as without it.
+  Handoff<Trace> writer([&](Trace& chunk) {
     text.clear();
+    append_trace_csv_rows(chunk, ne, text);
+    sink(text);
+  });
+  std::size_t written = 0;
+  auto hand_over = [&] {
+    const Trace& tr = sim.one_body_trace();
+    writer.put([&](Trace& c) {
+      c.t = tr.t, c.x = tr.x, c.v = tr.v, c.friction = tr.friction, c.applied = tr.applied;
+      c.element_force = tr.element_force, c.element_slip = tr.element_slip;
+    });
+    written += tr.size();
+    sim.clear_trace();
   };
-  while (!sim.finished()) {
-    sim.advance(chunk_steps);
-    drain();
+  try {
+    const auto chunk_steps = kChunkSamples * static_cast<std::size_t>(scenario.run.record_every);
+    while (!sim.finished()) {
+      sim.advance(chunk_steps);
+      hand_over();
+    }
+    if (sim.one_body_trace().size() > 0) hand_over();  // a run of zero steps: its first sample
+  } catch (...) {  // a divergence: the chunks before it still reach the sink
+    try {
+      writer.drain();
+    } catch (...) {
+    }
+    throw;
   }
-  if (sim.one_body_trace().size() > 0 || !text.empty()) drain();  // a run of zero steps: its first sample
+  writer.drain();
   return written;
 }
 

@@ -1,6 +1,6 @@
 // gmslab core: a simulation trace as CSV, header with units:
 //   t_s,x_m,v_mps,F_friction_N,F_applied_N[,F1_N,...,FN_N,slip1,...,slipN]
-// Numbers are written as printf's %.10g.
+// Numbers are written as printf's %.10g writes them (core/text/format_g10.hpp, byte for byte).
 #pragma once
 
 #include <cstddef>
@@ -23,10 +23,13 @@ std::size_t trace_csv_elements(const Trace& tr);
 void append_trace_csv_header(std::size_t n_elements, std::string& out);
 void append_trace_csv_rows(const Trace& tr, std::size_t n_elements, std::string& out);
 
-// Simulates `scenario` and streams its trace as CSV into `sink` as it goes, a chunk of samples at
-// a time: memory stays constant (one chunk of the trace and of its text) whatever the length of
-// the run. Returns the number of samples written. Throws what Simulation throws (InputError,
-// SimulationError); the samples before a divergence have been passed to the sink by then.
+// Simulates `scenario` and streams its trace as CSV into `sink` as it goes, a chunk of 16384
+// samples at a time: memory stays constant (three chunks of the trace and one of its text) whatever
+// the length of the run. The rows are formatted and passed to `sink` on a second thread while the
+// next chunk is simulated (the header on the calling thread first; one call at a time, in order;
+// the text is that of doing it all in turn). Returns the number of samples written. Throws what
+// Simulation throws (InputError, SimulationError); the samples of the chunks before a divergence
+// have been passed to the sink by then, and what `sink` throws.
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink);
 // The same into a file, atomically: the text streams to a temporary file beside `path`, renamed
 // over it once the run is complete (a failed run leaves `path` as it was).

@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
+#include "core/io/handoff.hpp"
 #include "core/io/measured_file.hpp"
 #include "core/io/trace_csv.hpp"
 
@@ -207,9 +208,39 @@ class MatSink final : public ColumnSink {
   std::vector<std::vector<double>> buf_;
 };
 
+// A sink that writes on a thread of its own (Handoff) while the simulation computes the next
+// chunk: the file's bytes are those of the inner sink (the same chunks in the same order); an error
+// of the writer is thrown by the next append() or by finish().
+class PipelinedSink final : public ColumnSink {
+ public:
+  struct Chunk {
+    std::vector<std::vector<double>> cols;
+    std::size_t k = 0;
+  };
+  explicit PipelinedSink(std::unique_ptr<ColumnSink> inner)
+      : inner_(std::move(inner)), writer_([this](Chunk& c) { inner_->append(c.cols, c.k); }) {}
+  void append(const std::vector<std::vector<double>>& cols, std::size_t k) override {
+    writer_.put([&](Chunk& c) {
+      c.cols.resize(cols.size());
+      for (std::size_t i = 0; i < cols.size(); ++i)
+        c.cols[i].assign(cols[i].begin(), cols[i].begin() + static_cast<std::ptrdiff_t>(k));
+      c.k = k;
+    });
+  }
+  void finish() override {
+    writer_.drain();
+    inner_->finish();
+  }
+
+ private:
+  std::unique_ptr<ColumnSink> inner_;
+  Handoff<Chunk> writer_;  // after inner_: stopped before it is destroyed
+};
+
 std::unique_ptr<ColumnSink> make_sink(TraceFormat f, const std::string& path, const std::vector<ColumnSpec>& specs) {
-  if (f == TraceFormat::Hdf5) return std::make_unique<Hdf5Sink>(path, specs);
-  return std::make_unique<MatSink>(path, specs);
+  if (f == TraceFormat::Hdf5)
+    return std::make_unique<PipelinedSink>(std::make_unique<Hdf5Sink>(path, specs));
+  return std::make_unique<PipelinedSink>(std::make_unique<MatSink>(path, specs));
 }
 
 std::string lower_extension(const std::string& path) {

@@ -1,5 +1,5 @@
-// gmslab core: a simulation trace in the format analysis tools read, chosen by the file's extension:
-//   .csv         text, the header t_s,x_m,v_mps,F_friction_N,F_applied_N,... (core/io/trace_csv.hpp)
+// gmslab core: a simulation trace in the format analysis tools read, chosen by the file extension:
+//   .csv         text, the header t_s,x_m,v_mps,F_friction_N,F_applied_N,... (trace_csv.hpp)
 //   .h5, .hdf5   HDF5: one 1-D dataset per CSV column, with the CSV header's name ("t_s",
 //                "F_friction_N", "slip1"), an attribute "unit" ("s", "m", "m/s", "N", "" for a slip
 //                flag); doubles, slip flags as uint8; chunked (65,536 samples), shuffled and
@@ -9,7 +9,10 @@
 //                append took 9 us per sample, 35x the uncompressed write)
 // Any other extension is an error naming the accepted ones (a file named .h5 is never CSV text).
 // Every format streams: the run is written a chunk of samples at a time (memory constant whatever
-// its length) to a temporary file beside the target, renamed over it once the run completes.
+// its length) to a temporary file beside the target, renamed over it once the run completes. The
+// writing (HDF5's shuffle + deflate, matio, the CSV's number formatting) runs on a second thread
+// while the next chunk is simulated (core/io/handoff.hpp); the file's bytes are those of doing it
+// in turn.
 //
 // Reading (load_trace_columns): the columns of any of the three, by name, as doubles; the measured
 // -record loader (core/io/measured_file.hpp) reads all three for identification.

@@ -8,8 +8,9 @@
 // Harmless by construction: run() works in a private temporary folder that is emptied after
 // every input, arguments containing '/' are dropped (no paths outside that folder), the window,
 // render and figures commands are stubs (render/figures only check --size), so the only files a
-// command can open are ones it wrote itself in the same call. run() must return an exit code and
-// never throw or crash.
+// command can open are ones it wrote itself in the same call (GMSLAB_PRESETS is that folder too, so
+// a bare preset name finds no shipped preset). run() must return an exit code and never throw or
+// crash.
 #include <unistd.h>
 
 #include <cstdint>
@@ -51,6 +52,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   char tmpl[] = "/tmp/gmslab-cli-fuzz-XXXXXX";
   if (!::mkdtemp(tmpl)) std::abort();
   g_dir = tmpl;
+  ::setenv("GMSLAB_PRESETS", tmpl, 1);  // bare preset names: looked up in the private folder only
   g_home = std::filesystem::current_path();
   std::atexit(remove_dir);
   std::cout.rdbuf(g_sink.rdbuf());  // help and error texts: not interesting here
