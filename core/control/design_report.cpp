@@ -28,7 +28,7 @@ nlohmann::json to_json(const PeriodicOrbit& o) {
   return {{"gain_scale", o.gain_scale},     {"amplitude_m", o.amplitude},
           {"period_s", o.period},           {"mean_m", o.mean},
           {"stick_fraction", o.stick_fraction}, {"multipliers", mu},
-          {"multipliers_fresh", o.multipliers_fresh}, {"stable", o.stable},
+          {"multipliers_fresh", o.multipliers_fresh}, {"stable", o.stable}, {"growth_per_period", o.growth},
           {"residual", o.residual},         {"returns", o.returns},
           {"map_evaluations", o.map_evaluations}, {"seed", o.seed}};
 }

@@ -217,7 +217,9 @@ class OrbitSolver {
     last_residual = res, last_resolution = step_noise;
     if (res > std::max(opt_.tolerance, std::min(kResolutionFactor * step_noise, kMaxResidual))) return std::nullopt;
     if (!fresh && opt_.fresh_multipliers) M = jacobian(z, r), fresh = true;
-    return orbit(z, r, M, res, fresh);
+    PeriodicOrbit o = orbit(z, r, M, res, fresh);
+    if (!o.stable) check_by_iteration(o, M, std::max(0.02, kResolutionFactor * step_noise));
+    return o;
   }
 
  private:
@@ -293,6 +295,36 @@ class OrbitSolver {
     }
     return false;
   }
+  // The multipliers say unstable: the second method, iterating the map from the orbit displaced
+  // by `size` (scaled) along the dominant eigenvector. The displacement's growth per period over
+  // kIterations returns, (d_n / d_0)^(1/n), is kept; below 1 + 1e-2 (no growth: an attracting orbit,
+  // or a family of orbits whose never-slipping elements keep any offset, multiplier 1) the orbit is
+  // stable, the finite differences having straddled an event (a break-away a step earlier or later).
+  void check_by_iteration(PeriodicOrbit& o, const Eigen::MatrixXd& M, double size) {
+    constexpr int kIterations = 6;
+    const auto n = static_cast<Eigen::Index>(unknowns_.size());
+    if (n == 0) return;
+    Eigen::EigenSolver<Eigen::MatrixXd> es(M, true);
+    Eigen::Index imax = 0;
+    for (Eigen::Index i = 1; i < n; ++i)
+      if (std::abs(es.eigenvalues()(i)) > std::abs(es.eigenvalues()(imax))) imax = i;
+    Eigen::VectorXd dir = es.eigenvectors().col(imax).real();
+    if (dir.cwiseAbs().maxCoeff() == 0.0) dir = es.eigenvectors().col(imax).imag();
+    dir *= size / dir.cwiseAbs().maxCoeff();
+    std::vector<double> z = o.section_state;
+    for (Eigen::Index i = 0; i < n; ++i) z[unknowns_[static_cast<std::size_t>(i)]] += dir(i) * scale_[unknowns_[static_cast<std::size_t>(i)]];
+    double d = size;
+    for (int it = 0; it < kIterations; ++it) {
+      const MapRun r = map_.run(z);
+      if (!r.crossed) return;  // left the section's reach: unstable as the multipliers say
+      z = r.z;
+    }
+    d = 0.0;
+    for (std::size_t k : unknowns_) d = std::max(d, std::abs(z[k] - o.section_state[k]) / scale_[k]);
+    o.growth = std::pow(d / size, 1.0 / kIterations);
+    o.stable = o.growth < 1.0 + 1e-2;
+  }
+
   PeriodicOrbit orbit(const std::vector<double>& z, const MapRun& r, const Eigen::MatrixXd& M, double res,
                       bool fresh) const {
     PeriodicOrbit o;
@@ -497,6 +529,10 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
         why.push_back("Newton from the " + name + " seed did not converge within " + std::to_string(opt.newton) +
                       " iterations (scaled residual " + num(solver.last_residual) + " above the step's resolution " +
                       num(solver.last_resolution) + "; periods up to " + num(max_period) + " s)");
+        continue;
+      }
+      if (!(o->amplitude < 100.0 * std::max(std::abs(level), 1e-3))) {
+        why.push_back("the " + name + " seed's orbit grows beyond 100 x the set point (the loop diverges)");
         continue;
       }
       o->seed = name;

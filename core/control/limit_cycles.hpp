@@ -61,7 +61,11 @@ struct PeriodicOrbit {
   double mean = 0.0;             // mean of the output over the period [m]
   double stick_fraction = 0.0;   // time with |v| of the output body below 1e-4 m/s / period
   std::vector<std::complex<double>> multipliers;  // nontrivial Floquet multipliers, |mu| descending
-  bool stable = false;           // every |mu| < 1
+  // Every |mu| < 1; or, where the finite differences say otherwise, the orbit displaced along the
+  // dominant eigenvector does not grow over 6 returns (growth < 1.01: it attracts, or belongs to a
+  // family of orbits whose never-slipping elements keep any offset)
+  bool stable = false;
+  double growth = 0.0;           // that displacement's growth per period (0: not iterated)
   double residual = 0.0;         // scaled |P(z) - z| at the solution
   int map_evaluations = 0;       // section-map runs this orbit took
   std::string seed;              // "simulation", "describing function" or "continuation"
