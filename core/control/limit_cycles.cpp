@@ -15,7 +15,7 @@ namespace {
 constexpr double kStickVelocity = 1e-4;  // [m/s], AssemblySimulation::kSlipVelocity
 // Where Newton stalls, a residual up to this many times the step's resolution 2 pi dt / T (a slip's
 // events move faster than the mean rate 2 pi / T), and never above kMaxResidual, is accepted.
-constexpr double kResolutionFactor = 4.0;
+constexpr double kResolutionFactor = 8.0;
 constexpr double kMaxResidual = 0.02;
 
 bool has_integrator(const LeadCompensator& c) {
@@ -176,6 +176,7 @@ class OrbitSolver {
  public:
   OrbitSolver(SectionMap& map, const OrbitOptions& opt) : map_(map), opt_(opt) {}
   double last_residual = 0.0, last_resolution = 0.0;  // of the last solve
+  bool last_drift = false;  // the last solve's solution drifted (not periodic)
 
   // From z (on the section); `warm`: a neighbouring orbit whose unknowns, scales and Jacobian
   // start the iteration (quasi-Newton: Broyden's update after each accepted step).
@@ -218,7 +219,11 @@ class OrbitSolver {
     if (res > std::max(opt_.tolerance, std::min(kResolutionFactor * step_noise, kMaxResidual))) return std::nullopt;
     if (!fresh && opt_.fresh_multipliers) M = jacobian(z, r), fresh = true;
     PeriodicOrbit o = orbit(z, r, M, res, fresh);
-    if (!o.stable) check_by_iteration(o, M, std::max(0.02, kResolutionFactor * step_noise));
+    if (!o.stable) check_by_iteration(o, M, std::max(0.02, 4.0 * step_noise));
+    if (!warm && o.stable && drifts(o)) {
+      last_drift = true;
+      return std::nullopt;
+    }
     return o;
   }
 
@@ -295,6 +300,21 @@ class OrbitSolver {
     }
     return false;
   }
+  // A solution accepted at the step's resolution may be a slowly decaying oscillation: over
+  // kDriftReturns more returns of the map its amplitude and period stay within 2 %, or it is none.
+  bool drifts(const PeriodicOrbit& o) {
+    constexpr int kDriftReturns = 8;
+    std::vector<double> z = o.section_state;
+    for (int it = 0; it < kDriftReturns; ++it) {
+      const MapRun r = map_.run(z);
+      if (!r.crossed || std::abs(r.amplitude - o.amplitude) > 0.02 * o.amplitude ||
+          std::abs(r.period - o.period) > 0.02 * o.period)
+        return true;
+      z = r.z;
+    }
+    return false;
+  }
+
   // The multipliers say unstable: the second method, iterating the map from the orbit displaced
   // by `size` (scaled) along the dominant eigenvector. The displacement's growth per period over
   // kIterations returns, (d_n / d_0)^(1/n), is kept; below 1 + 1e-2 (no growth: an attracting orbit,
@@ -363,6 +383,7 @@ struct Seed {
   double period = 0.0;  // of `returns` crossings [s]
   int crossings = 0;
   int returns = 1;      // crossings per period (the cycle may cross the level several times upward)
+  double stopped_at = 0.0;  // > 0: the crossings stopped then (the loop came to rest) [s]
 };
 // The crossings per period k (1..4) whose state returns closest, the smallest one within twice the
 // best distance plus `slack`; the distance: max over continuous entries of |z_last - z_last-k| / range.
@@ -392,6 +413,7 @@ Return best_return(const std::vector<std::vector<double>>& zs, const std::vector
 // kSeedSettled of the entries' ranges between the last five crossings) or opt.seed_duration.
 Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0, const OrbitOptions& opt) {
   constexpr double kSeedSettled = 0.01;
+  constexpr double kSeedMinTime = 10.0;  // [s]: a transient may look periodic for a while
   LoopStepper st = make_stepper(L, 1.0, opt.seed_duration + 1.0);
   if (z0) st.set_state(*z0, 0);
   const std::vector<std::uint8_t> mask = st.continuous_mask();
@@ -448,12 +470,20 @@ Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0, 
           }
           same_swing = std::abs((hi1 - lo1) - (hi2 - lo2)) <= 0.01 * (hi1 - lo1);
         }
-        if (ret.dist <= kSeedSettled + slack && same_swing && s.crossings >= opt.seed_crossings) break;
+        if (ret.dist <= kSeedSettled + slack && same_swing && s.crossings >= opt.seed_crossings &&
+            ts.back() >= std::min(kSeedMinTime, opt.seed_duration))
+          break;
       }
     }
     std::swap(zp, zc);
   }
   if (s.crossings < 2) return s;
+  // Crossings that stopped well before the end (a transient that came to rest): no seed.
+  const double t_end = static_cast<double>(st.step_index()) * L.config.dt;
+  if (t_end - ts.back() > 3.0 * (ts.back() - ts[ts.size() - 2]) + 1.0) {
+    s.stopped_at = ts.back();
+    return s;
+  }
   if (zs.size() < 3) ret = Return{1, 0.0};
   s.returns = ret.k;
   s.z = zs.back();
@@ -515,6 +545,11 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
     }
     std::vector<std::string> why;
     for (auto& [name, seed] : seeds) {
+      if (seed.stopped_at > 0.0) {
+        why.push_back("the " + name + " seed stopped crossing the level after " + num(seed.stopped_at) + " s of " +
+                      num(opt.seed_duration) + " s (the loop settles)");
+        continue;
+      }
       if (seed.crossings < 2) {
         why.push_back("the " + name + " seed crossed the level " + std::to_string(seed.crossings) +
                       " time(s) in " + num(opt.seed_duration) + " s (the loop settles)");
@@ -525,6 +560,11 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
       OrbitSolver solver(map, opt);
       std::optional<PeriodicOrbit> o = solver.solve(seed.z);
       rep.map_evaluations += map.evaluations;
+      if (!o && solver.last_drift) {
+        why.push_back("the " + name + " seed's solution drifts over further periods (a slowly settling transient, "
+                      "not a periodic orbit)");
+        continue;
+      }
       if (!o) {
         why.push_back("Newton from the " + name + " seed did not converge within " + std::to_string(opt.newton) +
                       " iterations (scaled residual " + num(solver.last_residual) + " above the step's resolution " +
