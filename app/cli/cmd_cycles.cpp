@@ -120,7 +120,7 @@ void register_cycles(CLI::App& app, Action& action) {
   auto* sub = app.add_subcommand(
       "cycles", "Limit cycles of a preset's loop with a given controller: periodic orbits, their stability, "
                 "a long simulation and the hunting map over a gain scale");
-  sub->add_option("preset", o->preset, "Scenario or assembled preset (a path, or a shipped preset's name)")->required();
+  sub->add_option("preset", o->preset, "Scenario or assembled preset (JSON file)")->required();
   sub->add_option("--controller-num", o->num, "Controller numerator, highest power first, e.g. \"1000 5000\"")->required();
   sub->add_option("--controller-den", o->den, "Controller denominator, highest power first, e.g. \"1 0\" (an integrator)")
       ->required();

@@ -372,6 +372,10 @@ LoopConfig loop_config(const DesignInputs& in, const DesignOutputs& out) {
   // compares like with like.
   if (in.reference.kind == Signal::Kind::Constant && out.hunting && out.hunting->hunting() && in.horizon == 0.0)
     cfg.duration = std::max(cfg.duration, std::min(30.0, 20.0 * out.hunting->hunting()->period));
+  // Periodic orbits around a set point: hunting is slower than the dominant roots; 30 s at least,
+  // so that the step is the stability limit's (the orbits and the simulation take the same step).
+  if (in.periodic_orbits && in.reference.kind == Signal::Kind::Constant && in.horizon == 0.0)
+    cfg.duration = std::max(cfg.duration, 30.0);
   cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
   cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
   return cfg;
