@@ -36,7 +36,7 @@ nlohmann::json to_json(const PeriodicOrbit& o) {
 nlohmann::json to_json(const OrbitReport& r) {
   nlohmann::json orbits = nlohmann::json::array();
   for (const PeriodicOrbit& o : r.orbits) orbits.push_back(to_json(o));
-  nlohmann::json j = {{"orbits", orbits}, {"method", r.method}, {"map_evaluations", r.map_evaluations}};
+  nlohmann::json j = {{"orbits", orbits}, {"method", r.method}, {"map_evaluations", r.map_evaluations}, {"dt_s", r.dt}};
   j["not_found"] = r.not_found.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.not_found);
   return j;
 }

@@ -418,6 +418,7 @@ void simulation_stage(const DesignInputs& in, DesignOutputs& out, LoopConfig cfg
   // A stable orbit slower than the run: long enough for 20 of its periods (at most 60 s; the same
   // step, so the simulation and the orbit see the same loop).
   const PeriodicOrbit* orbit = out.orbits ? out.orbits->stable() : nullptr;
+  if (orbit && out.orbits->dt != cfg.dt) orbit = nullptr;
   if (orbit && !in.loop_timing && in.horizon == 0.0 && in.reference.kind == Signal::Kind::Constant &&
       cfg.duration < std::min(60.0, 20.0 * orbit->period)) {
     cfg.duration = std::min(60.0, 20.0 * orbit->period);
@@ -486,7 +487,15 @@ DesignOutputs compute_design(const DesignInputs& in) {
     const LoopConfig cfg = loop_config(in, out);
     if (in.periodic_orbits) {
       stage = "periodic orbits";
-      orbit_stage(in, out, cfg);
+      // A given timing without its own step (the plant's run.dt, often far finer than the loop
+      // needs): the orbits at the automatic step; with a given step, at that one.
+      if (in.loop_timing && in.loop_timing->dt == 0.0) {
+        DesignInputs automatic = in;
+        automatic.loop_timing.reset();
+        orbit_stage(in, out, loop_config(automatic, out));
+      } else {
+        orbit_stage(in, out, cfg);
+      }
     }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";

@@ -525,6 +525,7 @@ const PeriodicOrbit* OrbitReport::stable() const {
 OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const HuntingReport* df) {
   check_loop(L);
   OrbitReport rep;
+  rep.dt = L.config.dt;
   const double r = L.config.reference(0.0);
   std::ostringstream method;
   method << "shooting on the loop's section map (upward crossings of ";

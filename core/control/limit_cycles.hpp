@@ -87,6 +87,7 @@ struct OrbitReport {
   std::string method;                 // what was searched, how (always set)
   std::string not_found;              // why there is none (empty when there are orbits)
   int map_evaluations = 0;
+  double dt = 0.0;                    // the loop's integration step [s]
   const PeriodicOrbit* stable() const;  // the stable orbit of largest amplitude (nullptr: none)
 };
 
