@@ -6,6 +6,8 @@
 #include <benchmark/benchmark.h>
 
 #include "core/control/design_session.hpp"
+#include "core/control/limit_cycles.hpp"
+#include "core/sim/assembly.hpp"
 #include "core/io/scenario_io.hpp"
 
 using namespace gmslab;
@@ -263,3 +265,59 @@ static void BM_DesignViewDragFrameRendered(benchmark::State& st) {
 }
 BENCHMARK(BM_DesignViewDragFrameRendered)->Unit(benchmark::kMillisecond);
 #endif
+
+// Periodic orbits (core/control/limit_cycles.hpp) of the loop: mass 1 kg, damper 3 N s/m,
+// PI 1000 (s + 5)/s, GMS at its defaults, at the design job's step (5 % of the stability limit).
+namespace {
+ClosedLoop gms_pi_loop(double gain_scale = 1.0) {
+  ClosedLoop L;
+  L.scenario.plant = {1.0, 0.0, 3.0};
+  L.scenario.friction = model_info("gms").defaults();
+  L.config.C = LeadCompensator{1000.0 * gain_scale, 5.0, 0.0};
+  L.config.reference = Signal::constant(0.01);
+  L.config.dt = 0.05 * 2.0 / std::sqrt(stuck_stiffness(L.scenario.friction) + 1000.0);
+  return L;
+}
+}  // namespace
+
+// One orbit from a warm start, as on a drag: the orbit at gain 1 continued to gain 1.02 (quasi-Newton
+// from the neighbour's Jacobian, fresh finite-difference multipliers at the solution). Target < 16 ms.
+static void BM_OrbitWarm(benchmark::State& st) {
+  const ClosedLoop L = gms_pi_loop();
+  const OrbitReport r = find_orbits(L);
+  if (!r.stable()) {
+    st.SkipWithError("no stable orbit to start from");
+    return;
+  }
+  for (auto _ : st) {
+    auto o = continue_orbit(L, *r.stable(), 1.02);
+    benchmark::DoNotOptimize(o);
+  }
+}
+BENCHMARK(BM_OrbitWarm)->Unit(benchmark::kMillisecond);
+
+// The hunting map of that loop over gain scales 0.25-4 (9 points) from the orbit at gain 1.
+// Target <= 300 ms.
+static void BM_HuntingMap(benchmark::State& st) {
+  const ClosedLoop L = gms_pi_loop();
+  const OrbitReport r = find_orbits(L);
+  if (!r.stable()) {
+    st.SkipWithError("no stable orbit to start from");
+    return;
+  }
+  for (auto _ : st) {
+    auto m = hunting_map(L, *r.stable(), 0.25, 4.0, 9);
+    benchmark::DoNotOptimize(m);
+  }
+}
+BENCHMARK(BM_HuntingMap)->Unit(benchmark::kMillisecond);
+
+// The cold search (short simulation from rest, fixed-point iterations, Newton, multipliers).
+static void BM_OrbitCold(benchmark::State& st) {
+  const ClosedLoop L = gms_pi_loop();
+  for (auto _ : st) {
+    auto r = find_orbits(L);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_OrbitCold)->Unit(benchmark::kMillisecond);

@@ -100,6 +100,7 @@ Cli::Cli(Host host)
   f->callback([this] { action_ = [this] { return host_.figures(figures_); }; });
 
   register_design(app_, action_);
+  register_cycles(app_, action_);
   register_identify(app_, action_);
 
   // `gmslab sweep` runs python3 -m gmslab.sweep (app/main.cpp hands it over before parsing); it is

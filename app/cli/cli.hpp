@@ -70,6 +70,7 @@ using Action = std::function<int()>;
 
 void register_simulate(CLI::App& app, Action& action);
 void register_design(CLI::App& app, Action& action);
+void register_cycles(CLI::App& app, Action& action);
 void register_identify(CLI::App& app, Action& action);
 
 // The command line, built once: every command and option registered on one CLI11 app. run() may

@@ -19,6 +19,10 @@
 //                        Leuven, Maxwell-slip and elasto-plastic, with GMS (structure mismatch:
 //                        what is named, and what remains, against the generating model's floor)
 //
+//   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits (core/control/limit_cycles.hpp)
+//                        of random loops (tests/control/random_loops.hpp) against their long
+//                        simulation: one row per loop, the counts of false negatives / positives
+//
 // Prints one row per record and a summary; exit 0 (it reports, it does not judge).
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -34,6 +38,7 @@
 #include "core/io/scenario_io.hpp"
 #include "core/sim/assembly.hpp"
 #include "core/sim/simulation.hpp"
+#include "tests/control/random_loops.hpp"
 #include "tests/ident/random_records.hpp"
 
 using namespace gmslab;
@@ -408,6 +413,27 @@ int run_registry(int records, unsigned seed0, std::size_t samples, const std::st
 
 }  // namespace
 
+// Periodic orbits of `records` random loops from `seed0` against their long simulations.
+int run_cycles(int records, unsigned seed0) {
+  cycles_study::print_header();
+  int hunts = 0, rest = 0, excluded = 0, fn = 0, fp = 0, ok = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < records; ++i) {
+    const unsigned seed = seed0 + static_cast<unsigned>(i);
+    const cycles_study::CaseResult c = cycles_study::run_case(seed);
+    cycles_study::print_case(seed, c);
+    hunts += c.sim.state == cycles_study::SimState::Hunting;
+    rest += c.sim.state == cycles_study::SimState::Rest;
+    excluded += c.sim.state != cycles_study::SimState::Hunting && c.sim.state != cycles_study::SimState::Rest;
+    fn += c.false_negative, fp += c.false_positive, ok += c.agree;
+    std::fflush(stdout);
+  }
+  std::printf("loops %d: hunting %d, at rest %d, excluded (unsettled or diverged simulation) %d; agree %d, "
+              "false negatives %d, false positives %d; %.1f s\n",
+              records, hunts, rest, excluded, ok, fn, fp, seconds_since(t0));
+  return 0;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"gmslab identification study on random records"};
   std::string mode = "base";
@@ -418,8 +444,8 @@ int main(int argc, char** argv) {
   int skip = 0;
   std::string report_dir;
   std::size_t screen = LoopOptions{}.screen_samples;
-  app.add_option("mode", mode, "base | loop | self | coverage | registry")
-      ->check(CLI::IsMember({"base", "loop", "self", "coverage", "registry"}));
+  app.add_option("mode", mode, "base | loop | self | coverage | registry | cycles")
+      ->check(CLI::IsMember({"base", "loop", "self", "coverage", "registry", "cycles"}));
   std::string preset;
   app.add_option("--preset", preset,
                  "self: only this preset (its name without .json); registry: only this model tag");
@@ -435,6 +461,7 @@ int main(int argc, char** argv) {
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   CLI11_PARSE(app, argc, argv);
   if (mode == "coverage") return run_coverage(records, seed, samples);
+  if (mode == "cycles") return run_cycles(records, seed);
   if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "registry")
     return run_registry(records, seed, samples, GMSLAB_SOURCE_DIR "/presets", detail, preset);

@@ -12,7 +12,75 @@ namespace {
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 nlohmann::json pair_json(cplx s) { return {s.real(), s.imag()}; }
 
+// limit_cycles with the job's periodic orbits and map (created when the DF did not write it).
+void add_orbits(nlohmann::json& lc_parent, const DesignOutputs& out) {
+  if (!out.orbits) return;
+  nlohmann::json& lc = lc_parent["limit_cycles"];
+  if (lc.is_null()) lc = nlohmann::json::object();
+  lc["periodic_orbits"] = to_json(*out.orbits);
+  if (out.hunting_map) lc["map"] = to_json(*out.hunting_map);
+}
 }  // namespace
+
+nlohmann::json to_json(const PeriodicOrbit& o) {
+  nlohmann::json mu = nlohmann::json::array();
+  for (const auto& m : o.multipliers) mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
+  return {{"gain_scale", o.gain_scale},     {"amplitude_m", o.amplitude},
+          {"period_s", o.period},           {"mean_m", o.mean},
+          {"stick_fraction", o.stick_fraction}, {"multipliers", mu},
+          {"multipliers_fresh", o.multipliers_fresh}, {"stable", o.stable}, {"growth_per_period", o.growth},
+          {"residual", o.residual},         {"returns", o.returns},
+          {"map_evaluations", o.map_evaluations}, {"seed", o.seed}};
+}
+
+nlohmann::json to_json(const OrbitReport& r) {
+  nlohmann::json orbits = nlohmann::json::array();
+  for (const PeriodicOrbit& o : r.orbits) orbits.push_back(to_json(o));
+  nlohmann::json j = {{"orbits", orbits}, {"method", r.method}, {"map_evaluations", r.map_evaluations}, {"dt_s", r.dt}};
+  j["not_found"] = r.not_found.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.not_found);
+  return j;
+}
+
+nlohmann::json to_json(const HuntingMap& m) {
+  nlohmann::json pts = nlohmann::json::array();
+  for (const HuntingMapPoint& p : m.points) {
+    if (p.orbit) pts.push_back(to_json(*p.orbit));
+    else pts.push_back({{"gain_scale", p.gain_scale}, {"orbit", nullptr}});
+  }
+  return {{"points", pts},
+          {"fold_gain_scale", m.fold ? nlohmann::json(*m.fold) : nlohmann::json(nullptr)},
+          {"lost_above_gain_scale", m.lost_above ? nlohmann::json(*m.lost_above) : nlohmann::json(nullptr)},
+          {"note", m.note},
+          {"map_evaluations", m.map_evaluations}};
+}
+
+nlohmann::json cycles_json(const DesignInputs& in, const DesignOutputs& out) {
+  if (!out.orbits || !out.compensator) throw InternalError("cycles report: the design job has no orbits (" + out.error + ")");
+  nlohmann::json j = to_json(*out.orbits);
+  j["compensator"] = compensator_json(*out.compensator);
+  j["sample_time_s"] = in.sample_time;
+  j["reference_m"] = in.reference(0.0);
+  if (!out.loops.empty() && !out.loops.front().trace.t.empty()) {
+    const LoopRun& run = out.loops.front();
+    const double dt = run.trace.t.size() > 1 ? run.trace.t.back() / static_cast<double>(run.trace.t.size() - 1) : 0.0;
+    j["simulation"] = {{"hunting", run.metrics.hunting},
+                       {"amplitude_m", run.metrics.hunting ? nlohmann::json(run.metrics.cycle_amplitude) : nlohmann::json(nullptr)},
+                       {"period_s", run.metrics.hunting ? nlohmann::json(run.metrics.cycle_period) : nlohmann::json(nullptr)},
+                       {"duration_s", run.trace.t.back()},
+                       {"record_step_s", dt}};
+  }
+  if (out.hunting_map) {
+    const nlohmann::json m = to_json(*out.hunting_map);
+    j["map"] = m["points"];
+    j["fold_gain_scale"] = m["fold_gain_scale"];
+    j["map_note"] = m["note"];
+  }
+  const HuntingCycle* hc = out.hunting ? out.hunting->hunting() : nullptr;
+  j["describing_function"] = hc ? nlohmann::json{{"amplitude_m", hc->amplitude}, {"period_s", hc->period},
+                                                 {"valid", hc->valid}, {"note", "quick estimate (hunting describing function)"}}
+                                : nlohmann::json(nullptr);
+  return j;
+}
 
 DesignInputs design_inputs(const DesignRequest& r, std::optional<CompensatorType> typed) {
   DesignInputs in;
@@ -38,6 +106,8 @@ DesignInputs design_inputs(const DesignRequest& r, std::optional<CompensatorType
   in.feedforward_source = r.feedforward_source;
   in.mismatch = r.mismatch;
   in.loop_timing = r.timing;
+  // The orbits of the loop whose compensator the report simulates (or would).
+  in.periodic_orbits = r.periodic_orbits && (r.scenario || r.assembly) && typed.has_value() == r.compensator.has_value();
   return in;
 }
 
@@ -78,6 +148,7 @@ nlohmann::json design_json(const DesignInputs& in, const DesignOutputs& out) {
     j["limit_cycles"] = to_json(*out.limit_cycles);
     if (out.hunting) j["limit_cycles"]["hunting"] = to_json(*out.hunting);
   }
+  add_orbits(j, out);
   if (out.lead_lag && in.lag_K) j["lead_lag"] = to_json(*out.lead_lag);
   return j;
 }
@@ -100,6 +171,7 @@ nlohmann::json typed_compensator_json(const DesignInputs& in, const DesignOutput
     if (out.hunting && out.compensator && integral_split(*out.compensator))
       t["limit_cycles"]["hunting"] = to_json(*out.hunting);
   }
+  add_orbits(t, out);
   return t;
 }
 

@@ -372,14 +372,58 @@ LoopConfig loop_config(const DesignInputs& in, const DesignOutputs& out) {
   // compares like with like.
   if (in.reference.kind == Signal::Kind::Constant && out.hunting && out.hunting->hunting() && in.horizon == 0.0)
     cfg.duration = std::max(cfg.duration, std::min(30.0, 20.0 * out.hunting->hunting()->period));
+  // Periodic orbits around a set point: hunting is slower than the dominant roots; 30 s at least,
+  // so that the step is the stability limit's (the orbits and the simulation take the same step).
+  if (in.periodic_orbits && in.reference.kind == Signal::Kind::Constant && in.horizon == 0.0)
+    cfg.duration = std::max(cfg.duration, 30.0);
   cfg.dt = std::clamp(cfg.duration / 20000.0, dt0, std::max(dt0, 0.05 * limit));
   cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
   return cfg;
 }
 
+// The closed loop of a design (its plant, the compensator, the loop's step) for the orbit solver.
+ClosedLoop closed_loop_of(const DesignInputs& in, const DesignOutputs& out, const LoopConfig& cfg) {
+  ClosedLoop L;
+  L.scenario = in.scenario;
+  if (out.source == PlantSource::Assembly) L.assembly = *in.assembly, L.port = out.port;
+  L.config = cfg;
+  L.config.comp = Compensation::None;
+  return L;
+}
+
+// Periodic orbits of the loop without compensation (seeded by its hunting prediction when there is
+// one), and the hunting map from the stable orbit.
+void orbit_stage(const DesignInputs& in, DesignOutputs& out, const LoopConfig& cfg) {
+  OrbitReport& rep = out.orbits.emplace();
+  if (in.reference.kind != Signal::Kind::Constant) {
+    rep.method = "none";
+    rep.not_found = "periodic orbits: not computed for a " + std::string(to_string(in.reference.kind)) +
+                    " reference (the orbits are the loop's around a constant set point)";
+    return;
+  }
+  const ClosedLoop L = closed_loop_of(in, out, cfg);
+  rep = find_orbits(L, OrbitOptions{}, out.hunting ? &*out.hunting : nullptr);
+  if (!in.hunting_map) return;
+  const PeriodicOrbit* start = rep.stable();
+  if (!start) {
+    HuntingMap& m = out.hunting_map.emplace();
+    m.note = "hunting map: no stable orbit at the design's gain to continue from (" + rep.not_found + ")";
+    return;
+  }
+  out.hunting_map = hunting_map(L, *start, in.hunting_map->lo, in.hunting_map->hi, in.hunting_map->n);
+}
+
 // Each loop with friction, on the scenario's one body or the assembled plant.
-void simulation_stage(const DesignInputs& in, DesignOutputs& out) {
-  LoopConfig cfg = loop_config(in, out);
+void simulation_stage(const DesignInputs& in, DesignOutputs& out, LoopConfig cfg) {
+  // A stable orbit slower than the run: long enough for 20 of its periods (at most 60 s; the same
+  // step, so the simulation and the orbit see the same loop).
+  const PeriodicOrbit* orbit = out.orbits ? out.orbits->stable() : nullptr;
+  if (orbit && out.orbits->dt != cfg.dt) orbit = nullptr;
+  if (orbit && !in.loop_timing && in.horizon == 0.0 && in.reference.kind == Signal::Kind::Constant &&
+      cfg.duration < std::min(60.0, 20.0 * orbit->period)) {
+    cfg.duration = std::min(60.0, 20.0 * orbit->period);
+    cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));
+  }
   for (LoopRun& run : out.loops) {
     cfg.comp = run.compensation;
     run.trace = out.source == PlantSource::Assembly ? simulate_loop(*in.assembly, out.port, cfg)
@@ -439,9 +483,23 @@ DesignOutputs compute_design(const DesignInputs& in) {
                       "body and one contact); the loops run on the assembled nonlinear plant";
     else
       describing_function_stage(in, out);
+    if (!in.simulate && !in.periodic_orbits) return out;
+    const LoopConfig cfg = loop_config(in, out);
+    if (in.periodic_orbits) {
+      stage = "periodic orbits";
+      // A given timing without its own step (the plant's run.dt, often far finer than the loop
+      // needs): the orbits at the automatic step; with a given step, at that one.
+      if (in.loop_timing && in.loop_timing->dt == 0.0) {
+        DesignInputs automatic = in;
+        automatic.loop_timing.reset();
+        orbit_stage(in, out, loop_config(automatic, out));
+      } else {
+        orbit_stage(in, out, cfg);
+      }
+    }
     if (!in.simulate) return out;
     stage = "nonlinear simulation";
-    simulation_stage(in, out);
+    simulation_stage(in, out, cfg);
   } catch (const Error& e) {  // typed: bad input, a diverging loop
     record_failure(out, stage, e);
   }

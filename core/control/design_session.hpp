@@ -40,6 +40,7 @@
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/hunting.hpp"
+#include "core/control/limit_cycles.hpp"
 #include "core/control/lead_design.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
@@ -151,6 +152,15 @@ struct DesignInputs {
   std::optional<ViewBox> z_locus_view;  // same for the z-plane locus (sample time > 0)
   bool other_regime = false;  // also compute the locus of the other regime's plant (same Gc)
   bool zero_degree = false;   // also compute the 0-degree locus (k < 0) of the drawn loop
+  // Periodic orbits of the loop without compensation (core/control/limit_cycles.hpp), on the same
+  // loop (step, plant, controller) as its simulation; the view computes them in the background.
+  bool periodic_orbits = false;
+  // With periodic_orbits: the hunting map over the gain scales of this grid.
+  struct GainGrid {
+    double lo = 0.2, hi = 5.0;
+    int n = 13;
+  };
+  std::optional<GainGrid> hunting_map;
 };
 
 // One loop with friction: its compensation, the describing-function prediction of its limit cycles
@@ -212,6 +222,10 @@ struct DesignOutputs {
   // (core/control/hunting.hpp; view rate: 200 steps per period, 8 amplitudes, 6 shooting steps,
   // 0.9 x the stability limit, <= 4000 steps per period); none otherwise.
   std::optional<HuntingReport> hunting;
+  // Periodic orbits of the loop without compensation (with periodic_orbits; a typed plant has
+  // none: loop_note) and the hunting map (with hunting_map, from the stable orbit when there is one).
+  std::optional<OrbitReport> orbits;
+  std::optional<HuntingMap> hunting_map;
   // The loops with friction in the order of the inputs' loop_compensations (none for a typed plant
   // or without a compensator); with `simulate` off, only their predictions.
   std::vector<LoopRun> loops;

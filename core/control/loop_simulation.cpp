@@ -132,6 +132,26 @@ class Feedforward {
     return ff;
   }
 
+  std::size_t state_size() const {
+    std::size_t n = 0;
+    for (const auto& st : states_) n += st.size();
+    return n;
+  }
+  void get(std::vector<double>& z) const {
+    for (const auto& st : states_) z.insert(z.end(), st.begin(), st.end());
+  }
+  std::size_t set(std::span<const double> z, std::size_t o) {
+    for (auto& st : states_)
+      for (double& v : st) v = z[o++];
+    return o;
+  }
+  // A GMS compensator's element forces are continuous, its slip flags are not; driven by the
+  // reference velocity around a constant set point they are constants.
+  void mask(std::vector<std::uint8_t>& m) const {
+    for (const auto& st : states_)
+      for (std::size_t i = 0; i < st.size(); ++i) m.push_back(measured_ && 2 * i < st.size() ? 1 : 0);
+  }
+
  private:
   Compensation comp_;
   bool measured_ = false;
@@ -198,6 +218,28 @@ class LeadController {
     }
     return u_prev_;
   }
+  long long every() const { return T_ > 0.0 ? every_ : 1; }
+  void get(std::vector<double>& z) const {
+    if (T_ > 0.0) {
+      for (const Tustin& t : tustin_) z.push_back(t.y), z.push_back(t.x_prev);
+      z.push_back(u_prev_);
+    } else if (c_.second) {
+      z.push_back(x_(0)), z.push_back(x_(1));
+    } else {
+      z.push_back(w_);
+    }
+  }
+  std::size_t set(std::span<const double> z, std::size_t o) {
+    if (T_ > 0.0) {
+      for (Tustin& t : tustin_) t.y = z[o++], t.x_prev = z[o++];
+      u_prev_ = z[o++];
+    } else if (c_.second) {
+      x_(0) = z[o++], x_(1) = z[o++];
+    } else {
+      w_ = z[o++];
+    }
+    return o;
+  }
 
  private:
   struct Tustin {
@@ -240,23 +282,149 @@ double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc) {
   return stability_limit_dt(f);
 }
 
-namespace {
-// The loop on an assembled plant whose configuration and port are checked.
-LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c);
-}  // namespace
+struct LoopStepper::Impl {
+  Impl(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon)
+      : cfg(c), port(port), sim(run_of(s, c, horizon)), feedforward(ground_frictions(s.plant), c),
+        ctrl(c.C, c.dt, c.sample_time) {
+    const DrivePart& d = s.plant.drives[port.drive];
+    pull_k = d.kind == DrivePart::Kind::Pull ? d.pull_spring : 0.0;
+    body = static_cast<std::size_t>(port.body);
+    drive_body = static_cast<std::size_t>(d.body);
+    for (std::size_t j = 0; j < s.plant.contacts.size(); ++j) {
+      const ContactPart& ct = s.plant.contacts[j];
+      if (ct.b == kGround) ground.push_back({j, 1.0});
+      else if (ct.a == kGround) ground.push_back({j, -1.0});
+    }
+  }
+  static AssemblyScenario run_of(const AssemblyScenario& s, const LoopConfig& c, double horizon) {
+    AssemblyScenario run = s;
+    run.run.dt = c.dt;
+    run.run.duration = horizon;
+    run.run.record_every = 1 << 20;  // the loop keeps its own trace
+    return run;
+  }
+  // The contacts to ground carry the friction the feedforward cancels.
+  static std::vector<ModelParams> ground_frictions(const Assembly& a) {
+    std::vector<ModelParams> f;
+    for (const ContactPart& ct : a.contacts)
+      if (ct.b == kGround || ct.a == kGround) f.push_back(ct.friction);
+    return f;
+  }
+  double output() const { return port.velocity ? sim.velocities()[body] : sim.positions()[body]; }
 
-LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
-  check_config(s, c);
-  // The scenario's plant as its one-body assembly, the controller acting through a force drive.
+  LoopConfig cfg;
+  AssemblyPort port;
+  AssemblySimulation sim;
+  Feedforward feedforward;
+  LeadController ctrl;
+  double pull_k = 0.0;
+  std::size_t body = 0, drive_body = 0;
+  std::vector<std::pair<std::size_t, double>> ground;  // contact index, sign of its force on the body
+};
+
+LoopStepper::LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon)
+    : p_(std::make_unique<Impl>(s, port, c, horizon)) {}
+LoopStepper::~LoopStepper() = default;
+LoopStepper::LoopStepper(LoopStepper&&) noexcept = default;
+LoopStepper& LoopStepper::operator=(LoopStepper&&) noexcept = default;
+
+double LoopStepper::output() const { return p_->output(); }
+double LoopStepper::velocity() const { return p_->sim.velocities()[p_->body]; }
+double LoopStepper::dt() const { return p_->cfg.dt; }
+double LoopStepper::time() const { return static_cast<double>(k_) * p_->cfg.dt; }
+double LoopStepper::reference() const { return p_->cfg.reference(time()); }
+long long LoopStepper::sample_every() const { return p_->ctrl.every(); }
+
+LoopStepper::Forces LoopStepper::step() {
+  Impl& q = *p_;
+  const double h = q.cfg.dt;
+  const double t = time();
+  const double r = q.cfg.reference(t);
+  Forces out;
+  out.u = q.ctrl.update(k_, r - q.output());
+  const double v_ref = (q.cfg.reference(t + h) - r) / h;
+  // Measured: the drive's body velocity (the compensation treats the train as rigid, as with v_ref).
+  out.ff = q.feedforward.step(v_ref, q.sim.velocities()[q.drive_body], h);
+  // A pull drive's input is its point's position: the feedforward force acts through its spring.
+  q.sim.set_drive_input(q.port.drive, q.pull_k > 0.0 ? out.u + out.ff / q.pull_k : out.u + out.ff);
+  const auto diverged = [&] {
+    std::ostringstream o;
+    o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
+    return SimulationError(o.str());
+  };
+  std::size_t done = 0;
+  try {
+    done = q.sim.advance(1);
+  } catch (const SimulationError&) {
+    throw diverged();
+  }
+  if (done != 1) throw InputError("closed loop: stepped past its horizon of " + std::to_string(q.sim.scenario().run.duration) + " s");
+  ++k_;
+  for (const auto& [j, sign] : q.ground) out.friction += sign * q.sim.contact_force(j);
+  if (!std::isfinite(q.output()) || !std::isfinite(out.friction)) throw diverged();
+  return out;
+}
+
+std::vector<double> LoopStepper::state() const {
+  std::vector<double> z;
+  state_into(z);
+  return z;
+}
+
+void LoopStepper::state_into(std::vector<double>& z) const {
+  p_->sim.state_into(z);
+  p_->ctrl.get(z);
+  p_->feedforward.get(z);
+}
+
+void LoopStepper::set_state(std::span<const double> z, long long step_index) {
+  const std::size_t np = p_->sim.contact_state_offset(p_->sim.scenario().plant.contacts.size());
+  if (z.size() != state().size())
+    throw InputError("loop state: expected " + std::to_string(state().size()) + " values, got " +
+                     std::to_string(z.size()));
+  p_->sim.set_state_vector(z.subspan(0, np));
+  std::size_t o = p_->ctrl.set(z, np);
+  p_->feedforward.set(z, o);
+  k_ = step_index;
+  p_->sim.set_step(static_cast<std::uint64_t>(std::max(0LL, step_index)));
+}
+
+std::vector<std::uint8_t> LoopStepper::continuous_mask() const {
+  const AssemblySimulation& sim = p_->sim;
+  const auto& contacts = sim.scenario().plant.contacts;
+  std::vector<std::uint8_t> m(sim.contact_state_offset(0), 1);
+  for (std::size_t j = 0; j < contacts.size(); ++j) {
+    // Element models keep each element's force, then its slip flag (GMS, Maxwell-slip, Leuven).
+    const FrictionModel& f = sim.contact_model(j);
+    const std::size_t n = f.state_size(), ne = f.element_count();
+    for (std::size_t i = 0; i < n; ++i) m.push_back(ne > 0 && n == 2 * ne && i >= ne ? 0 : 1);
+  }
+  std::vector<double> c;
+  p_->ctrl.get(c);
+  m.insert(m.end(), c.size(), 1);
+  p_->feedforward.mask(m);
+  return m;
+}
+
+std::size_t LoopStepper::output_index() const {
+  const std::size_t nb = p_->sim.scenario().plant.bodies.size();
+  return p_->port.velocity ? nb + p_->body : p_->body;
+}
+std::size_t LoopStepper::velocity_index() const { return p_->sim.scenario().plant.bodies.size() + p_->body; }
+
+namespace {
+// The one-body loop's plant: the scenario's one-body assembly, the controller acting through a
+// force drive "drive", output x.mass.
+std::pair<AssemblyScenario, AssemblyPort> one_body_loop_plant(const Scenario& s) {
   Scenario plant = s;
   plant.drive = Drive{};
   AssemblyPort port;
   port.drive_name = "drive";
   port.output = "x.mass";
-  return run_loop(assembly_from_scenario(plant), port, c);
+  return {assembly_from_scenario(plant), port};
 }
 
-LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
+void check_assembly_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
   std::vector<std::string> bad = config_problems(c);
   const Assembly& a = s.plant;
   if (port.drive >= a.drives.size() || port.body < 0 || static_cast<std::size_t>(port.body) >= a.bodies.size())
@@ -269,70 +437,48 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
       bad.push_back(p);
   }
   throw_problems(bad);
-  return run_loop(s, port, c);
 }
 
-namespace {
 LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
-  const Assembly& a = s.plant;
-  AssemblyScenario run = s;
-  run.run.dt = c.dt;
-  run.run.duration = c.duration;
-  run.run.record_every = 1 << 20;  // the loop keeps its own trace
-  AssemblySimulation sim(run);
-  const DrivePart& d = a.drives[port.drive];
-  const double pull_k = d.kind == DrivePart::Kind::Pull ? d.pull_spring : 0.0;
-  // The contacts to ground carry the friction the feedforward cancels (sign: force on the body).
-  std::vector<ModelParams> frictions;
-  std::vector<std::pair<std::size_t, double>> ground;  // contact index, sign
-  for (std::size_t j = 0; j < a.contacts.size(); ++j) {
-    const ContactPart& ct = a.contacts[j];
-    if (ct.b == kGround) ground.push_back({j, 1.0}), frictions.push_back(ct.friction);
-    else if (ct.a == kGround) ground.push_back({j, -1.0}), frictions.push_back(ct.friction);
-  }
-  Feedforward feedforward(frictions, c);
-  LeadController ctrl(c.C, c.dt, c.sample_time);
-  const double h = c.dt;
-  const long long steps = std::llround(c.duration / h);
-  const auto body = static_cast<std::size_t>(port.body);
-  const auto drive_body = static_cast<std::size_t>(d.body);
-  auto output = [&] { return port.velocity ? sim.velocities()[body] : sim.positions()[body]; };
+  LoopStepper loop(s, port, c, c.duration);
+  const long long steps = std::llround(c.duration / c.dt);
   LoopTrace tr;
-  auto record = [&](double t, double r, double u, double ff, double f) {
-    tr.t.push_back(t), tr.r.push_back(r), tr.x.push_back(output()), tr.v.push_back(sim.velocities()[body]);
-    tr.u.push_back(u), tr.ff.push_back(ff), tr.friction.push_back(f);
+  auto record = [&](double t, const LoopStepper::Forces& f) {
+    tr.t.push_back(t), tr.r.push_back(c.reference(t)), tr.x.push_back(loop.output()), tr.v.push_back(loop.velocity());
+    tr.u.push_back(f.u), tr.ff.push_back(f.ff), tr.friction.push_back(f.friction);
   };
   const std::size_t n_rec = static_cast<std::size_t>(steps / c.record_every + 2);
   for (auto* vec : {&tr.t, &tr.r, &tr.x, &tr.v, &tr.u, &tr.ff, &tr.friction}) vec->reserve(n_rec);
-  record(0.0, c.reference(0.0), 0.0, 0.0, 0.0);
+  record(0.0, {});
   for (long long k = 0; k < steps; ++k) {
-    const double t = static_cast<double>(k) * h;
-    const double r = c.reference(t);
-    const double u = ctrl.update(k, r - output());
-    const double v_ref = (c.reference(t + h) - r) / h;
-    // Measured: the drive's body velocity (the compensation treats the train as rigid, as with v_ref).
-    const double ff = feedforward.step(v_ref, sim.velocities()[drive_body], h);
-    // A pull drive's input is its point's position: the feedforward force acts through its spring.
-    sim.set_drive_input(port.drive, pull_k > 0.0 ? u + ff / pull_k : u + ff);
-    try {
-      sim.advance(1);
-    } catch (const SimulationError&) {
-      std::ostringstream o;
-      o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
-      throw SimulationError(o.str());
-    }
-    double f = 0.0;
-    for (const auto& [j, sign] : ground) f += sign * sim.contact_force(j);
-    if (!std::isfinite(output()) || !std::isfinite(f)) {
-      std::ostringstream o;
-      o << "closed loop diverged at t = " << t << " s (the loop is unstable or dt is too large)";
-      throw SimulationError(o.str());
-    }
-    if ((k + 1) % c.record_every == 0 || k + 1 == steps) record(t + h, c.reference(t + h), u, ff, f);
+    const LoopStepper::Forces f = loop.step();
+    if ((k + 1) % c.record_every == 0 || k + 1 == steps) record(static_cast<double>(k) * c.dt + c.dt, f);
   }
   return tr;
 }
 }  // namespace
+
+LoopTrace simulate_loop(const Scenario& s, const LoopConfig& c) {
+  check_config(s, c);
+  const auto [a, port] = one_body_loop_plant(s);
+  return run_loop(a, port, c);
+}
+
+LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c) {
+  check_assembly_loop(s, port, c);
+  return run_loop(s, port, c);
+}
+
+LoopStepper loop_stepper(const Scenario& s, const LoopConfig& c, double horizon) {
+  check_config(s, c);
+  const auto [a, port] = one_body_loop_plant(s);
+  return LoopStepper(a, port, c, horizon);
+}
+
+LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon) {
+  check_assembly_loop(s, port, c);
+  return LoopStepper(s, port, c, horizon);
+}
 
 std::vector<double> tracking_error(const LoopTrace& tr) {
   std::vector<double> e(tr.t.size());

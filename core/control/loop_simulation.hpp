@@ -26,7 +26,10 @@
 // divergence.
 #pragma once
 
+#include <cstdint>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -103,6 +106,50 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
 // Largest stable step of that loop [s]: 2 / w_max with contacts stuck and the controller's
 // high-frequency gain Kc as one more spring from the drive's body to ground (Kc k_p for a pull drive).
 double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc);
+// The loop as a stepper whose whole state is one vector: the step simulate_loop takes (simulate_loop
+// runs this stepper), for periodic orbits of the loop (core/control/limit_cycles.hpp). Built by
+// loop_stepper (checks as simulate_loop); `horizon` [s] bounds the steps the plant's run allows.
+class LoopStepper {
+ public:
+  struct Forces {
+    double u = 0.0, ff = 0.0, friction = 0.0;  // controller, feedforward, friction to ground [N]
+  };
+  LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon);
+  ~LoopStepper();
+  LoopStepper(LoopStepper&&) noexcept;
+  LoopStepper& operator=(LoopStepper&&) noexcept;
+  // One step of dt; throws SimulationError when the loop diverges.
+  Forces step();
+  double output() const;    // x (or v for a velocity loop) of the output body
+  double velocity() const;  // the output body's velocity [m/s]
+  double reference() const;  // x_ref at the current time
+  double time() const;
+  long long step_index() const { return k_; }
+  double dt() const;
+  // Controller sample period in steps (1: continuous).
+  long long sample_every() const;
+  // State: the plant's (AssemblySimulation::state_vector), the controller's, the feedforward's.
+  std::vector<double> state() const;
+  void state_into(std::vector<double>& z) const;  // the same into z (its capacity reused)
+  // Sets the state and the step index (the time the reference and drive signals are read at; a
+  // sampled controller samples at multiples of sample_every()).
+  void set_state(std::span<const double> z, long long step_index);
+  // Per state entry: 1 where it is a continuous quantity, 0 where it is a flag (a friction
+  // element's slip flag) or a constant (the feedforward's model driven by a constant reference).
+  std::vector<std::uint8_t> continuous_mask() const;
+  std::size_t output_index() const;    // where output() sits in state()
+  std::size_t velocity_index() const;  // where velocity() sits in state()
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> p_;
+  long long k_ = 0;
+};
+// The stepper of the one-body loop (simulate_loop(s, c)) and of the assembled loop, configs checked
+// as simulate_loop checks them.
+LoopStepper loop_stepper(const Scenario& s, const LoopConfig& c, double horizon);
+LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon);
+
 LoopMetrics loop_metrics(const LoopTrace& tr);
 // e = r - x at every recorded sample [m].
 std::vector<double> tracking_error(const LoopTrace& tr);

@@ -556,6 +556,40 @@ void compact_minmax(AssemblyTrace& tr, double dt, std::uint64_t bucket_steps) {
   }
 }
 
+std::vector<double> AssemblySimulation::state_vector() const {
+  std::vector<double> z;
+  state_into(z);
+  return z;
+}
+
+void AssemblySimulation::state_into(std::vector<double>& z) const {
+  const std::size_t nb = sc_.plant.bodies.size();
+  z.clear();
+  z.insert(z.end(), x_.begin(), x_.begin() + static_cast<std::ptrdiff_t>(nb));
+  z.insert(z.end(), v_.begin(), v_.begin() + static_cast<std::ptrdiff_t>(nb));
+  z.insert(z.end(), xp_.begin(), xp_.end());
+  for (const auto& st : state_) z.insert(z.end(), st.begin(), st.end());
+}
+
+std::size_t AssemblySimulation::contact_state_offset(std::size_t j) const {
+  std::size_t o = 2 * sc_.plant.bodies.size() + xp_.size();
+  for (std::size_t i = 0; i < j && i < state_.size(); ++i) o += state_[i].size();
+  return o;
+}
+
+void AssemblySimulation::set_state_vector(std::span<const double> z) {
+  const std::size_t nb = sc_.plant.bodies.size();
+  if (z.size() != contact_state_offset(state_.size()))
+    throw InputError("assembly state: expected " + std::to_string(contact_state_offset(state_.size())) +
+                     " values, got " + std::to_string(z.size()));
+  std::size_t o = 0;
+  for (std::size_t i = 0; i < nb; ++i) x_[i] = z[o++];
+  for (std::size_t i = 0; i < nb; ++i) v_[i] = z[o++];
+  for (double& xp : xp_) xp = z[o++];
+  for (auto& st : state_)
+    for (double& s : st) s = z[o++];
+}
+
 void AssemblySimulation::set_drive_input(std::size_t i, double u) {
   if (i >= sc_.plant.drives.size() || (sc_.plant.drives[i].kind != DrivePart::Kind::Force &&
                                        sc_.plant.drives[i].kind != DrivePart::Kind::Pull))

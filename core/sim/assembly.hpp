@@ -216,6 +216,18 @@ class AssemblySimulation {
   // drive that is not a force or pull drive.
   void set_drive_input(std::size_t i, double u);
   std::span<const double> contact_state(std::size_t j) const { return state_[j]; }
+  // The dynamic state as one vector: every body's x, then v, every drive point x_p, then each
+  // contact's model state in turn (state_layout: where each part starts); the time is not part of
+  // it. set_state_vector takes one of the same size (InputError otherwise) and set_step moves the
+  // step counter (the time drives' signals are read at); both for a loop's periodic orbits
+  // (core/control/limit_cycles.hpp).
+  std::vector<double> state_vector() const;
+  void state_into(std::vector<double>& z) const;  // the same into z (cleared; capacity reused)
+  void set_state_vector(std::span<const double> z);
+  void set_step(std::uint64_t step) { step_ = step; }
+  std::uint64_t step() const { return step_; }
+  // Offset of contact j's model state in state_vector().
+  std::size_t contact_state_offset(std::size_t j) const;
 
  private:
   friend AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace);
