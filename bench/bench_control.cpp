@@ -7,8 +7,8 @@
 
 #include "core/control/design_session.hpp"
 #include "core/control/limit_cycles.hpp"
-#include "core/sim/assembly.hpp"
 #include "core/io/scenario_io.hpp"
+#include "core/sim/assembly.hpp"
 
 using namespace gmslab;
 using namespace gmslab::control;
@@ -280,8 +280,9 @@ ClosedLoop gms_pi_loop(double gain_scale = 1.0) {
 }
 }  // namespace
 
-// One orbit from a warm start, as on a drag: the orbit at gain 1 continued to gain 1.02 (quasi-Newton
-// from the neighbour's Jacobian, fresh finite-difference multipliers at the solution). Target < 16 ms.
+// One orbit from a warm start, as on a drag: the orbit at gain 1 continued to gain 1.02
+// (quasi-Newton from the neighbour's Jacobian, fresh finite-difference multipliers at the
+// solution). Target < 16 ms.
 static void BM_OrbitWarm(benchmark::State& st) {
   const ClosedLoop L = gms_pi_loop();
   const OrbitReport r = find_orbits(L);

@@ -1,5 +1,6 @@
-// gmslab cycles: periodic orbits (limit cycles) of a preset's position loop with a given controller,
-// their stability, a long simulation of the same loop and the hunting map over a gain scale.
+// gmslab cycles: periodic orbits (limit cycles) of a preset's position loop with a given
+// controller, their stability, a long simulation of the same loop and the hunting map over a gain
+// scale.
 //
 //   gmslab cycles PRESET --controller-num "1000 5000" --controller-den "1 0" [--drive D --output O]
 //                 [--gain-scale LO:HI:N] [--sample-time T] [--amplitude R] --json OUT
@@ -37,7 +38,8 @@ std::vector<double> negated_real_roots(const Poly& p, const std::string& what, b
   std::vector<double> r;
   for (const cplx& x : p.roots()) {
     if (std::abs(x.imag()) > 1e-9 * std::max(1.0, std::abs(x)))
-      throw InputError(what + ": complex roots are not a compensator section (real zeros and poles only)");
+      throw InputError(what +
+                       ": complex roots are not a compensator section (real zeros and poles only)");
     const double v = x.real() == 0.0 ? 0.0 : -x.real();
     if (v < 0.0 || (!zero_ok && v == 0.0))
       throw InputError(what + ": a root at s = " + std::to_string(x.real()) +
@@ -49,14 +51,20 @@ std::vector<double> negated_real_roots(const Poly& p, const std::string& what, b
 }
 
 LeadCompensator compensator_from(const std::string& num, const std::string& den) {
-  const Poly N = parse_polynomial(num, "--controller-num"), D = parse_polynomial(den, "--controller-den");
+  const Poly N = parse_polynomial(num, "--controller-num"),
+             D = parse_polynomial(den, "--controller-den");
   if (N.degree() != D.degree() || N.degree() < 1 || N.degree() > 2)
-    throw InputError("--controller-num / --controller-den: the same degree, 1 or 2 (one or two sections "
-                     "(s + z)/(s + p)); got " + std::to_string(N.degree()) + " and " + std::to_string(D.degree()));
+    throw InputError(
+        "--controller-num / --controller-den: the same degree, 1 or 2 (one or two sections "
+        "(s + z)/(s + p)); got " +
+        std::to_string(N.degree()) + " and " + std::to_string(D.degree()));
   const std::vector<double> z = negated_real_roots(N, "--controller-num", false),
                             p = negated_real_roots(D, "--controller-den", true);
   const double Kc = N.lead() / D.lead();
-  if (!(Kc > 0.0)) throw InputError("--controller-num / --controller-den: the gain (ratio of the leading coefficients) must be > 0");
+  if (!(Kc > 0.0))
+    throw InputError(
+        "--controller-num / --controller-den: the gain (ratio of the leading coefficients) must be "
+        "> 0");
   LeadCompensator C{Kc, z[0], p[0]};
   if (z.size() == 2) C.second = Section{z[1], p[1]};
   check_compensator(C, "--controller-num / --controller-den");
@@ -67,9 +75,10 @@ DesignInputs::GainGrid gain_grid(const std::string& text) {
   DesignInputs::GainGrid g;
   char c1 = 0, c2 = 0;
   std::istringstream in(text);
-  if (!(in >> g.lo >> c1 >> g.hi >> c2 >> g.n) || c1 != ':' || c2 != ':' || !(in >> std::ws).eof() ||
-      !(g.lo > 0.0) || !(g.hi > g.lo) || g.n < 2 || g.n > 200)
-    throw InputError("--gain-scale '" + text + "': expected LO:HI:N with 0 < LO < HI and N in [2, 200]");
+  if (!(in >> g.lo >> c1 >> g.hi >> c2 >> g.n) || c1 != ':' || c2 != ':' ||
+      !(in >> std::ws).eof() || !(g.lo > 0.0) || !(g.hi > g.lo) || g.n < 2 || g.n > 200)
+    throw InputError("--gain-scale '" + text +
+                     "': expected LO:HI:N with 0 < LO < HI and N in [2, 200]");
   return g;
 }
 
@@ -85,7 +94,8 @@ int run_cycles(const Opts& o) {
     in.scenario = preset.one_body();
   }
   in.manual = compensator_from(o.num, o.den);
-  if (!(o.amplitude != 0.0) || !std::isfinite(o.amplitude)) throw InputError("--amplitude must be finite and non-zero [m]");
+  if (!(o.amplitude != 0.0) || !std::isfinite(o.amplitude))
+    throw InputError("--amplitude must be finite and non-zero [m]");
   in.reference = Signal::constant(o.amplitude);
   in.sample_time = o.T;
   in.view = false;
@@ -99,16 +109,21 @@ int run_cycles(const Opts& o) {
   const nlohmann::json j = cycles_json(in, out);
   const std::string text = j.dump(2) + "\n";
   std::ostream& os = o.json == "-" ? std::cerr : std::cout;
-  if (o.json == "-") std::cout << text;
-  else write_file_atomic(o.json, text);
+  if (o.json == "-")
+    std::cout << text;
+  else
+    write_file_atomic(o.json, text);
   for (const auto& orb : j["orbits"])
-    os << (orb["stable"].get<bool>() ? "stable" : "unstable") << " orbit: amplitude " << orb["amplitude_m"].get<double>()
-       << " m, period " << orb["period_s"].get<double>() << " s, stick " << orb["stick_fraction"].get<double>() << '\n';
+    os << (orb["stable"].get<bool>() ? "stable" : "unstable") << " orbit: amplitude "
+       << orb["amplitude_m"].get<double>() << " m, period " << orb["period_s"].get<double>()
+       << " s, stick " << orb["stick_fraction"].get<double>() << '\n';
   if (j["orbits"].empty()) os << j["not_found"].get<std::string>() << '\n';
   const auto& s = j["simulation"];
-  os << "simulation: " << (s["hunting"].get<bool>() ? "hunting, amplitude " + std::to_string(s["amplitude_m"].get<double>()) +
-                                                          " m, period " + std::to_string(s["period_s"].get<double>()) + " s"
-                                                    : std::string("no hunting"))
+  os << "simulation: "
+     << (s["hunting"].get<bool>()
+             ? "hunting, amplitude " + std::to_string(s["amplitude_m"].get<double>()) +
+                   " m, period " + std::to_string(s["period_s"].get<double>()) + " s"
+             : std::string("no hunting"))
      << '\n';
   if (o.json != "-") os << "wrote " << o.json << '\n';
   return 0;
@@ -118,19 +133,28 @@ int run_cycles(const Opts& o) {
 void register_cycles(CLI::App& app, Action& action) {
   auto o = std::make_shared<Opts>();
   auto* sub = app.add_subcommand(
-      "cycles", "Limit cycles of a preset's loop with a given controller: periodic orbits, their stability, "
-                "a long simulation and the hunting map over a gain scale");
+      "cycles",
+      "Limit cycles of a preset's loop with a given controller: periodic orbits, their stability, "
+      "a long simulation and the hunting map over a gain scale");
   sub->add_option("preset", o->preset, "Scenario or assembled preset (JSON file)")->required();
-  sub->add_option("--controller-num", o->num, "Controller numerator, highest power first, e.g. \"1000 5000\"")->required();
-  sub->add_option("--controller-den", o->den, "Controller denominator, highest power first, e.g. \"1 0\" (an integrator)")
+  sub->add_option("--controller-num", o->num,
+                  "Controller numerator, highest power first, e.g. \"1000 5000\"")
       ->required();
-  sub->add_option("--drive", o->drive, "Assembled plant: the force or pull drive the controller acts through");
-  sub->add_option("--output", o->output, "Assembled plant: the measured output x.BODY (default: x of the drive's body)");
-  sub->add_option("--gain-scale", o->gain_scale, "Hunting map: controller gain scales LO:HI:N (geometric)")
+  sub->add_option("--controller-den", o->den,
+                  "Controller denominator, highest power first, e.g. \"1 0\" (an integrator)")
+      ->required();
+  sub->add_option("--drive", o->drive,
+                  "Assembled plant: the force or pull drive the controller acts through");
+  sub->add_option("--output", o->output,
+                  "Assembled plant: the measured output x.BODY (default: x of the drive's body)");
+  sub->add_option("--gain-scale", o->gain_scale,
+                  "Hunting map: controller gain scales LO:HI:N (geometric)")
       ->capture_default_str();
-  sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")->capture_default_str();
+  sub->add_option("--sample-time", o->T, "Controller sample time [s] (0 = continuous; Tustin)")
+      ->capture_default_str();
   sub->add_option("--amplitude", o->amplitude, "Constant set point [m]")->capture_default_str();
-  sub->add_option("--json", o->json, "Write the result as JSON to this file ('-' = stdout)")->required();
+  sub->add_option("--json", o->json, "Write the result as JSON to this file ('-' = stdout)")
+      ->required();
   sub->preparse_callback([o](std::size_t) { *o = Opts{}; });
   sub->callback([&action, o] { action = [o] { return run_cycles(*o); }; });
 }

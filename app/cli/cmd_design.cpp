@@ -118,10 +118,11 @@ void print_summary(std::ostream& os, const nlohmann::json& j) {
   }
   if (j.contains("limit_cycles") && j["limit_cycles"].contains("periodic_orbits")) {
     const auto& po = j["limit_cycles"]["periodic_orbits"];
-    if (po["orbits"].empty()) os << "periodic orbits: none (" << po["not_found"].get<std::string>() << ")\n";
+    if (po["orbits"].empty())
+      os << "periodic orbits: none (" << po["not_found"].get<std::string>() << ")\n";
     for (const auto& o : po["orbits"])
-      os << "periodic orbit: " << (o["stable"].get<bool>() ? "stable" : "unstable") << ", amplitude "
-         << f(o["amplitude_m"]) << " m, period " << f(o["period_s"]) << " s\n";
+      os << "periodic orbit: " << (o["stable"].get<bool>() ? "stable" : "unstable")
+         << ", amplitude " << f(o["amplitude_m"]) << " m, period " << f(o["period_s"]) << " s\n";
   }
   if (j.contains("limit_cycles") && j["limit_cycles"].contains("cycles")) {
     const auto& lc = j["limit_cycles"];

@@ -19,7 +19,8 @@
 //                        Leuven, Maxwell-slip and elasto-plastic, with GMS (structure mismatch:
 //                        what is named, and what remains, against the generating model's floor)
 //
-//   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits (core/control/limit_cycles.hpp)
+//   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits
+//   (core/control/limit_cycles.hpp)
 //                        of random loops (tests/control/random_loops.hpp) against their long
 //                        simulation: one row per loop, the counts of false negatives / positives
 //
@@ -424,13 +425,15 @@ int run_cycles(int records, unsigned seed0) {
     cycles_study::print_case(seed, c);
     hunts += c.sim.state == cycles_study::SimState::Hunting;
     rest += c.sim.state == cycles_study::SimState::Rest;
-    excluded += c.sim.state != cycles_study::SimState::Hunting && c.sim.state != cycles_study::SimState::Rest;
+    excluded += c.sim.state != cycles_study::SimState::Hunting &&
+                c.sim.state != cycles_study::SimState::Rest;
     fn += c.false_negative, fp += c.false_positive, ok += c.agree;
     std::fflush(stdout);
   }
-  std::printf("loops %d: hunting %d, at rest %d, excluded (unsettled or diverged simulation) %d; agree %d, "
-              "false negatives %d, false positives %d; %.1f s\n",
-              records, hunts, rest, excluded, ok, fn, fp, seconds_since(t0));
+  std::printf(
+      "loops %d: hunting %d, at rest %d, excluded (unsettled or diverged simulation) %d; agree %d, "
+      "false negatives %d, false positives %d; %.1f s\n",
+      records, hunts, rest, excluded, ok, fn, fp, seconds_since(t0));
   return 0;
 }
 

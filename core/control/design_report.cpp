@@ -24,19 +24,30 @@ void add_orbits(nlohmann::json& lc_parent, const DesignOutputs& out) {
 
 nlohmann::json to_json(const PeriodicOrbit& o) {
   nlohmann::json mu = nlohmann::json::array();
-  for (const auto& m : o.multipliers) mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
-  return {{"gain_scale", o.gain_scale},     {"amplitude_m", o.amplitude},
-          {"period_s", o.period},           {"mean_m", o.mean},
-          {"stick_fraction", o.stick_fraction}, {"multipliers", mu},
-          {"multipliers_fresh", o.multipliers_fresh}, {"stable", o.stable}, {"growth_per_period", o.growth},
-          {"residual", o.residual},         {"returns", o.returns},
-          {"map_evaluations", o.map_evaluations}, {"seed", o.seed}};
+  for (const auto& m : o.multipliers)
+    mu.push_back({{"re", m.real()}, {"im", m.imag()}, {"abs", std::abs(m)}});
+  return {{"gain_scale", o.gain_scale},
+          {"amplitude_m", o.amplitude},
+          {"period_s", o.period},
+          {"mean_m", o.mean},
+          {"stick_fraction", o.stick_fraction},
+          {"multipliers", mu},
+          {"multipliers_fresh", o.multipliers_fresh},
+          {"stable", o.stable},
+          {"growth_per_period", o.growth},
+          {"residual", o.residual},
+          {"returns", o.returns},
+          {"map_evaluations", o.map_evaluations},
+          {"seed", o.seed}};
 }
 
 nlohmann::json to_json(const OrbitReport& r) {
   nlohmann::json orbits = nlohmann::json::array();
   for (const PeriodicOrbit& o : r.orbits) orbits.push_back(to_json(o));
-  nlohmann::json j = {{"orbits", orbits}, {"method", r.method}, {"map_evaluations", r.map_evaluations}, {"dt_s", r.dt}};
+  nlohmann::json j = {{"orbits", orbits},
+                      {"method", r.method},
+                      {"map_evaluations", r.map_evaluations},
+                      {"dt_s", r.dt}};
   j["not_found"] = r.not_found.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.not_found);
   return j;
 }
@@ -44,30 +55,39 @@ nlohmann::json to_json(const OrbitReport& r) {
 nlohmann::json to_json(const HuntingMap& m) {
   nlohmann::json pts = nlohmann::json::array();
   for (const HuntingMapPoint& p : m.points) {
-    if (p.orbit) pts.push_back(to_json(*p.orbit));
-    else pts.push_back({{"gain_scale", p.gain_scale}, {"orbit", nullptr}});
+    if (p.orbit)
+      pts.push_back(to_json(*p.orbit));
+    else
+      pts.push_back({{"gain_scale", p.gain_scale}, {"orbit", nullptr}});
   }
   return {{"points", pts},
           {"fold_gain_scale", m.fold ? nlohmann::json(*m.fold) : nlohmann::json(nullptr)},
-          {"lost_above_gain_scale", m.lost_above ? nlohmann::json(*m.lost_above) : nlohmann::json(nullptr)},
+          {"lost_above_gain_scale",
+           m.lost_above ? nlohmann::json(*m.lost_above) : nlohmann::json(nullptr)},
           {"note", m.note},
           {"map_evaluations", m.map_evaluations}};
 }
 
 nlohmann::json cycles_json(const DesignInputs& in, const DesignOutputs& out) {
-  if (!out.orbits || !out.compensator) throw InternalError("cycles report: the design job has no orbits (" + out.error + ")");
+  if (!out.orbits || !out.compensator)
+    throw InternalError("cycles report: the design job has no orbits (" + out.error + ")");
   nlohmann::json j = to_json(*out.orbits);
   j["compensator"] = compensator_json(*out.compensator);
   j["sample_time_s"] = in.sample_time;
   j["reference_m"] = in.reference(0.0);
   if (!out.loops.empty() && !out.loops.front().trace.t.empty()) {
     const LoopRun& run = out.loops.front();
-    const double dt = run.trace.t.size() > 1 ? run.trace.t.back() / static_cast<double>(run.trace.t.size() - 1) : 0.0;
-    j["simulation"] = {{"hunting", run.metrics.hunting},
-                       {"amplitude_m", run.metrics.hunting ? nlohmann::json(run.metrics.cycle_amplitude) : nlohmann::json(nullptr)},
-                       {"period_s", run.metrics.hunting ? nlohmann::json(run.metrics.cycle_period) : nlohmann::json(nullptr)},
-                       {"duration_s", run.trace.t.back()},
-                       {"record_step_s", dt}};
+    const double dt = run.trace.t.size() > 1
+                          ? run.trace.t.back() / static_cast<double>(run.trace.t.size() - 1)
+                          : 0.0;
+    j["simulation"] = {
+        {"hunting", run.metrics.hunting},
+        {"amplitude_m", run.metrics.hunting ? nlohmann::json(run.metrics.cycle_amplitude)
+                                            : nlohmann::json(nullptr)},
+        {"period_s",
+         run.metrics.hunting ? nlohmann::json(run.metrics.cycle_period) : nlohmann::json(nullptr)},
+        {"duration_s", run.trace.t.back()},
+        {"record_step_s", dt}};
   }
   if (out.hunting_map) {
     const nlohmann::json m = to_json(*out.hunting_map);
@@ -76,9 +96,12 @@ nlohmann::json cycles_json(const DesignInputs& in, const DesignOutputs& out) {
     j["map_note"] = m["note"];
   }
   const HuntingCycle* hc = out.hunting ? out.hunting->hunting() : nullptr;
-  j["describing_function"] = hc ? nlohmann::json{{"amplitude_m", hc->amplitude}, {"period_s", hc->period},
-                                                 {"valid", hc->valid}, {"note", "quick estimate (hunting describing function)"}}
-                                : nlohmann::json(nullptr);
+  j["describing_function"] =
+      hc ? nlohmann::json{{"amplitude_m", hc->amplitude},
+                          {"period_s", hc->period},
+                          {"valid", hc->valid},
+                          {"note", "quick estimate (hunting describing function)"}}
+         : nlohmann::json(nullptr);
   return j;
 }
 
@@ -107,7 +130,8 @@ DesignInputs design_inputs(const DesignRequest& r, std::optional<CompensatorType
   in.mismatch = r.mismatch;
   in.loop_timing = r.timing;
   // The orbits of the loop whose compensator the report simulates (or would).
-  in.periodic_orbits = r.periodic_orbits && (r.scenario || r.assembly) && typed.has_value() == r.compensator.has_value();
+  in.periodic_orbits = r.periodic_orbits && (r.scenario || r.assembly) &&
+                       typed.has_value() == r.compensator.has_value();
   return in;
 }
 

@@ -11,11 +11,11 @@
 // "compensator" (exported coefficients), "plant" (plant_json), for a one-body scenario
 // "limit_cycles" (the lead loop without compensation: the velocity-DF cycles with the stick-slip
 // hunting under "hunting"; for a scenario or assembled plant the loop's periodic orbits under
-// "periodic_orbits", core/control/limit_cycles.hpp), with lag_K "lead_lag" {zl, pl, K_lead, K, lag_angle_deg,
-// closed_loop_poles, dominant, slow_pole, slow_time_constant_s, num, den, compensator}, with a
-// compensator type "typed_compensator", with simulate "simulation" [one per compensation: the loop
-// metrics, "compensation", "feedforward_source", and with the measured-velocity feedforward on a
-// one-body scenario "limit_cycles" of F - F_hat].
+// "periodic_orbits", core/control/limit_cycles.hpp), with lag_K "lead_lag" {zl, pl, K_lead, K,
+// lag_angle_deg, closed_loop_poles, dominant, slow_pole, slow_time_constant_s, num, den,
+// compensator}, with a compensator type "typed_compensator", with simulate "simulation" [one per
+// compensation: the loop metrics, "compensation", "feedforward_source", and with the
+// measured-velocity feedforward on a one-body scenario "limit_cycles" of F - F_hat].
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -83,11 +83,12 @@ nlohmann::json typed_compensator_json(const DesignInputs& in, const DesignOutput
 nlohmann::json simulation_json(const DesignInputs& in, const DesignOutputs& out);
 // The "lead_lag" key.
 nlohmann::json to_json(const LeadLagDesign& ll);
-// limit_cycles.periodic_orbits: {orbits [{gain_scale, amplitude_m, period_s, mean_m, stick_fraction,
-// multipliers [{re, im, abs}], multipliers_fresh, stable, residual, returns, map_evaluations, seed}],
-// method, not_found (null when there are orbits), map_evaluations, dt_s (the loop's step: the
-// simulation's, or the automatic one when the timing gives no step)}; limit_cycles.map: {points [an
-// orbit, or {gain_scale, orbit: null}], fold_gain_scale, lost_above_gain_scale, note, map_evaluations}.
+// limit_cycles.periodic_orbits: {orbits [{gain_scale, amplitude_m, period_s, mean_m,
+// stick_fraction, multipliers [{re, im, abs}], multipliers_fresh, stable, residual, returns,
+// map_evaluations, seed}], method, not_found (null when there are orbits), map_evaluations, dt_s
+// (the loop's step: the simulation's, or the automatic one when the timing gives no step)};
+// limit_cycles.map: {points [an orbit, or {gain_scale, orbit: null}], fold_gain_scale,
+// lost_above_gain_scale, note, map_evaluations}.
 nlohmann::json to_json(const PeriodicOrbit& o);
 nlohmann::json to_json(const OrbitReport& r);
 nlohmann::json to_json(const HuntingMap& m);

@@ -397,7 +397,8 @@ void orbit_stage(const DesignInputs& in, DesignOutputs& out, const LoopConfig& c
   OrbitReport& rep = out.orbits.emplace();
   if (in.reference.kind != Signal::Kind::Constant) {
     rep.method = "none";
-    rep.not_found = "periodic orbits: not computed for a " + std::string(to_string(in.reference.kind)) +
+    rep.not_found = "periodic orbits: not computed for a " +
+                    std::string(to_string(in.reference.kind)) +
                     " reference (the orbits are the loop's around a constant set point)";
     return;
   }
@@ -407,10 +408,12 @@ void orbit_stage(const DesignInputs& in, DesignOutputs& out, const LoopConfig& c
   const PeriodicOrbit* start = rep.stable();
   if (!start) {
     HuntingMap& m = out.hunting_map.emplace();
-    m.note = "hunting map: no stable orbit at the design's gain to continue from (" + rep.not_found + ")";
+    m.note = "hunting map: no stable orbit at the design's gain to continue from (" +
+             rep.not_found + ")";
     return;
   }
-  out.hunting_map = hunting_map(L, *start, in.hunting_map->lo, in.hunting_map->hi, in.hunting_map->n);
+  out.hunting_map =
+      hunting_map(L, *start, in.hunting_map->lo, in.hunting_map->hi, in.hunting_map->n);
 }
 
 // Each loop with friction, on the scenario's one body or the assembled plant.
@@ -419,7 +422,8 @@ void simulation_stage(const DesignInputs& in, DesignOutputs& out, LoopConfig cfg
   // step, so the simulation and the orbit see the same loop).
   const PeriodicOrbit* orbit = out.orbits ? out.orbits->stable() : nullptr;
   if (orbit && out.orbits->dt != cfg.dt) orbit = nullptr;
-  if (orbit && !in.loop_timing && in.horizon == 0.0 && in.reference.kind == Signal::Kind::Constant &&
+  if (orbit && !in.loop_timing && in.horizon == 0.0 &&
+      in.reference.kind == Signal::Kind::Constant &&
       cfg.duration < std::min(60.0, 20.0 * orbit->period)) {
     cfg.duration = std::min(60.0, 20.0 * orbit->period);
     cfg.record_every = std::max(1, static_cast<int>(cfg.duration / cfg.dt / 1000));

@@ -35,13 +35,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/control/design_plant.hpp"
 #include "core/control/describing_function.hpp"
+#include "core/control/design_plant.hpp"
 #include "core/control/discrete.hpp"
 #include "core/control/frequency.hpp"
 #include "core/control/hunting.hpp"
-#include "core/control/limit_cycles.hpp"
 #include "core/control/lead_design.hpp"
+#include "core/control/limit_cycles.hpp"
 #include "core/control/linear_response.hpp"
 #include "core/control/loop_simulation.hpp"
 #include "core/control/root_locus.hpp"
@@ -223,7 +223,8 @@ struct DesignOutputs {
   // 0.9 x the stability limit, <= 4000 steps per period); none otherwise.
   std::optional<HuntingReport> hunting;
   // Periodic orbits of the loop without compensation (with periodic_orbits; a typed plant has
-  // none: loop_note) and the hunting map (with hunting_map, from the stable orbit when there is one).
+  // none: loop_note) and the hunting map (with hunting_map, from the stable orbit when there is
+  // one).
   std::optional<OrbitReport> orbits;
   std::optional<HuntingMap> hunting_map;
   // The loops with friction in the order of the inputs' loop_compensations (none for a typed plant

@@ -1,11 +1,10 @@
 #include "core/control/limit_cycles.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
-
-#include <Eigen/Dense>
 
 #include "core/error.hpp"
 
@@ -28,7 +27,8 @@ LoopStepper make_stepper(const ClosedLoop& L, double scale, double horizon) {
   LoopConfig c = L.config;
   c.C.Kc *= scale;
   c.duration = horizon;
-  return L.assembly ? loop_stepper(*L.assembly, L.port, c, horizon) : loop_stepper(L.scenario, c, horizon);
+  return L.assembly ? loop_stepper(*L.assembly, L.port, c, horizon)
+                    : loop_stepper(L.scenario, c, horizon);
 }
 
 std::string num(double v) {
@@ -51,7 +51,8 @@ struct MapRun {
 // interpolated inside the step; sampled: at the first sample instant after the crossing.
 class CrossingWatch {
  public:
-  CrossingWatch(double level, bool sampled, long long every) : level_(level), sampled_(sampled), every_(every) {}
+  CrossingWatch(double level, bool sampled, long long every)
+      : level_(level), sampled_(sampled), every_(every) {}
   void reset(double y) {
     ys_prev_ = y;
     armed_ = y < level_;
@@ -93,12 +94,18 @@ class CrossingWatch {
 class SectionMap {
  public:
   SectionMap(const ClosedLoop& L, double scale, double level, double max_period, int returns)
-      : st_(make_stepper(L, scale, max_period + 1.0)), level_(level), returns_(returns), mask_(st_.continuous_mask()),
-        out_(st_.output_index()), vel_(st_.velocity_index()),
-        max_steps_(std::llround(max_period / L.config.dt)), sampled_(L.config.sample_time > 0.0) {}
+      : st_(make_stepper(L, scale, max_period + 1.0)),
+        level_(level),
+        returns_(returns),
+        mask_(st_.continuous_mask()),
+        out_(st_.output_index()),
+        vel_(st_.velocity_index()),
+        max_steps_(std::llround(max_period / L.config.dt)),
+        sampled_(L.config.sample_time > 0.0) {}
 
   // Interpolates the state between the step's start zp and end zc with weight th (flags from zc).
-  void interpolate(const std::vector<double>& zp, const std::vector<double>& zc, double th, std::vector<double>& z) const {
+  void interpolate(const std::vector<double>& zp, const std::vector<double>& zc, double th,
+                   std::vector<double>& z) const {
     z = zc;
     for (std::size_t i = 0; i < z.size(); ++i)
       if (mask_[i]) z[i] = zp[i] + th * (zc[i] - zp[i]);
@@ -150,7 +157,8 @@ class SectionMap {
       if ((k + 1) % kCheckpoint == 0) {
         st_.state_into(zk_);
         k_check = k + 1;
-        for (std::size_t i = 0; i < zk_.size(); ++i) lo[i] = std::min(lo[i], zk_[i]), hi[i] = std::max(hi[i], zk_[i]);
+        for (std::size_t i = 0; i < zk_.size(); ++i)
+          lo[i] = std::min(lo[i], zk_[i]), hi[i] = std::max(hi[i], zk_[i]);
       }
     }
     r.range.resize(lo.size());
@@ -185,8 +193,10 @@ class OrbitSolver {
     if (!r.crossed) return std::nullopt;
     const bool reuse = warm && warm->scale.size() == z.size() && !warm->unknowns.empty() &&
                        warm->jacobian.size() == warm->unknowns.size() * warm->unknowns.size();
-    if (reuse) unknowns_ = warm->unknowns, scale_ = warm->scale;
-    else choose_unknowns(r);
+    if (reuse)
+      unknowns_ = warm->unknowns, scale_ = warm->scale;
+    else
+      choose_unknowns(r);
     double res = residual(z, r);
     for (int it = 0; !warm && it < opt_.fixed_point && res > opt_.tolerance; ++it) {
       MapRun r2 = map_.run(r.z);
@@ -197,14 +207,17 @@ class OrbitSolver {
     // The map is only as smooth as one step resolves its events (a break-away one step later moves
     // the orbit by about 2 pi dt / T of its range): Newton stops there when it cannot do better.
     // (A sampled controller resolves them to its sample period.)
-    const double resolution = map_.sampled_ ? map_.st_.dt() * static_cast<double>(map_.st_.sample_every()) : map_.st_.dt();
+    const double resolution = map_.sampled_
+                                  ? map_.st_.dt() * static_cast<double>(map_.st_.sample_every())
+                                  : map_.st_.dt();
     const double step_noise = 2.0 * std::numbers::pi * resolution / r.period;
     // Differences over a few such steps, so that one event a step early or late does not dominate.
     // A sampled loop's map jumps by whole sample periods: wider central differences.
     central_ = map_.sampled_;
     fd_ = std::max(opt_.fd_step, (central_ ? 16.0 : 4.0) * step_noise);
     const auto n = static_cast<Eigen::Index>(unknowns_.size());
-    Eigen::MatrixXd M = reuse ? Eigen::Map<const Eigen::MatrixXd>(warm->jacobian.data(), n, n) : jacobian(z, r);
+    Eigen::MatrixXd M =
+        reuse ? Eigen::Map<const Eigen::MatrixXd>(warm->jacobian.data(), n, n) : jacobian(z, r);
     bool fresh = !reuse;
     for (int it = 0; it < opt_.newton && res > opt_.tolerance; ++it) {
       if (newton_step(z, r, res, M)) {
@@ -216,7 +229,8 @@ class OrbitSolver {
       }
     }
     last_residual = res, last_resolution = step_noise;
-    if (res > std::max(opt_.tolerance, std::min(kResolutionFactor * step_noise, kMaxResidual))) return std::nullopt;
+    if (res > std::max(opt_.tolerance, std::min(kResolutionFactor * step_noise, kMaxResidual)))
+      return std::nullopt;
     if (!fresh && opt_.fresh_multipliers) M = jacobian(z, r), fresh = true;
     PeriodicOrbit o = orbit(z, r, M, res, fresh);
     if (!o.stable) check_by_iteration(o, M, std::max(0.02, 4.0 * step_noise));
@@ -233,7 +247,8 @@ class OrbitSolver {
     scale_.assign(r.z.size(), 1.0);
     for (std::size_t i = 0; i < r.z.size(); ++i) {
       scale_[i] = r.range[i];
-      if (map_.mask_[i] && r.range[i] > 0.0 && (map_.sampled_ || i != map_.out_)) unknowns_.push_back(i);
+      if (map_.mask_[i] && r.range[i] > 0.0 && (map_.sampled_ || i != map_.out_))
+        unknowns_.push_back(i);
     }
   }
   double residual(const std::vector<double>& z, const MapRun& r) const {
@@ -244,7 +259,8 @@ class OrbitSolver {
   // dP/dz in the scaled unknowns (forward differences).
   Eigen::MatrixXd jacobian(const std::vector<double>& z, const MapRun& r) {
     const std::size_t n = unknowns_.size();
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    Eigen::MatrixXd M =
+        Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
     for (std::size_t j = 0; j < n; ++j) {
       std::vector<double> zj = z;
       const double e = fd_ * scale_[unknowns_[j]];
@@ -280,7 +296,8 @@ class OrbitSolver {
       return out;
     };
     const Eigen::VectorXd g = scaled(r.z) - scaled(z);
-    const Eigen::VectorXd du = (M - Eigen::MatrixXd::Identity(n, n)).colPivHouseholderQr().solve(-g);
+    const Eigen::VectorXd du =
+        (M - Eigen::MatrixXd::Identity(n, n)).colPivHouseholderQr().solve(-g);
     if (!du.allFinite()) return false;
     for (double lam = 1.0; lam > 0.2; lam *= 0.5) {
       std::vector<double> zn = z;
@@ -317,9 +334,10 @@ class OrbitSolver {
 
   // The multipliers say unstable: the second method, iterating the map from the orbit displaced
   // by `size` (scaled) along the dominant eigenvector. The displacement's growth per period over
-  // kIterations returns, (d_n / d_0)^(1/n), is kept; below 1 + 1e-2 (no growth: an attracting orbit,
-  // or a family of orbits whose never-slipping elements keep any offset, multiplier 1) the orbit is
-  // stable, the finite differences having straddled an event (a break-away a step earlier or later).
+  // kIterations returns, (d_n / d_0)^(1/n), is kept; below 1 + 1e-2 (no growth: an attracting
+  // orbit, or a family of orbits whose never-slipping elements keep any offset, multiplier 1) the
+  // orbit is stable, the finite differences having straddled an event (a break-away a step earlier
+  // or later).
   void check_by_iteration(PeriodicOrbit& o, const Eigen::MatrixXd& M, double size) {
     constexpr int kIterations = 6;
     const auto n = static_cast<Eigen::Index>(unknowns_.size());
@@ -332,7 +350,9 @@ class OrbitSolver {
     if (dir.cwiseAbs().maxCoeff() == 0.0) dir = es.eigenvectors().col(imax).imag();
     dir *= size / dir.cwiseAbs().maxCoeff();
     std::vector<double> z = o.section_state;
-    for (Eigen::Index i = 0; i < n; ++i) z[unknowns_[static_cast<std::size_t>(i)]] += dir(i) * scale_[unknowns_[static_cast<std::size_t>(i)]];
+    for (Eigen::Index i = 0; i < n; ++i)
+      z[unknowns_[static_cast<std::size_t>(i)]] +=
+          dir(i) * scale_[unknowns_[static_cast<std::size_t>(i)]];
     double d = size;
     for (int it = 0; it < kIterations; ++it) {
       const MapRun r = map_.run(z);
@@ -340,13 +360,14 @@ class OrbitSolver {
       z = r.z;
     }
     d = 0.0;
-    for (std::size_t k : unknowns_) d = std::max(d, std::abs(z[k] - o.section_state[k]) / scale_[k]);
+    for (std::size_t k : unknowns_)
+      d = std::max(d, std::abs(z[k] - o.section_state[k]) / scale_[k]);
     o.growth = std::pow(d / size, 1.0 / kIterations);
     o.stable = o.growth < 1.0 + 1e-2;
   }
 
-  PeriodicOrbit orbit(const std::vector<double>& z, const MapRun& r, const Eigen::MatrixXd& M, double res,
-                      bool fresh) const {
+  PeriodicOrbit orbit(const std::vector<double>& z, const MapRun& r, const Eigen::MatrixXd& M,
+                      double res, bool fresh) const {
     PeriodicOrbit o;
     o.unknowns = unknowns_;
     o.scale = scale_;
@@ -382,22 +403,25 @@ struct Seed {
   std::vector<double> z;
   double period = 0.0;  // of `returns` crossings [s]
   int crossings = 0;
-  int returns = 1;      // crossings per period (the cycle may cross the level several times upward)
+  int returns = 1;  // crossings per period (the cycle may cross the level several times upward)
   double stopped_at = 0.0;  // > 0: the crossings stopped then (the loop came to rest) [s]
 };
 // The crossings per period k (1..4) whose state returns closest, the smallest one within twice the
-// best distance plus `slack`; the distance: max over continuous entries of |z_last - z_last-k| / range.
+// best distance plus `slack`; the distance: max over continuous entries of |z_last - z_last-k| /
+// range.
 struct Return {
   int k = 1;
   double dist = 1e300;
 };
 Return best_return(const std::vector<std::vector<double>>& zs, const std::vector<double>& lo,
-                   const std::vector<double>& hi, const std::vector<std::uint8_t>& mask, double slack) {
+                   const std::vector<double>& hi, const std::vector<std::uint8_t>& mask,
+                   double slack) {
   const std::size_t n = zs.size();
   const auto dist = [&](std::size_t k) {
     double d = 0.0;
     for (std::size_t i = 0; i < zs[n - 1].size(); ++i)
-      if (mask[i] && hi[i] > lo[i]) d = std::max(d, std::abs(zs[n - 1][i] - zs[n - 1 - k][i]) / (hi[i] - lo[i]));
+      if (mask[i] && hi[i] > lo[i])
+        d = std::max(d, std::abs(zs[n - 1][i] - zs[n - 1 - k][i]) / (hi[i] - lo[i]));
     return d;
   };
   Return r;
@@ -411,7 +435,8 @@ Return best_return(const std::vector<std::vector<double>>& zs, const std::vector
 
 // The short simulation: from z0 (or rest) until the crossings repeat (the best return within
 // kSeedSettled of the entries' ranges between the last five crossings) or opt.seed_duration.
-Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0, const OrbitOptions& opt) {
+Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0,
+              const OrbitOptions& opt) {
   constexpr double kSeedSettled = 0.01;
   constexpr double kSeedMinTime = 10.0;  // [s]: a transient may look periodic for a while
   LoopStepper st = make_stepper(L, 1.0, opt.seed_duration + 1.0);
@@ -432,7 +457,8 @@ Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0, 
   for (long long k = 0; k < steps; ++k) {
     st.step();
     st.state_into(zc);
-    for (std::size_t i = 0; i < zc.size(); ++i) seg_lo[i] = std::min(seg_lo[i], zc[i]), seg_hi[i] = std::max(seg_hi[i], zc[i]);
+    for (std::size_t i = 0; i < zc.size(); ++i)
+      seg_lo[i] = std::min(seg_lo[i], zc[i]), seg_hi[i] = std::max(seg_hi[i], zc[i]);
     const double th = watch.check(zp[st.output_index()], zc[st.output_index()], st.step_index());
     if (th > 0.0) {
       ts.push_back((static_cast<double>(k) + th) * L.config.dt);
@@ -454,10 +480,11 @@ Seed seed_run(const ClosedLoop& L, double level, const std::vector<double>* z0, 
       if (zs.size() >= 3) {
         // A sampled loop's crossings differ by the sample period's resolution.
         const double slack =
-            std::min(kMaxResidual, 1e-3 + kResolutionFactor * 2.0 * std::numbers::pi * resolution / (ts.back() - ts[ts.size() - 2]));
+            std::min(kMaxResidual, 1e-3 + kResolutionFactor * 2.0 * std::numbers::pi * resolution /
+                                              (ts.back() - ts[ts.size() - 2]));
         ret = best_return(zs, lo, hi, mask, slack);
-        // Settled: the state returns, and the output's excursion over the last period is that of the
-        // one before within 1 % (a slowly decaying oscillation returns close too, but shrinks).
+        // Settled: the state returns, and the output's excursion over the last period is that of
+        // the one before within 1 % (a slowly decaying oscillation returns close too, but shrinks).
         const std::size_t nk = static_cast<std::size_t>(ret.k), o = st.output_index();
         bool same_swing = segs.size() >= 2 * nk;
         if (same_swing) {
@@ -511,7 +538,8 @@ bool same_orbit(const PeriodicOrbit& a, const PeriodicOrbit& b) {
 
 void check_loop(const ClosedLoop& L) {
   if (L.config.reference.kind != Signal::Kind::Constant)
-    throw InputError("periodic orbits: the reference must be constant (the loop's orbits around a set point)");
+    throw InputError(
+        "periodic orbits: the reference must be constant (the loop's orbits around a set point)");
 }
 }  // namespace
 
@@ -541,14 +569,16 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
       LoopStepper st = make_stepper(L, 1.0, 1.0);
       std::vector<double> z0(st.state().size(), 0.0);
       z0[st.output_index()] = level - hc->amplitude;
-      method << " and from rest at the describing function's amplitude " << num(hc->amplitude) << " m below it";
+      method << " and from rest at the describing function's amplitude " << num(hc->amplitude)
+             << " m below it";
       seeds.push_back({"describing function", seed_run(L, level, &z0, opt)});
     }
     std::vector<std::string> why;
     for (auto& [name, seed] : seeds) {
       if (seed.stopped_at > 0.0) {
-        why.push_back("the " + name + " seed stopped crossing the level after " + num(seed.stopped_at) + " s of " +
-                      num(opt.seed_duration) + " s (the loop settles)");
+        why.push_back("the " + name + " seed stopped crossing the level after " +
+                      num(seed.stopped_at) + " s of " + num(opt.seed_duration) +
+                      " s (the loop settles)");
         continue;
       }
       if (seed.crossings < 2) {
@@ -556,29 +586,34 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
                       " time(s) in " + num(opt.seed_duration) + " s (the loop settles)");
         continue;
       }
-      const double max_period = opt.max_period > 0.0 ? opt.max_period : std::max(3.0 * seed.period, 0.05);
+      const double max_period =
+          opt.max_period > 0.0 ? opt.max_period : std::max(3.0 * seed.period, 0.05);
       SectionMap map(L, 1.0, level, max_period, seed.returns);
       OrbitSolver solver(map, opt);
       std::optional<PeriodicOrbit> o = solver.solve(seed.z);
       rep.map_evaluations += map.evaluations;
       if (!o && solver.last_drift) {
-        why.push_back("the " + name + " seed's solution drifts over further periods (a slowly settling transient, "
+        why.push_back("the " + name +
+                      " seed's solution drifts over further periods (a slowly settling transient, "
                       "not a periodic orbit)");
         continue;
       }
       if (!o) {
-        why.push_back("Newton from the " + name + " seed did not converge within " + std::to_string(opt.newton) +
-                      " iterations (scaled residual " + num(solver.last_residual) + " above the step's resolution " +
+        why.push_back("Newton from the " + name + " seed did not converge within " +
+                      std::to_string(opt.newton) + " iterations (scaled residual " +
+                      num(solver.last_residual) + " above the step's resolution " +
                       num(solver.last_resolution) + "; periods up to " + num(max_period) + " s)");
         continue;
       }
       if (!(o->amplitude < 100.0 * std::max(std::abs(level), 1e-3))) {
-        why.push_back("the " + name + " seed's orbit grows beyond 100 x the set point (the loop diverges)");
+        why.push_back("the " + name +
+                      " seed's orbit grows beyond 100 x the set point (the loop diverges)");
         continue;
       }
       o->seed = name;
       o->map_evaluations = map.evaluations;
-      if (std::none_of(rep.orbits.begin(), rep.orbits.end(), [&](const PeriodicOrbit& p) { return same_orbit(p, *o); }))
+      if (std::none_of(rep.orbits.begin(), rep.orbits.end(),
+                       [&](const PeriodicOrbit& p) { return same_orbit(p, *o); }))
         rep.orbits.push_back(std::move(*o));
     }
     if (rep.orbits.empty()) {
@@ -590,13 +625,14 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
     rep.not_found = std::string("no periodic orbit: the loop diverges (") + e.what() + ")";
   }
   rep.method = method.str();
-  std::sort(rep.orbits.begin(), rep.orbits.end(),
-            [](const PeriodicOrbit& a, const PeriodicOrbit& b) { return a.amplitude > b.amplitude; });
+  std::sort(
+      rep.orbits.begin(), rep.orbits.end(),
+      [](const PeriodicOrbit& a, const PeriodicOrbit& b) { return a.amplitude > b.amplitude; });
   return rep;
 }
 
-std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& L, const PeriodicOrbit& from, double scale,
-                                            const OrbitOptions& opt) {
+std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& L, const PeriodicOrbit& from,
+                                            double scale, const OrbitOptions& opt) {
   check_loop(L);
   const double max_period = opt.max_period > 0.0 ? opt.max_period : 3.0 * from.period;
   SectionMap map(L, scale, from.level, max_period, from.returns);
@@ -618,18 +654,20 @@ std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& L, const PeriodicO
 HuntingMap hunting_map(const ClosedLoop& L, const PeriodicOrbit& start, double lo, double hi, int n,
                        const OrbitOptions& opt) {
   if (!(lo > 0.0) || !(hi > lo) || n < 2)
-    throw InputError("hunting map: need 0 < LO < HI and N >= 2 gain scales (got " + num(lo) + ":" + num(hi) + ":" +
-                     std::to_string(n) + ")");
+    throw InputError("hunting map: need 0 < LO < HI and N >= 2 gain scales (got " + num(lo) + ":" +
+                     num(hi) + ":" + std::to_string(n) + ")");
   HuntingMap m;
   for (int i = 0; i < n; ++i)
     m.points.push_back({lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1)), std::nullopt});
   // From the start (gain scale 1) outwards in both directions, each point from its neighbour.
-  const auto it = std::lower_bound(m.points.begin(), m.points.end(), 1.0,
-                                   [](const HuntingMapPoint& p, double s) { return p.gain_scale < s; });
+  const auto it =
+      std::lower_bound(m.points.begin(), m.points.end(), 1.0,
+                       [](const HuntingMapPoint& p, double s) { return p.gain_scale < s; });
   const auto up0 = static_cast<std::ptrdiff_t>(it - m.points.begin());
   const auto walk = [&](std::ptrdiff_t i0, std::ptrdiff_t step) {
     PeriodicOrbit prev = start;
-    for (std::ptrdiff_t i = i0; i >= 0 && i < static_cast<std::ptrdiff_t>(m.points.size()); i += step) {
+    for (std::ptrdiff_t i = i0; i >= 0 && i < static_cast<std::ptrdiff_t>(m.points.size());
+         i += step) {
       const double target = m.points[static_cast<std::size_t>(i)].gain_scale;
       double s = prev.gain_scale;
       std::optional<PeriodicOrbit> o;
@@ -646,8 +684,10 @@ HuntingMap hunting_map(const ClosedLoop& L, const PeriodicOrbit& start, double l
         }
       }
       if (std::abs(target - s) > 1e-12 * target) {
-        if (step < 0) m.fold = s;  // the last orbit of the branch, within ds of its end
-        else m.lost_above = s;
+        if (step < 0)
+          m.fold = s;  // the last orbit of the branch, within ds of its end
+        else
+          m.lost_above = s;
         return;
       }
       m.points[static_cast<std::size_t>(i)].orbit = prev;
@@ -656,10 +696,14 @@ HuntingMap hunting_map(const ClosedLoop& L, const PeriodicOrbit& start, double l
   walk(up0 - 1, -1);
   walk(up0, +1);
   std::ostringstream note;
-  note << "natural-parameter continuation in the gain scale from the orbit at 1 (Newton warm-started from the "
+  note << "natural-parameter continuation in the gain scale from the orbit at 1 (Newton "
+          "warm-started from the "
           "neighbouring orbit, step halved up to 4 times); ";
-  if (m.fold) note << "the branch ends near gain scale " << num(*m.fold) << " (fold: no orbit of this branch below)";
-  else note << "no fold in [" << num(lo) << ", " << num(hi) << "]";
+  if (m.fold)
+    note << "the branch ends near gain scale " << num(*m.fold)
+         << " (fold: no orbit of this branch below)";
+  else
+    note << "no fold in [" << num(lo) << ", " << num(hi) << "]";
   if (m.lost_above) note << "; the branch was lost above gain scale " << num(*m.lost_above);
   note << "; unstable branches are not traced";
   m.note = note.str();

@@ -50,30 +50,31 @@ struct OrbitOptions {
   int newton = 12;              // Newton iterations
   double tolerance = 1e-5;      // scaled residual |P(z) - z|_inf / range (or the step's resolution
                                 // 2 pi dt / T where Newton cannot do better)
-  double fd_step = 1e-4;        // finite-difference step / each entry's range (at least 4 x 2 pi dt / T)
-  bool fresh_multipliers = true;  // warm starts: the multipliers from a fresh finite-difference Jacobian
+  double fd_step = 1e-4;  // finite-difference step / each entry's range (at least 4 x 2 pi dt / T)
+  bool fresh_multipliers =
+      true;  // warm starts: the multipliers from a fresh finite-difference Jacobian
 };
 
 struct PeriodicOrbit {
-  double gain_scale = 1.0;       // Kc x this
-  double amplitude = 0.0;        // half peak-to-peak of the output over one period [m]
-  double period = 0.0;           // [s]
-  double mean = 0.0;             // mean of the output over the period [m]
-  double stick_fraction = 0.0;   // time with |v| of the output body below 1e-4 m/s / period
+  double gain_scale = 1.0;      // Kc x this
+  double amplitude = 0.0;       // half peak-to-peak of the output over one period [m]
+  double period = 0.0;          // [s]
+  double mean = 0.0;            // mean of the output over the period [m]
+  double stick_fraction = 0.0;  // time with |v| of the output body below 1e-4 m/s / period
   std::vector<std::complex<double>> multipliers;  // nontrivial Floquet multipliers, |mu| descending
   // Every |mu| < 1; or, where the finite differences say otherwise, the orbit displaced along the
   // dominant eigenvector does not grow over 6 returns (growth < 1.01: it attracts, or belongs to a
   // family of orbits whose never-slipping elements keep any offset)
   bool stable = false;
-  double growth = 0.0;           // that displacement's growth per period (0: not iterated)
-  double residual = 0.0;         // scaled |P(z) - z| at the solution
-  int map_evaluations = 0;       // section-map runs this orbit took
-  std::string seed;              // "simulation", "describing function" or "continuation"
+  double growth = 0.0;      // that displacement's growth per period (0: not iterated)
+  double residual = 0.0;    // scaled |P(z) - z| at the solution
+  int map_evaluations = 0;  // section-map runs this orbit took
+  std::string seed;         // "simulation", "describing function" or "continuation"
   // false: the multipliers are those of the Jacobian carried from a neighbouring orbit with
   // Broyden updates (a warm start without OrbitOptions::fresh_multipliers)
   bool multipliers_fresh = true;
-  double level = 0.0;            // the section level c [m]
-  int returns = 1;               // upward crossings of c per period
+  double level = 0.0;  // the section level c [m]
+  int returns = 1;     // upward crossings of c per period
   // Warm-start data: the state on the section, the unknown entries, their scales, the Jacobian
   // of the section map in those scaled unknowns (column-major).
   std::vector<double> section_state;
@@ -87,7 +88,7 @@ struct OrbitReport {
   std::string method;                 // what was searched, how (always set)
   std::string not_found;              // why there is none (empty when there are orbits)
   int map_evaluations = 0;
-  double dt = 0.0;                    // the loop's integration step [s]
+  double dt = 0.0;                      // the loop's integration step [s]
   const PeriodicOrbit* stable() const;  // the stable orbit of largest amplitude (nullptr: none)
 };
 
@@ -106,13 +107,16 @@ struct HuntingMap {
 
 // Orbits of the loop from the seeds above. Throws InputError for a non-constant reference or a bad
 // loop (as simulate_loop), SimulationError when the loop diverges.
-OrbitReport find_orbits(const ClosedLoop& loop, const OrbitOptions& opt = {}, const HuntingReport* df = nullptr);
-// Newton from a known orbit (warm start: a neighbouring gain scale); nullopt when it does not converge.
-std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& loop, const PeriodicOrbit& from, double gain_scale,
-                                            const OrbitOptions& opt = {});
+OrbitReport find_orbits(const ClosedLoop& loop, const OrbitOptions& opt = {},
+                        const HuntingReport* df = nullptr);
+// Newton from a known orbit (warm start: a neighbouring gain scale); nullopt when it does not
+// converge.
+std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& loop, const PeriodicOrbit& from,
+                                            double gain_scale, const OrbitOptions& opt = {});
 // The map over gain scales lo..hi (n points, geometric when lo > 0), continued from `start` (an
-// orbit at gain scale 1, e.g. find_orbits' stable one). Throws InputError for lo <= 0, hi <= lo, n < 2.
-HuntingMap hunting_map(const ClosedLoop& loop, const PeriodicOrbit& start, double lo, double hi, int n,
-                       const OrbitOptions& opt = {});
+// orbit at gain scale 1, e.g. find_orbits' stable one). Throws InputError for lo <= 0, hi <= lo, n
+// < 2.
+HuntingMap hunting_map(const ClosedLoop& loop, const PeriodicOrbit& start, double lo, double hi,
+                       int n, const OrbitOptions& opt = {});
 
 }  // namespace gmslab::control

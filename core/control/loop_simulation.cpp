@@ -149,7 +149,8 @@ class Feedforward {
   // reference velocity around a constant set point they are constants.
   void mask(std::vector<std::uint8_t>& m) const {
     for (const auto& st : states_)
-      for (std::size_t i = 0; i < st.size(); ++i) m.push_back(measured_ && 2 * i < st.size() ? 1 : 0);
+      for (std::size_t i = 0; i < st.size(); ++i)
+        m.push_back(measured_ && 2 * i < st.size() ? 1 : 0);
   }
 
  private:
@@ -284,7 +285,10 @@ double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc) {
 
 struct LoopStepper::Impl {
   Impl(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon)
-      : cfg(c), port(port), sim(run_of(s, c, horizon)), feedforward(ground_frictions(s.plant), c),
+      : cfg(c),
+        port(port),
+        sim(run_of(s, c, horizon)),
+        feedforward(ground_frictions(s.plant), c),
         ctrl(c.C, c.dt, c.sample_time) {
     const DrivePart& d = s.plant.drives[port.drive];
     pull_k = d.kind == DrivePart::Kind::Pull ? d.pull_spring : 0.0;
@@ -292,8 +296,10 @@ struct LoopStepper::Impl {
     drive_body = static_cast<std::size_t>(d.body);
     for (std::size_t j = 0; j < s.plant.contacts.size(); ++j) {
       const ContactPart& ct = s.plant.contacts[j];
-      if (ct.b == kGround) ground.push_back({j, 1.0});
-      else if (ct.a == kGround) ground.push_back({j, -1.0});
+      if (ct.b == kGround)
+        ground.push_back({j, 1.0});
+      else if (ct.a == kGround)
+        ground.push_back({j, -1.0});
     }
   }
   static AssemblyScenario run_of(const AssemblyScenario& s, const LoopConfig& c, double horizon) {
@@ -319,10 +325,12 @@ struct LoopStepper::Impl {
   LeadController ctrl;
   double pull_k = 0.0;
   std::size_t body = 0, drive_body = 0;
-  std::vector<std::pair<std::size_t, double>> ground;  // contact index, sign of its force on the body
+  std::vector<std::pair<std::size_t, double>>
+      ground;  // contact index, sign of its force on the body
 };
 
-LoopStepper::LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon)
+LoopStepper::LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c,
+                         double horizon)
     : p_(std::make_unique<Impl>(s, port, c, horizon)) {}
 LoopStepper::~LoopStepper() = default;
 LoopStepper::LoopStepper(LoopStepper&&) noexcept = default;
@@ -343,7 +351,8 @@ LoopStepper::Forces LoopStepper::step() {
   Forces out;
   out.u = q.ctrl.update(k_, r - q.output());
   const double v_ref = (q.cfg.reference(t + h) - r) / h;
-  // Measured: the drive's body velocity (the compensation treats the train as rigid, as with v_ref).
+  // Measured: the drive's body velocity (the compensation treats the train as rigid, as with
+  // v_ref).
   out.ff = q.feedforward.step(v_ref, q.sim.velocities()[q.drive_body], h);
   // A pull drive's input is its point's position: the feedforward force acts through its spring.
   q.sim.set_drive_input(q.port.drive, q.pull_k > 0.0 ? out.u + out.ff / q.pull_k : out.u + out.ff);
@@ -358,7 +367,9 @@ LoopStepper::Forces LoopStepper::step() {
   } catch (const SimulationError&) {
     throw diverged();
   }
-  if (done != 1) throw InputError("closed loop: stepped past its horizon of " + std::to_string(q.sim.scenario().run.duration) + " s");
+  if (done != 1)
+    throw InputError("closed loop: stepped past its horizon of " +
+                     std::to_string(q.sim.scenario().run.duration) + " s");
   ++k_;
   for (const auto& [j, sign] : q.ground) out.friction += sign * q.sim.contact_force(j);
   if (!std::isfinite(q.output()) || !std::isfinite(out.friction)) throw diverged();
@@ -410,7 +421,9 @@ std::size_t LoopStepper::output_index() const {
   const std::size_t nb = p_->sim.scenario().plant.bodies.size();
   return p_->port.velocity ? nb + p_->body : p_->body;
 }
-std::size_t LoopStepper::velocity_index() const { return p_->sim.scenario().plant.bodies.size() + p_->body; }
+std::size_t LoopStepper::velocity_index() const {
+  return p_->sim.scenario().plant.bodies.size() + p_->body;
+}
 
 namespace {
 // The one-body loop's plant: the scenario's one-body assembly, the controller acting through a
@@ -444,7 +457,8 @@ LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const Lo
   const long long steps = std::llround(c.duration / c.dt);
   LoopTrace tr;
   auto record = [&](double t, const LoopStepper::Forces& f) {
-    tr.t.push_back(t), tr.r.push_back(c.reference(t)), tr.x.push_back(loop.output()), tr.v.push_back(loop.velocity());
+    tr.t.push_back(t), tr.r.push_back(c.reference(t)), tr.x.push_back(loop.output()),
+        tr.v.push_back(loop.velocity());
     tr.u.push_back(f.u), tr.ff.push_back(f.ff), tr.friction.push_back(f.friction);
   };
   const std::size_t n_rec = static_cast<std::size_t>(steps / c.record_every + 2);
@@ -452,7 +466,8 @@ LoopTrace run_loop(const AssemblyScenario& s, const AssemblyPort& port, const Lo
   record(0.0, {});
   for (long long k = 0; k < steps; ++k) {
     const LoopStepper::Forces f = loop.step();
-    if ((k + 1) % c.record_every == 0 || k + 1 == steps) record(static_cast<double>(k) * c.dt + c.dt, f);
+    if ((k + 1) % c.record_every == 0 || k + 1 == steps)
+      record(static_cast<double>(k) * c.dt + c.dt, f);
   }
   return tr;
 }
@@ -475,7 +490,8 @@ LoopStepper loop_stepper(const Scenario& s, const LoopConfig& c, double horizon)
   return LoopStepper(a, port, c, horizon);
 }
 
-LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon) {
+LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c,
+                         double horizon) {
   check_assembly_loop(s, port, c);
   return LoopStepper(s, port, c, horizon);
 }

@@ -106,22 +106,24 @@ LoopTrace simulate_loop(const AssemblyScenario& s, const AssemblyPort& port, con
 // Largest stable step of that loop [s]: 2 / w_max with contacts stuck and the controller's
 // high-frequency gain Kc as one more spring from the drive's body to ground (Kc k_p for a pull drive).
 double assembly_loop_dt_limit(const Assembly& a, std::size_t drive, double Kc);
-// The loop as a stepper whose whole state is one vector: the step simulate_loop takes (simulate_loop
-// runs this stepper), for periodic orbits of the loop (core/control/limit_cycles.hpp). Built by
-// loop_stepper (checks as simulate_loop); `horizon` [s] bounds the steps the plant's run allows.
+// The loop as a stepper whose whole state is one vector: the step simulate_loop takes
+// (simulate_loop runs this stepper), for periodic orbits of the loop
+// (core/control/limit_cycles.hpp). Built by loop_stepper (checks as simulate_loop); `horizon` [s]
+// bounds the steps the plant's run allows.
 class LoopStepper {
  public:
   struct Forces {
     double u = 0.0, ff = 0.0, friction = 0.0;  // controller, feedforward, friction to ground [N]
   };
-  LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon);
+  LoopStepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c,
+              double horizon);
   ~LoopStepper();
   LoopStepper(LoopStepper&&) noexcept;
   LoopStepper& operator=(LoopStepper&&) noexcept;
   // One step of dt; throws SimulationError when the loop diverges.
   Forces step();
-  double output() const;    // x (or v for a velocity loop) of the output body
-  double velocity() const;  // the output body's velocity [m/s]
+  double output() const;     // x (or v for a velocity loop) of the output body
+  double velocity() const;   // the output body's velocity [m/s]
   double reference() const;  // x_ref at the current time
   double time() const;
   long long step_index() const { return k_; }
@@ -148,7 +150,8 @@ class LoopStepper {
 // The stepper of the one-body loop (simulate_loop(s, c)) and of the assembled loop, configs checked
 // as simulate_loop checks them.
 LoopStepper loop_stepper(const Scenario& s, const LoopConfig& c, double horizon);
-LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c, double horizon);
+LoopStepper loop_stepper(const AssemblyScenario& s, const AssemblyPort& port, const LoopConfig& c,
+                         double horizon);
 
 LoopMetrics loop_metrics(const LoopTrace& tr);
 // e = r - x at every recorded sample [m].

@@ -580,8 +580,9 @@ std::size_t AssemblySimulation::contact_state_offset(std::size_t j) const {
 void AssemblySimulation::set_state_vector(std::span<const double> z) {
   const std::size_t nb = sc_.plant.bodies.size();
   if (z.size() != contact_state_offset(state_.size()))
-    throw InputError("assembly state: expected " + std::to_string(contact_state_offset(state_.size())) +
-                     " values, got " + std::to_string(z.size()));
+    throw InputError("assembly state: expected " +
+                     std::to_string(contact_state_offset(state_.size())) + " values, got " +
+                     std::to_string(z.size()));
   std::size_t o = 0;
   for (std::size_t i = 0; i < nb; ++i) x_[i] = z[o++];
   for (std::size_t i = 0; i < nb; ++i) v_[i] = z[o++];

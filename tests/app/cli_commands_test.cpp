@@ -73,7 +73,9 @@ TEST(CliCommands, UnknownCommandSaysSoAndListsTheCommands) {
   const Captured r = run_in_process({"foo", "x", "--bar", "-"});
   EXPECT_EQ(r.rc, 2);
   EXPECT_NE(r.err.find("gmslab: unknown command 'foo'"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("commands: simulate, render, figures, design, cycles, identify, sweep"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("commands: simulate, render, figures, design, cycles, identify, sweep"),
+            std::string::npos)
+      << r.err;
   EXPECT_EQ(r.err.find("did you mean '-h'"), std::string::npos) << r.err;
   // A near miss still gets its suggestion, in the same one message.
   const Captured near = run_in_process({"simulat", "x.json"});

@@ -2,18 +2,19 @@
 // simulation of the same loop (core/control/loop_simulation.hpp), whose settled cycle is measured
 // independently (tests/control/random_loops.hpp: half peak-to-peak and the spacing of upward
 // mid-level crossings over the last 40 % of a 60-200 s run).
+#include "core/control/limit_cycles.hpp"
+
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "app/cli/cli.hpp"
 #include "core/control/design_report.hpp"
-#include "core/control/limit_cycles.hpp"
 #include "core/io/atomic_file.hpp"
 #include "tests/control/random_loops.hpp"
 #include "tests/core/run_cli.hpp"
@@ -31,7 +32,8 @@ ClosedLoop issue_loop(const char* model, double gain_scale = 1.0) {
   L.scenario.friction = model_info(model).defaults();
   L.config.C = LeadCompensator{1000.0 * gain_scale, 5.0, 0.0};
   L.config.reference = Signal::constant(0.01);
-  L.config.dt = std::clamp(0.05 * 2.0 / std::sqrt(stuck_stiffness(L.scenario.friction) + 1000.0), 1e-5, 5e-4);
+  L.config.dt =
+      std::clamp(0.05 * 2.0 / std::sqrt(stuck_stiffness(L.scenario.friction) + 1000.0), 1e-5, 5e-4);
   return L;
 }
 
@@ -43,8 +45,8 @@ SimCycle long_simulation(const ClosedLoop& L, double duration) {
 }
 }  // namespace
 
-// The issue's four loops (GMS, LuGre, Stribeck, Coulomb): a stable orbit within 5 % of the simulated
-// cycle in amplitude and period, every multiplier inside the unit circle.
+// The issue's four loops (GMS, LuGre, Stribeck, Coulomb): a stable orbit within 5 % of the
+// simulated cycle in amplitude and period, every multiplier inside the unit circle.
 TEST(LimitCycles, IssueLoopsHaveTheSimulatedCycleAsAStableOrbit) {
   for (const char* model : {"gms", "lugre", "stribeck", "coulomb"}) {
     const ClosedLoop L = issue_loop(model);
@@ -53,9 +55,11 @@ TEST(LimitCycles, IssueLoopsHaveTheSimulatedCycleAsAStableOrbit) {
     ASSERT_EQ(sim.state, SimState::Hunting) << model;
     const PeriodicOrbit* o = r.stable();
     ASSERT_NE(o, nullptr) << model << ": " << r.not_found;
-    std::printf("%-9s orbit %.4f mm %.4f s stick %.2f |mu|max %.3f (%zu multipliers, %d map runs) | simulated %.4f mm %.4f s\n",
-                model, o->amplitude * 1e3, o->period, o->stick_fraction, std::abs(o->multipliers.front()),
-                o->multipliers.size(), r.map_evaluations, sim.amplitude * 1e3, sim.period);
+    std::printf(
+        "%-9s orbit %.4f mm %.4f s stick %.2f |mu|max %.3f (%zu multipliers, %d map runs) | "
+        "simulated %.4f mm %.4f s\n",
+        model, o->amplitude * 1e3, o->period, o->stick_fraction, std::abs(o->multipliers.front()),
+        o->multipliers.size(), r.map_evaluations, sim.amplitude * 1e3, sim.period);
     EXPECT_NEAR(o->amplitude, sim.amplitude, 0.05 * sim.amplitude) << model;
     EXPECT_NEAR(o->period, sim.period, 0.05 * sim.period) << model;
     for (const auto& mu : o->multipliers) EXPECT_LT(std::abs(mu), 1.0) << model;
@@ -72,7 +76,8 @@ TEST(LimitCycles, IssueLoopsHaveTheSimulatedCycleAsAStableOrbit) {
 TEST(LimitCycles, RandomLoopsAgreeWithTheirLongSimulation) {
   const char* seed_env = std::getenv("GMSLAB_CYCLES_SEED");
   const char* n_env = std::getenv("GMSLAB_CYCLES_N");
-  const unsigned seed0 = seed_env ? static_cast<unsigned>(std::strtoul(seed_env, nullptr, 10)) : 100000u;
+  const unsigned seed0 =
+      seed_env ? static_cast<unsigned>(std::strtoul(seed_env, nullptr, 10)) : 100000u;
   const int n = n_env ? std::atoi(n_env) : 48;
   int hunts = 0, rest = 0, excluded = 0, fn = 0, fp = 0, agree = 0;
   print_header();
@@ -87,8 +92,10 @@ TEST(LimitCycles, RandomLoopsAgreeWithTheirLongSimulation) {
     EXPECT_FALSE(c.false_negative) << "seed " << seed << ": " << c.orbits.not_found;
     EXPECT_FALSE(c.false_positive) << "seed " << seed;
   }
-  std::printf("loops %d: hunting %d, at rest %d, excluded %d; agree %d, false negatives %d, false positives %d\n", n,
-              hunts, rest, excluded, agree, fn, fp);
+  std::printf(
+      "loops %d: hunting %d, at rest %d, excluded %d; agree %d, false negatives %d, false "
+      "positives %d\n",
+      n, hunts, rest, excluded, agree, fn, fp);
   EXPECT_EQ(hunts + rest + excluded, n);
   if (!seed_env) {
     EXPECT_GE(hunts, n / 4);  // the draw exercises hunting loops
@@ -126,8 +133,8 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
     if (!p.orbit) continue;
     const SimCycle sim = long_simulation(issue_loop("coulomb", p.gain_scale), 60.0);
     std::printf("gain x%.3f: orbit %.4f mm %.4f s %s | simulated %s %.4f mm %.4f s\n", p.gain_scale,
-                p.orbit->amplitude * 1e3, p.orbit->period, p.orbit->stable ? "stable" : "unstable", to_string(sim.state),
-                sim.amplitude * 1e3, sim.period);
+                p.orbit->amplitude * 1e3, p.orbit->period, p.orbit->stable ? "stable" : "unstable",
+                to_string(sim.state), sim.amplitude * 1e3, sim.period);
     ASSERT_EQ(sim.state, SimState::Hunting);
     EXPECT_NEAR(p.orbit->amplitude, sim.amplitude, 0.05 * sim.amplitude);
     EXPECT_NEAR(p.orbit->period, sim.period, 0.05 * sim.period);
@@ -141,20 +148,25 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
 // reports, and bad controller input as exit code 2.
 TEST(LimitCycles, CyclesCommandWritesOrbitsSimulationAndMap) {
   const auto tmp = std::filesystem::temp_directory_path();
-  const std::string out = (tmp / "gmslab_cycles_test.json").string(), preset = (tmp / "gmslab_cycles_loop.json").string();
+  const std::string out = (tmp / "gmslab_cycles_test.json").string(),
+                    preset = (tmp / "gmslab_cycles_loop.json").string();
   std::filesystem::remove(out);
   // The Fig. 4 preset's mass and GMS friction with the issue's damper (3 N s/m), no spring.
-  auto p = nlohmann::json::parse(gmslab::read_file(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"));
+  auto p = nlohmann::json::parse(
+      gmslab::read_file(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json"));
   p["plant"] = {{"mass", 1.0}, {"spring", 0.0}, {"damper", 3.0}};
   gmslab::write_file_atomic(preset, p.dump());
-  ASSERT_EQ(gmslab::test_util::run_cli({"cycles", preset, "--controller-num", "1000 5000", "--controller-den", "1 0",
-                                        "--gain-scale", "0.5:2:4", "--json", out}),
+  ASSERT_EQ(gmslab::test_util::run_cli({"cycles", preset, "--controller-num", "1000 5000",
+                                        "--controller-den", "1 0", "--gain-scale", "0.5:2:4",
+                                        "--json", out}),
             0);
   const auto j = nlohmann::json::parse(gmslab::read_file(out));
-  for (const char* key : {"orbits", "simulation", "map", "method", "not_found", "describing_function"})
+  for (const char* key :
+       {"orbits", "simulation", "map", "method", "not_found", "describing_function"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["map"].size(), 4u);
-  for (const char* key : {"hunting", "amplitude_m", "period_s"}) EXPECT_TRUE(j["simulation"].contains(key)) << key;
+  for (const char* key : {"hunting", "amplitude_m", "period_s"})
+    EXPECT_TRUE(j["simulation"].contains(key)) << key;
   if (j["simulation"]["hunting"].get<bool>()) {
     ASSERT_FALSE(j["orbits"].empty());
     const auto& o = j["orbits"][0];
@@ -166,10 +178,13 @@ TEST(LimitCycles, CyclesCommandWritesOrbitsSimulationAndMap) {
                 0.05 * j["simulation"]["period_s"].get<double>());
   }
   // A numerator of another degree than the denominator, complex zeros, a bad gain grid: exit 2.
-  for (const auto& [num, den, grid] : std::vector<std::array<std::string, 3>>{
-           {"1 2 3", "1 0", "0.5:2:4"}, {"1 2 5", "1 3 0", "0.5:2:4"}, {"1000 5000", "1 0", "2:1:3"}})
-    EXPECT_EQ(gmslab::test_util::run_cli({"cycles", preset, "--controller-num", num, "--controller-den", den,
-                                          "--gain-scale", grid, "--json", out}),
-              2)
+  for (const auto& [num, den, grid] :
+       std::vector<std::array<std::string, 3>>{{"1 2 3", "1 0", "0.5:2:4"},
+                                               {"1 2 5", "1 3 0", "0.5:2:4"},
+                                               {"1000 5000", "1 0", "2:1:3"}})
+    EXPECT_EQ(
+        gmslab::test_util::run_cli({"cycles", preset, "--controller-num", num, "--controller-den",
+                                    den, "--gain-scale", grid, "--json", out}),
+        2)
         << num << " / " << den << " " << grid;
 }
