@@ -25,7 +25,7 @@ void append_trace_csv_rows(const Trace& tr, std::size_t n_elements, std::string&
 
 // Simulates `scenario` and streams its trace as CSV into `sink` as it goes, a chunk of samples at
 // a time: memory stays constant (one chunk of the trace and of its text) whatever the length of
-// the run. Returns the number of samples written. Throws what Simulation throws (InputError,
+// the run. Returns the number of samples written. Throws what the simulation throws (InputError,
 // SimulationError); the samples before a divergence have been passed to the sink by then.
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink);
 // The same into a file, atomically: the text streams to a temporary file beside `path`, renamed
