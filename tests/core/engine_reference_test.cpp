@@ -4,12 +4,12 @@
 // the trace with 17 significant digits (which give a double back exactly), the sample count, and
 // per column the sum, the sum of magnitudes and the largest magnitude over every sample: a kept
 // sample that moves by more than 1e-12 of its column's scale fails the test, and so does any
-// sample that moves by more than (samples x 1e-12) of it (through the sums). One-body presets are compared in the one-body
-// trace layout (t, x, v, F_f, F_applied, element forces and slip flags: what `gmslab simulate`
-// writes), assembled ones in the assembled layout (t, every channel, per contact its element
-// forces, element slip flags and gross-slip flag). Three further references hold a run edited live,
-// the same run with its trace bounded to 64 KiB, and a run of each drive kind with a spring and
-// damper.
+// sample that moves by more than (samples x 1e-12) of it (through the sums). One-body presets are
+// compared in the one-body trace layout (t, x, v, F_f, F_applied, element forces and slip flags:
+// what `gmslab simulate` writes), assembled ones in the assembled layout (t, every channel, per
+// contact its element forces, element slip flags and gross-slip flag). Three further references
+// hold a run edited live, the same run with its trace bounded to 64 KiB, and a run of each drive
+// kind with a spring and damper.
 //
 // The references were written by the one-body engine that this engine replaced (one-body presets,
 // the live edits, the drive kinds) and by this engine (assembled presets), each in one run.
