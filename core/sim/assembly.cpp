@@ -772,10 +772,20 @@ std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
 
 template <int K, bool Gms>
 std::size_t AssemblySimulation::advance_simple(std::size_t n) {
+  // Every v1 preset's plant has its spring, damper and contact (zero or not): that case with the
+  // three known at compile time keeps fewer values live in the loop.
+  if (springs_c_.size() == 1 && dampers_c_.size() == 1 && contacts_c_.size() == 1)
+    return advance_simple_as<K, Gms, true>(n);
+  return advance_simple_as<K, Gms, false>(n);
+}
+
+template <int K, bool Gms, bool Full>
+std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
   const double h = sc_.run.dt;
   const Assembly& p = sc_.plant;
   const DrivePart* d = p.drives.empty() ? nullptr : &p.drives[0];
-  const bool has_k = !springs_c_.empty(), has_c = !dampers_c_.empty(), has_f = !contacts_c_.empty();
+  const bool has_k = Full || !springs_c_.empty(), has_c = Full || !dampers_c_.empty();
+  const bool has_f = Full || !contacts_c_.empty();
   const double k = has_k ? springs_c_[0].c : 0.0, c = has_c ? dampers_c_[0].c : 0.0;
   const double hm = h_over_m_[0];
   const double m = has_f ? contacts_c_[0].m_eff : 0.0;
