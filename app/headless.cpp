@@ -199,9 +199,10 @@ Figure simulation_figure(const ui::AppState& s) {
                        {"Friction force against displacement", "x [m]", "F_f [N]"},
                        {"Velocity against time", "t [s]", "v [mm/s]"}};
   for (int k = 0; k < 4; ++k) f.panels.push_back({std::string(1, static_cast<char>('A' + k)), axes[k].title, axes[k].xl, axes[k].yl, {}});
-  auto add = [&](const Simulation* sim, const std::string& name, Series::Style style, int color) {
+  auto add = [&](const AssemblySimulation* sim, const std::string& name, Series::Style style,
+                 int color) {
     if (!sim) return;
-    const Trace& tr = sim->trace();
+    const Trace& tr = sim->one_body_trace();
     std::vector<double> vmm(tr.v.size());
     for (std::size_t i = 0; i < tr.v.size(); ++i) vmm[i] = 1e3 * tr.v[i];
     f.panels[0].series.push_back({name, tr.t, tr.friction, style, color});

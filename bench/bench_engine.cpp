@@ -1,33 +1,24 @@
-// One engine for every preset, side by side with the one-body Simulation it replaces in
-// simulate(Scenario), the CLI, Python and the sweeps (run them in one invocation to compare):
-//   BM_Engine_Fig4/one_body: the Fig. 4 preset (25 s, 2.5e6 steps) on Simulation.
-//   BM_Engine_Fig4/assembled: the same through simulate(Scenario) (the assembled plant's engine,
-//     its trace laid out as the one-body trace).
-//   BM_Engine_Fig2a/one_body, /assembled: the prescribed-displacement preset (12,700 steps), the
-//     same two ways.
+// The engine on the one-body presets, as the CLI, Python and the sweeps run them:
+//   BM_Engine_Fig4: the Fig. 4 preset (25 s, 2.5e6 steps, a GMS contact of 4 elements pulled
+//     through a spring) through simulate(Scenario), the one-body trace recorded every 10 steps.
+//   BM_Engine_Fig2a: the prescribed-displacement preset (12,700 steps, every step recorded).
+//   BM_Engine_Fig4Path/0: Fig. 4 as an assembled plant (the assembled trace layout), /1: as
+//     one_body_simulation (the one-body layout), both through AssemblySimulation::run_to_end.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
 #include "core/io/scenario_io.hpp"
 #include "core/sim/assembly.hpp"
-#include "core/sim/simulation.hpp"
 
 using namespace gmslab;
 
 namespace {
 Scenario preset(const char* name) { return load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/" + name); }
 
-void run(benchmark::State& st, const Scenario& sc, bool assembled) {
+void run(benchmark::State& st, const Scenario& sc) {
   for (auto _ : st) {
-    Trace tr;
-    if (assembled) {
-      tr = simulate(sc);
-    } else {
-      Simulation sim(sc);
-      sim.run_to_end();
-      tr = sim.take_trace();
-    }
+    const Trace tr = simulate(sc);
     benchmark::DoNotOptimize(tr.x.back());
   }
   const double steps = std::round(sc.run.duration / sc.run.dt);
@@ -35,11 +26,11 @@ void run(benchmark::State& st, const Scenario& sc, bool assembled) {
 }
 }  // namespace
 
-static void BM_Engine_Fig4(benchmark::State& st) { run(st, preset("fig4_stick_slip.json"), st.range(0) == 1); }
-BENCHMARK(BM_Engine_Fig4)->ArgName("assembled")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+static void BM_Engine_Fig4(benchmark::State& st) { run(st, preset("fig4_stick_slip.json")); }
+BENCHMARK(BM_Engine_Fig4)->Unit(benchmark::kMillisecond);
 
-static void BM_Engine_Fig2a(benchmark::State& st) { run(st, preset("fig2a_presliding.json"), st.range(0) == 1); }
-BENCHMARK(BM_Engine_Fig2a)->ArgName("assembled")->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+static void BM_Engine_Fig2a(benchmark::State& st) { run(st, preset("fig2a_presliding.json")); }
+BENCHMARK(BM_Engine_Fig2a)->Unit(benchmark::kMicrosecond);
 
 static void BM_Engine_Fig4Path(benchmark::State& st) {
   const Scenario sc = preset("fig4_stick_slip.json");
@@ -51,7 +42,7 @@ static void BM_Engine_Fig4Path(benchmark::State& st) {
     } else {
       AssemblySimulation sim = one_body_simulation(sc);
       sim.run_to_end();
-      benchmark::DoNotOptimize(sim.trace().values.back());
+      benchmark::DoNotOptimize(sim.one_body_trace().x.back());
     }
   }
 }

@@ -13,7 +13,7 @@
 
 #include "core/friction/gms.hpp"
 #include "core/io/scenario_io.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 
 using namespace gmslab;
 
@@ -26,9 +26,9 @@ static void BM_LongRun_StuckMass_1e9(benchmark::State& st) {
   s.run = {1e-5, 1e4, 1000000};  // 1e9 steps, one sample per 1e6
   const double x_eq = 0.1 / 210000.0;  // F / sum k_i [m]
   for (auto _ : st) {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     sim.run_to_end();
-    const Trace& tr = sim.trace();
+    const Trace& tr = sim.one_body_trace();
     double drift = 0.0, vmax = 0.0;
     const double x_settled = tr.size() > 1 ? tr.x[1] : x_eq;
     for (std::size_t i = 0; i < tr.size(); ++i) {
@@ -59,9 +59,9 @@ static void BM_LongRun_Fig4Steps(benchmark::State& st) {
   s.run.duration = 10.0;  // 1e6 steps
   s.run.record_every = 1000;
   for (auto _ : st) {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     sim.run_to_end();
-    benchmark::DoNotOptimize(sim.position());
+    benchmark::DoNotOptimize(sim.positions()[0]);
   }
   st.counters["ns_per_step"] = benchmark::Counter(
       1e6 * static_cast<double>(st.iterations()),

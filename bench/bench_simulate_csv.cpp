@@ -19,6 +19,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/io/trace_csv.hpp"
+#include "core/sim/assembly.hpp"
 
 using namespace gmslab;
 
@@ -117,9 +118,9 @@ static void BM_LiveRun_Fig4_250s(benchmark::State& st) {
   const std::size_t limit = st.range(0) ? std::size_t{64} << 20 : 0;
   std::size_t kept = 0;
   for (auto _ : st) {
-    Simulation sim(s, TraceOptions{.max_bytes = limit});
+    AssemblySimulation sim = one_body_simulation(s, TraceOptions{.max_bytes = limit});
     sim.run_to_end();
-    kept = sim.trace().size();
+    kept = sim.one_body_trace().size();
   }
   st.counters["samples_kept"] = static_cast<double>(kept);
   st.counters["trace_MB"] = static_cast<double>(kept * trace_sample_bytes(4)) / 1e6;

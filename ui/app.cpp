@@ -27,7 +27,7 @@ namespace gmslab::ui {
 
 std::span<const std::uint8_t> LiveRun::phases(double slip_velocity) {
   if (!sim) return {};
-  return phase_series.update(sim->trace(), slip_velocity);
+  return phase_series.update(sim->one_body_trace(), slip_velocity);
 }
 
 namespace {
@@ -39,8 +39,9 @@ Scenario with_friction(Scenario sc, const ModelParams& p) {
 void rebuild_overlay(AppState& s) {
   s.overlay = {};
   if (!s.compare) return;
-  s.overlay.sim = std::make_unique<Simulation>(with_friction(s.main.sim->scenario(), *s.compare),
-                                               TraceOptions{.max_bytes = s.history_bytes});
+  s.overlay.sim = std::make_unique<AssemblySimulation>(
+      one_body_simulation(with_friction(*s.main.sim->one_body(), *s.compare),
+                          TraceOptions{.max_bytes = s.history_bytes}));
   // Catch up with the main run so both show the same stretch of input.
   const double t = s.main.sim->time();
   while (!s.overlay.sim->finished() && s.overlay.sim->time() + 0.5 * s.scenario.run.dt < t)
@@ -180,7 +181,8 @@ std::string presets_dir() { return gmslab::presets_dir(); }
 
 void load_scenario_into(AppState& s, const Scenario& sc, const std::string& path) {
   // Validates before anything changes.
-  auto sim = std::make_unique<Simulation>(sc, TraceOptions{.max_bytes = s.history_bytes});
+  auto sim = std::make_unique<AssemblySimulation>(
+      one_body_simulation(sc, TraceOptions{.max_bytes = s.history_bytes}));
   ++s.generation;
   s.scenario = sc;
   s.scenario_path = path;
@@ -462,7 +464,8 @@ LaunchRequest check_launch(const LaunchRequest& r) {
     const Preset preset = load_preset(out.preset);
     schema = preset.schema_version;
     if (preset.assembled()) (void)AssemblySimulation(preset.scenario);
-    else (void)Simulation(preset.one_body());
+    else
+      (void)one_body_simulation(preset.one_body());
   } catch (const InputError& e) {
     throw InputError(std::string("--open: ") + e.what());
   }

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "core/io/session_io.hpp"
+#include "core/sim/assembly.hpp"
 #include "core/sim/phases.hpp"
 #include "core/sim/scenario.hpp"
-#include "core/sim/simulation.hpp"
 #include "ui/frame_policy.hpp"
 #include "ui/panel_state.hpp"
 #include "ui/plant/plant_view.hpp"
@@ -73,9 +73,10 @@ struct FileBrowserState {
   std::string error;          // why the folder could not be listed
 };
 
-// A simulation plus the stick / slip phases of its trace (computed in core from the whole trace).
+// A one-body simulation plus the stick / slip phases of its trace (computed in core from the whole
+// trace).
 struct LiveRun {
-  std::unique_ptr<Simulation> sim;
+  std::unique_ptr<AssemblySimulation> sim;  // a one-body run (one_body_simulation)
   PhaseSeries phase_series;
   // The phase (0 = stick, 1 = slip) of every sample of sim->trace() for this threshold; a new
   // threshold reclassifies the whole trace. Empty without a simulation.

@@ -257,9 +257,9 @@ int run_self(const std::string& only, const std::string& presets_dir) {
   for (const char* name : presets) {
     if (!only.empty() && only != name) continue;
     const Scenario sc = load_scenario(presets_dir + "/" + name + ".json");
-    Simulation sim(sc);
+    AssemblySimulation sim = one_body_simulation(sc);
     sim.run_to_end();
-    const Trace& tr = sim.trace();
+    const Trace& tr = sim.one_body_trace();
     double fmax = 0;
     for (double f : tr.friction) fmax = std::max(fmax, std::abs(f));
     for (std::size_t target : {std::size_t{1500}, std::size_t{6000}, tr.size()}) {

@@ -144,26 +144,18 @@ gms_elements::Sums gms_elements::vector(std::size_t n, double* __restrict F, dou
 }
 
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {
+  if (n_ <= kScalarElements) return step_scalar(state.data(), in.v, constants(in.h, false));
   const double v = in.v;
   const double h = in.h;
   const double inv_h = 1.0 / h;  // independent of v: off the step's critical path
   const double s = sgn(v);
   const double r = std::abs(v) * inv_vs_;
-  double S;
-  if (r > r_sat_)
-    S = p_.S.Fc;  // a branch, not a select: S is then a constant, off the critical path
-  else
-    S = p_.S.at_scaled(r);
-  const double Ch = p_.C * h;
-  const double vh = v * h;
+  const double S = r > r_sat_ ? p_.S.Fc : p_.S.at_scaled(r);
   double* F = state.data();
   double* d = state.data() + n_;
   const auto [sum_f, sum_damp] =
-      n_ <= kScalarElements
-          ? gms_elements::scalar(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
-                                 [&] { return exp_neg(Ch / S); }, vh)
-          : gms_elements::vector(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s,
-                                 S, exp_neg(Ch / S), vh);
+      gms_elements::vector(n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
+                           exp_neg(p_.C * h / S), v * h);
   return sum_f + sum_damp * inv_h + p_.sigma2 * v;
 }
 

@@ -20,6 +20,7 @@
 
 #include <vector>
 
+#include "core/friction/gms_elements.hpp"
 #include "core/friction/model.hpp"
 #include "core/friction/stribeck.hpp"
 
@@ -56,6 +57,32 @@ class GmsModel final : public FrictionModel {
   // v -> force chain); beyond, a branch-free vectorised loop (throughput-bound).
   static constexpr std::size_t kScalarElements = 8;
 
+  // What a step of length h computes once: 1 / h, C h and the slip relaxation exp(-C h / Fc) of
+  // fast sliding (S(v) = Fc there; < 0: computed when needed).
+  struct StepConstants {
+    double h, inv_h, Ch, relax_sliding;
+  };
+  StepConstants constants(double h, bool with_relaxation = true) const {
+    return {h, 1.0 / h, p_.C * h, with_relaxation ? exp_neg(p_.C * h / p_.S.Fc) : -1.0};
+  }
+  // step() with at most kScalarElements elements, inline for a caller's own loop (the engine's
+  // one-body path): the same operations in the same order, so the same force and state bit for bit.
+  double step_scalar(double* __restrict state, double v, const StepConstants& c) const {
+    const double s = sgn(v);
+    const double r = std::abs(v) * inv_vs_;
+    double* F = state;
+    double* d = state + n_;
+    gms_elements::Sums sums;
+    if (r > r_sat_)  // a branch, not a select: S is then a constant, off the critical path
+      sums = gms_elements::scalar(
+          n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, p_.S.Fc,
+          [&] { return c.relax_sliding >= 0.0 ? c.relax_sliding : exp_neg(c.Ch / p_.S.Fc); },
+          v * c.h);
+    else
+      sums = scalar_at(F, d, s, p_.S.at_scaled(r), c, v * c.h);
+    return sums.force + sums.damping * c.inv_h + p_.sigma2 * v;
+  }
+
  private:
   ModelParams params_;
   GmsParams p_;
@@ -63,6 +90,12 @@ class GmsModel final : public FrictionModel {
   std::vector<double> sigma_over_k_;  // sigma_i / k_i [s]
   double inv_vs_ = 0.0;              // 1 / Vs [s/m]
   double r_sat_ = 0.0;               // |v|/Vs beyond which S(v) == Fc exactly in doubles [-]
+  gms_elements::Sums scalar_at(double* F, double* d, double s, double S, const StepConstants& c,
+                               double vh) const {
+    return gms_elements::scalar(
+        n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
+        [&] { return exp_neg(c.Ch / S); }, vh);
+  }
 };
 
 ModelInfo gms_model_info();

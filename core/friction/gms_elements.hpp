@@ -24,13 +24,12 @@ struct Sums {
 // element sticks, the force follows from F_i + k_i v h alone. relax() gives a slipping element's
 // relaxation exp(-C h / S); it is asked for once, at the first slipping element.
 template <class Relax>
-inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
-                   const double* __restrict k, const double* __restrict sk, double s, double S, Relax&& relax,
-                   double vh) {
-  double sum_f = 0.0;
-  double sum_damp = 0.0;
+inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d,
+                   const double* __restrict alpha, const double* __restrict k,
+                   const double* __restrict sk, double s, double S, Relax&& relax, double vh) {
   double E = -1.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  // Element i's new force; adds its damping term sigma_i / k_i (F_i(t + h) - F_i(t)) to `damp`.
+  auto update = [&](std::size_t i, double& damp, bool first) {
     const double f0 = F[i];
     const double lim = alpha[i] * S;
     double f1;
@@ -49,10 +48,16 @@ inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d, co
         d[i] = 0.0;
       }
     }
-    sum_damp += sk[i] * (f1 - f0);
+    damp = first ? sk[i] * (f1 - f0) : damp + sk[i] * (f1 - f0);
     F[i] = f1;
-    sum_f += f1;
-  }
+    return f1;
+  };
+  if (n == 0) return {0.0, 0.0};
+  // The sums start at the first element's terms (not at 0 + them: one add less on the step's
+  // latency chain; the same values, a zero sum aside, whose sign no comparison sees).
+  double sum_damp = 0.0;
+  double sum_f = update(0, sum_damp, true);
+  for (std::size_t i = 1; i < n; ++i) sum_f += update(i, sum_damp, false);
   return {sum_f, sum_damp};
 }
 

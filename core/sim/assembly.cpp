@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/friction/gms.hpp"
 
 namespace gmslab {
 
@@ -326,6 +327,60 @@ AssemblySimulation::AssemblySimulation(const AssemblyScenario& s, TraceOptions t
   reset();
 }
 
+void AssemblySimulation::compile() {
+  const Assembly& a = sc_.plant;
+  const std::size_t nb = a.bodies.size();
+  h_over_m_.assign(nb + 1, 0.0);
+  for (std::size_t i = 0; i < nb; ++i) h_over_m_[i] = sc_.run.dt / a.bodies[i].mass;
+  prescribed_ = prescribed_bodies(a);
+  prescribed_.push_back(1);  // ground
+  const int g = static_cast<int>(nb);
+  auto slot = [g](int i) { return i < 0 ? g : i; };
+  springs_c_.clear();
+  dampers_c_.clear();
+  contacts_c_.clear();
+  for (const auto& s : a.springs) springs_c_.push_back({s.a, slot(s.b), s.stiffness});
+  for (const auto& s : a.dampers) dampers_c_.push_back({s.a, slot(s.b), s.damping});
+  for (const auto& c : a.contacts) {
+    CompiledContact cc{c.a, slot(c.b), 0, 0.0, 0.0, 0.0};
+    const bool fa = !prescribed_[cc.a], fb = !prescribed_[cc.b];
+    cc.mode = (fa ? 1 : 0) | (fb ? 2 : 0);
+    if (fa) cc.ma = a.bodies[cc.a].mass;
+    if (fb) cc.mb = a.bodies[cc.b].mass;
+    cc.m_eff = cc.mode == 3 ? cc.ma * cc.mb / (cc.ma + cc.mb) : cc.mode == 1 ? cc.ma : cc.mode == 2 ? cc.mb : 0.0;
+    contacts_c_.push_back(cc);
+  }
+  has_prescribed_ = false;
+  for (const auto& d : a.drives) has_prescribed_ = has_prescribed_ || prescribes(d.kind);
+  one_body_ = nb == 1 && !has_prescribed_;
+  simple_ = -1;
+  const bool single = a.springs.size() <= 1 && a.dampers.size() <= 1 && a.contacts.size() <= 1;
+  if (one_body_ && a.drives.size() <= 1 && single) {
+    if (a.drives.empty())
+      simple_ = 0;
+    else if (a.drives[0].kind == DrivePart::Kind::Force)
+      simple_ = 1;
+    else if (a.drives[0].kind == DrivePart::Kind::Pull && !a.drives[0].point_velocity)
+      simple_ = 2;
+  }
+  if (nb == 1 && has_prescribed_ && a.drives.size() == 1 && single)
+    simple_ = a.drives[0].kind == DrivePart::Kind::Displacement ? 3 : 4;
+  simple_gms_ = simple_ >= 0 && models_.size() == 1 &&
+                dynamic_cast<const GmsModel*>(models_[0].get()) &&
+                models_[0]->element_count() <= GmsModel::kScalarElements;
+}
+
+void AssemblySimulation::set_history_limit() {
+  max_samples_ = 0;
+  if (trace_opts_.max_bytes == 0) return;
+  if (body_layout_)  // at least 64 samples: a bucket keeps at most 10
+    max_samples_ = std::max<std::size_t>(
+        64, trace_opts_.max_bytes / trace_sample_bytes(body_trace_.n_elements));
+  else  // room for a few buckets of 2 + 2 channels samples
+    max_samples_ = std::max<std::size_t>(
+        {64, 8 * (2 + 2 * channels_.size()), trace_opts_.max_bytes / trace_.sample_bytes()});
+}
+
 void AssemblySimulation::reset() {
   const std::size_t nb = sc_.plant.bodies.size();
   // One extra slot for ground (index nb): x = v = 0, its force is discarded.
@@ -333,42 +388,10 @@ void AssemblySimulation::reset() {
   v_.assign(nb + 1, 0.0);
   cv_.assign(nb + 1, 0.0);
   f_.assign(nb + 1, 0.0);
-  h_over_m_.assign(nb + 1, 0.0);
-  prescribed_ = prescribed_bodies(sc_.plant);
-  prescribed_.push_back(1);
-  for (std::size_t i = 0; i < nb; ++i) h_over_m_[i] = sc_.run.dt / sc_.plant.bodies[i].mass;
+  compile();
   xp_.assign(sc_.plant.drives.size(), 0.0);
   input_.resize(sc_.plant.drives.size(), 0.0);  // inputs set before a reset stay set
   has_input_.resize(sc_.plant.drives.size(), 0);
-  const int g = static_cast<int>(nb);
-  auto slot = [g](int i) { return i < 0 ? g : i; };
-  springs_c_.clear();
-  dampers_c_.clear();
-  contacts_c_.clear();
-  for (const auto& s : sc_.plant.springs) springs_c_.push_back({s.a, slot(s.b), s.stiffness});
-  for (const auto& s : sc_.plant.dampers) dampers_c_.push_back({s.a, slot(s.b), s.damping});
-  for (const auto& c : sc_.plant.contacts) {
-    CompiledContact cc{c.a, slot(c.b), 0, 0.0, 0.0, 0.0};
-    const bool fa = !prescribed_[cc.a], fb = !prescribed_[cc.b];
-    cc.mode = (fa ? 1 : 0) | (fb ? 2 : 0);
-    if (fa) cc.ma = sc_.plant.bodies[cc.a].mass;
-    if (fb) cc.mb = sc_.plant.bodies[cc.b].mass;
-    cc.m_eff = cc.mode == 3 ? cc.ma * cc.mb / (cc.ma + cc.mb) : cc.mode == 1 ? cc.ma : cc.mode == 2 ? cc.mb : 0.0;
-    contacts_c_.push_back(cc);
-  }
-  has_prescribed_ = false;
-  for (const auto& d : sc_.plant.drives) has_prescribed_ = has_prescribed_ || prescribes(d.kind);
-  one_body_ = nb == 1 && !has_prescribed_;
-  simple_ = -1;
-  if (one_body_ && sc_.plant.drives.size() <= 1 && sc_.plant.springs.size() <= 1 && sc_.plant.dampers.size() <= 1 &&
-      sc_.plant.contacts.size() <= 1) {
-    if (sc_.plant.drives.empty()) simple_ = 0;
-    else if (sc_.plant.drives[0].kind == DrivePart::Kind::Force) simple_ = 1;
-    else if (sc_.plant.drives[0].kind == DrivePart::Kind::Pull && !sc_.plant.drives[0].point_velocity) simple_ = 2;
-  }
-  if (nb == 1 && has_prescribed_ && sc_.plant.drives.size() == 1 && sc_.plant.springs.size() <= 1 &&
-      sc_.plant.dampers.size() <= 1 && sc_.plant.contacts.size() <= 1)
-    simple_ = sc_.plant.drives[0].kind == DrivePart::Kind::Displacement ? 3 : 4;
   drive_rate_.assign(sc_.plant.drives.size(), 0.0);
   for (std::size_t i = 0; i < sc_.plant.drives.size(); ++i) {
     const auto& d = sc_.plant.drives[i];
@@ -396,32 +419,25 @@ void AssemblySimulation::reset() {
   trace_.element_force.resize(models_.size());
   trace_.element_slip.resize(models_.size());
   trace_.contact_slip.resize(models_.size());
+  body_trace_.clear();
+  if (body_layout_) body_trace_.n_elements = trace_.n_elements[0];
   step_ = 0;
   total_steps_ = static_cast<std::uint64_t>(std::llround(sc_.run.duration / sc_.run.dt));
   until_record_ = static_cast<std::uint64_t>(sc_.run.record_every);
-  max_samples_ = 0;
+  set_history_limit();
   bucket_steps_ = 0;
-  if (trace_opts_.max_bytes > 0)  // room for a few buckets of 2 + 2 channels samples
-    max_samples_ = std::max<std::size_t>({64, 8 * (2 + 2 * channels_.size()), trace_opts_.max_bytes / trace_.sample_bytes()});
+  // Reserved: the run's samples, at most the options' and the bound's count (4 Mi samples for the
+  // assembled trace: more grows as it comes).
   std::size_t expected = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
   expected = std::min(expected, trace_opts_.reserve_samples);
   if (max_samples_ > 0) expected = std::min(expected, max_samples_);
-  expected = std::min<std::size_t>(expected, std::size_t{1} << 22);  // more grows as it comes
   if (body_layout_) {
-    // As Simulation's trace: its sample size, at least 64 samples, reserved up to the run's count.
-    body_trace_.clear();
-    body_trace_.n_elements = trace_.n_elements[0];
-    max_samples_ = 0;
-    if (trace_opts_.max_bytes > 0)
-      max_samples_ = std::max<std::size_t>(64, trace_opts_.max_bytes / trace_sample_bytes(body_trace_.n_elements));
-    std::size_t want = static_cast<std::size_t>(total_steps_ / until_record_ + 2);
-    want = std::min(want, trace_opts_.reserve_samples);
-    if (max_samples_ > 0) want = std::min(want, max_samples_);
     for (auto* vec : {&body_trace_.t, &body_trace_.x, &body_trace_.v, &body_trace_.friction, &body_trace_.applied})
-      vec->reserve(want);
-    body_trace_.element_force.reserve(want * body_trace_.n_elements);
-    body_trace_.element_slip.reserve(want * body_trace_.n_elements);
+      vec->reserve(expected);
+    body_trace_.element_force.reserve(expected * body_trace_.n_elements);
+    body_trace_.element_slip.reserve(expected * body_trace_.n_elements);
   } else {
+    expected = std::min<std::size_t>(expected, std::size_t{1} << 22);
     trace_.t.reserve(expected);
     trace_.values.reserve(expected * channels_.size());
     for (std::size_t j = 0; j < models_.size(); ++j) {
@@ -446,6 +462,112 @@ void AssemblySimulation::reset() {
   }
   rebase_energy();
   record();
+}
+
+namespace {
+// "" when b has a's structure (bodies, part names and ends, drive kinds and bodies), else what
+// differs.
+std::string structure_change(const Assembly& a, const Assembly& b) {
+  auto count = [](const char* key, std::size_t n, std::size_t m) {
+    return n == m ? std::string()
+                  : std::string("plant.") + key + ": " + std::to_string(m) + " instead of " +
+                        std::to_string(n);
+  };
+  for (const std::string& c : {count("bodies", a.bodies.size(), b.bodies.size()),
+                               count("springs", a.springs.size(), b.springs.size()),
+                               count("dampers", a.dampers.size(), b.dampers.size()),
+                               count("contacts", a.contacts.size(), b.contacts.size()),
+                               count("drives", a.drives.size(), b.drives.size())})
+    if (!c.empty()) return c;
+  auto same = [](const auto& x, const auto& y) {
+    return x.name == y.name && x.a == y.a && x.b == y.b;
+  };
+  for (std::size_t i = 0; i < a.bodies.size(); ++i)
+    if (a.bodies[i].name != b.bodies[i].name) return "plant.bodies[" + std::to_string(i) + "].name";
+  for (std::size_t i = 0; i < a.springs.size(); ++i)
+    if (!same(a.springs[i], b.springs[i]))
+      return "plant.springs[" + std::to_string(i) + "]: name or ends";
+  for (std::size_t i = 0; i < a.dampers.size(); ++i)
+    if (!same(a.dampers[i], b.dampers[i]))
+      return "plant.dampers[" + std::to_string(i) + "]: name or ends";
+  for (std::size_t i = 0; i < a.contacts.size(); ++i)
+    if (!same(a.contacts[i], b.contacts[i]))
+      return "plant.contacts[" + std::to_string(i) + "]: name or ends";
+  for (std::size_t i = 0; i < a.drives.size(); ++i) {
+    const auto &x = a.drives[i], &y = b.drives[i];
+    if (x.name != y.name || x.kind != y.kind || x.body != y.body ||
+        x.point_velocity != y.point_velocity)
+      return "plant.drives[" + std::to_string(i) + "]: name, kind, body or point_velocity";
+  }
+  return {};
+}
+}  // namespace
+
+void AssemblySimulation::set_plant(const Assembly& a) {
+  if (const std::string c = structure_change(sc_.plant, a); !c.empty())
+    throw InputError(
+        "live edit of '" + sc_.name + "': " + c +
+        " - a live edit changes values only; a plant of another structure starts a new run");
+  AssemblyScenario next = sc_;
+  next.plant = a;
+  check(next);
+  std::vector<std::unique_ptr<FrictionModel>> models;
+  for (const auto& c : a.contacts) models.push_back(build_model(c.friction));
+  // Validated: nothing below throws.
+  for (std::size_t j = 0; j < models.size(); ++j) {
+    const bool keep = a.contacts[j].friction.model == sc_.plant.contacts[j].friction.model &&
+                      models[j]->state_size() == state_[j].size();
+    models_[j] = std::move(models[j]);
+    if (keep) continue;
+    state_[j].assign(models_[j]->state_size(), 0.0);
+    models_[j]->reset(state_[j]);
+    relay_elements(j);
+  }
+  sc_.plant = a;
+  as_scenario_ = one_body_scenario(sc_);
+  compile();
+  set_history_limit();
+  rebase_energy();
+  if (max_samples_ > 0 && (body_layout_ ? body_trace_.size() : trace_.size()) >= max_samples_)
+    compact_trace();
+}
+
+void AssemblySimulation::relay_elements(std::size_t j) {
+  // Earlier samples get zeros in the new element columns, so every column stays one per sample.
+  const std::size_t ne = std::min(models_[j]->element_count(), kMaxRecordedElements);
+  trace_.n_elements[j] = ne;
+  trace_.element_force[j].assign(trace_.size() * ne, 0.0);
+  trace_.element_slip[j].assign(trace_.size() * ne, 0);
+  if (body_layout_ && j == 0) {
+    body_trace_.n_elements = ne;
+    body_trace_.element_force.assign(body_trace_.size() * ne, 0.0);
+    body_trace_.element_slip.assign(body_trace_.size() * ne, 0);
+    ++body_trace_.revision;
+  }
+}
+
+void AssemblySimulation::set_friction(const ModelParams& p, std::size_t contact) {
+  if (contact >= sc_.plant.contacts.size())
+    throw InputError("live edit: contact " + std::to_string(contact) +
+                     " is not a contact of the plant");
+  if (as_scenario_) {
+    Scenario s = *as_scenario_;
+    s.friction = p;
+    check_scenario(s);
+  }
+  Assembly a = sc_.plant;
+  a.contacts[contact].friction = p;
+  set_plant(a);
+}
+
+void AssemblySimulation::set_plant(const Plant& p) {
+  if (!as_scenario_)
+    throw InputError("live edit of '" + sc_.name +
+                     "': not a one-body plant (mass, spring, damper)");
+  Scenario s = *as_scenario_;
+  s.plant = p;
+  check_scenario(s);
+  set_plant(assembly_from_scenario(s).plant);
 }
 
 void AssemblySimulation::record_one_body() {
@@ -485,8 +607,8 @@ void AssemblySimulation::record() {
 }
 
 void AssemblySimulation::compact_trace() {
-  // As Simulation::compact_trace: the current width first (the samples since the last compaction
-  // are raw), then doubled until half the room is free. One bucket keeps at most 2 + 2 nc samples
+  // The current width first (the samples since the last compaction are raw), then doubled until
+  // half the room is free. One bucket keeps at most 2 + 2 nc samples
   // and max_samples_ >= 8 (2 + 2 nc), so this ends.
   const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
   bucket_steps_ = body_layout_ ? compact_to_half(body_trace_, sc_.run.dt, bucket_steps_, every, max_samples_)
@@ -683,16 +805,29 @@ std::size_t AssemblySimulation::advance_one_body(std::size_t n) {
   return done;
 }
 
-template <int K>
+template <int K, bool Gms>
 std::size_t AssemblySimulation::advance_simple(std::size_t n) {
+  // Every v1 preset's plant has its spring, damper and contact (zero or not): that case with the
+  // three known at compile time keeps fewer values live in the loop.
+  if (springs_c_.size() == 1 && dampers_c_.size() == 1 && contacts_c_.size() == 1)
+    return advance_simple_as<K, Gms, true>(n);
+  return advance_simple_as<K, Gms, false>(n);
+}
+
+template <int K, bool Gms, bool Full>
+std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
   const double h = sc_.run.dt;
   const Assembly& p = sc_.plant;
   const DrivePart* d = p.drives.empty() ? nullptr : &p.drives[0];
-  const bool has_k = !springs_c_.empty(), has_c = !dampers_c_.empty(), has_f = !contacts_c_.empty();
+  const bool has_k = Full || !springs_c_.empty(), has_c = Full || !dampers_c_.empty();
+  const bool has_f = Full || !contacts_c_.empty();
   const double k = has_k ? springs_c_[0].c : 0.0, c = has_c ? dampers_c_[0].c : 0.0;
   const double hm = h_over_m_[0];
   const double m = has_f ? contacts_c_[0].m_eff : 0.0;
   const FrictionModel* model = has_f ? models_[0].get() : nullptr;
+  // A GMS contact of few elements steps inline (GmsModel::step_scalar: step()'s operations).
+  const GmsModel* gms = Gms ? static_cast<const GmsModel*>(model) : nullptr;
+  const GmsModel::StepConstants gc = Gms ? gms->constants(h) : GmsModel::StepConstants{};
   const std::span<double> st = has_f ? std::span<double>(state_[0]) : std::span<double>();
   const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
   const std::uint64_t total = total_steps_;
@@ -713,16 +848,76 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
     if (has_f) f_contact_[0] = F, v_rel_[0] = vr;
     drive_work_ = work;
   };
+  // The drive's values for a chunk of steps are computed ahead (they depend on t alone), so the
+  // step loop calls nothing between samples and x and v stay in registers: K 1: F(t); 2: x_p(t)
+  // and its rate; 3: x(t + h); 4: v(t) and v(t + h).
+  constexpr std::size_t kChunk = 64;
+  double sa[kChunk], sb[kChunk];
   std::size_t done = 0;
-  for (; done < n && step < total; ++done) {
-    const double t = static_cast<double>(step) * h;
-    double f = 0.0;
-    [[maybe_unused]] double xp_rate = 0.0;  // pull: the drive point's velocity [m/s]
-    if constexpr (K >= 3) {
-      // Prescribed motion (compute_step's sums for one body): the parts at the step's start, the
-      // contact at the velocity over the step, the drive supplying what holds the motion.
-      const double x1 = K == 3 ? d->signal(t + h) : 0.0;
-      const double cv = K == 3 ? (x1 - x) / h : 0.5 * (d->signal(t) + d->signal(t + h));
+  while (done < n && step < total) {
+    const auto chunk =
+        static_cast<std::size_t>(std::min<std::uint64_t>({kChunk, n - done, total - step}));
+    for (std::size_t i = 0; i < chunk; ++i) {
+      const double t = static_cast<double>(step + i) * h;
+      if constexpr (K == 1)
+        sa[i] = d->signal(t);
+      else if constexpr (K == 2)
+        sa[i] = d->signal(t), sb[i] = d->signal.rate_at(t);
+      else if constexpr (K == 3)
+        sa[i] = d->signal(t + h);
+      else if constexpr (K == 4)
+        sa[i] = d->signal(t), sb[i] = d->signal(t + h);
+    }
+    for (std::size_t i = 0; i < chunk; ++i, ++done) {
+      double f = 0.0;
+      [[maybe_unused]] double xp_rate = 0.0;  // pull: the drive point's velocity [m/s]
+      if constexpr (K >= 3) {
+        // Prescribed motion (compute_step's sums for one body): the parts at the step's start, the
+        // contact at the velocity over the step, the drive supplying what holds the motion.
+        const double cv = K == 3 ? (sa[i] - x) / h : 0.5 * (sa[i] + sb[i]);
+        if (has_k) {
+          fs = k * (x - 0.0);
+          f -= fs;
+        }
+        if (has_c) {
+          fd = c * (v - 0.0);
+          f -= fd;
+        }
+        if (has_f) {
+          vr = cv - 0.0;
+          if constexpr (Gms)
+            F = gms->step_scalar(st.data(), vr, gc);
+          else
+            F = model->step(st, {vr, h, 0.0, 0.0});
+          f -= F;
+        }
+        fdrive = -f;
+        if constexpr (K == 3) {
+          x = sa[i];
+          v = cv;
+        } else {
+          x += cv * h;
+          v = sb[i];
+        }
+        ++step;
+        if (!std::isfinite(f + x + v)) {
+          flush();
+          diverged(!std::isfinite(F));
+        }
+        if (--left == 0 || step == total) {
+          left = every;
+          flush();
+          record();
+        }
+        continue;
+      } else if constexpr (K == 1) {  // f starts at the drive's force (0 + F but for a zero's sign)
+        fdrive = sa[i];
+        f = fdrive;
+      } else if constexpr (K == 2) {
+        xp_rate = sb[i];
+        fdrive = d->pull_spring * (sa[i] - x) + d->pull_damper * (xp_rate - v);
+        f = fdrive;
+      }
       if (has_k) {
         fs = k * (x - 0.0);
         f -= fs;
@@ -732,69 +927,34 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
         f -= fd;
       }
       if (has_f) {
-        vr = cv - 0.0;
-        F = model->step(st, {vr, h, 0.0, 0.0});
+        if constexpr (Gms)
+          F = gms->step_scalar(st.data(), v, gc);
+        else
+          F = model->step(st, {v, h, f, m});
+        vr = v;
         f -= F;
       }
-      fdrive = -f;
-      if constexpr (K == 3) {
-        x = x1;
-        v = cv;
-      } else {
-        x += cv * h;
-        v = d->signal(t + h);
-      }
+      v += f * hm;
+      x += h * v;
+      // The energy watch's account: work of the drive this step (force: F dx; pull: F dx_p) [J].
+      if constexpr (K == 1)
+        work += h * fdrive * v;
+      else if constexpr (K == 2)
+        work += h * fdrive * xp_rate;
       ++step;
       if (!std::isfinite(f + x + v)) {
         flush();
         diverged(!std::isfinite(F));
+      }
+      if ((step & (kEnergyCheckEvery - 1)) == 0) {
+        flush();
+        check_energy();
       }
       if (--left == 0 || step == total) {
         left = every;
         flush();
         record();
       }
-      continue;
-    } else if constexpr (K == 1) {
-      fdrive = d->signal(t);
-      f += fdrive;
-    } else if constexpr (K == 2) {
-      xp_rate = d->signal.rate_at(t);
-      const double xp = d->signal(t);
-      fdrive = d->pull_spring * (xp - x) + d->pull_damper * (xp_rate - v);
-      f += fdrive;
-    }
-    if (has_k) {
-      fs = k * (x - 0.0);
-      f -= fs;
-    }
-    if (has_c) {
-      fd = c * (v - 0.0);
-      f -= fd;
-    }
-    if (has_f) {
-      F = model->step(st, {v, h, f, m});
-      vr = v;
-      f -= F;
-    }
-    v += f * hm;
-    x += h * v;
-    // The energy watch's account: work of the drive this step (force: F dx; pull: F dx_p) [J].
-    if constexpr (K == 1) work += h * fdrive * v;
-    else if constexpr (K == 2) work += h * fdrive * xp_rate;
-    ++step;
-    if (!std::isfinite(f + x + v)) {
-      flush();
-      diverged(!std::isfinite(F));
-    }
-    if ((step & (kEnergyCheckEvery - 1)) == 0) {
-      flush();
-      check_energy();
-    }
-    if (--left == 0 || step == total) {
-      left = every;
-      flush();
-      record();
     }
   }
   flush();
@@ -819,7 +979,7 @@ double AssemblySimulation::compute_step() {
       if (d.kind == DrivePart::Kind::Displacement) cv[d.body] = (d.signal(t + h) - x[d.body]) / h;
       else if (d.kind == DrivePart::Kind::Velocity) cv[d.body] = 0.5 * (d.signal(t) + d.signal(t + h));
     }
-  // 2. non-friction forces: drives, springs, dampers (in this order; the one-body sum of Simulation).
+  // 2. non-friction forces: drives, springs, dampers (in this order; the one-body loop's sum).
   for (std::size_t i = 0; i < p.drives.size(); ++i) {
     const auto& d = p.drives[i];
     if (d.kind == DrivePart::Kind::Force || d.kind == DrivePart::Kind::Pull) {
@@ -923,11 +1083,16 @@ std::size_t AssemblySimulation::advance(std::size_t n) {
   // The dedicated one-body loop drives from the signal; a controller's input (set_drive_input)
   // goes through the general path.
   switch (any_input_ ? -1 : simple_) {
-    case 0: return advance_simple<0>(n);
-    case 1: return advance_simple<1>(n);
-    case 2: return advance_simple<2>(n);
-    case 3: return advance_simple<3>(n);
-    case 4: return advance_simple<4>(n);
+    case 0:
+      return advance_simple<0, false>(n);
+    case 1:
+      return simple_gms_ ? advance_simple<1, true>(n) : advance_simple<1, false>(n);
+    case 2:
+      return simple_gms_ ? advance_simple<2, true>(n) : advance_simple<2, false>(n);
+    case 3:
+      return simple_gms_ ? advance_simple<3, true>(n) : advance_simple<3, false>(n);
+    case 4:
+      return simple_gms_ ? advance_simple<4, true>(n) : advance_simple<4, false>(n);
     default: break;
   }
   if (one_body_) return advance_one_body(n);

@@ -6,10 +6,12 @@
 //   force         F(t) on a body
 //   displacement  the body's position x(t) is prescribed
 //   velocity      the body's velocity v(t) is prescribed, x integrated
-//   pull          a drive point x_p(t) pulls the body through a spring k_p and damper c_p (seed Fig. 3);
+//   pull          a drive point x_p(t) pulls the body through a spring k_p and damper c_p (seed
+//   Fig. 3);
 //                 with point_velocity the signal is the point's velocity v_p(t), x_p integrated.
-// Ground is body index kGround (-1). A v1 Scenario maps onto an Assembly (assembly_from_scenario)
-// whose simulation gives the same trace as the one-body Simulation.
+// Ground is body index kGround (-1). AssemblySimulation is the one engine: a v1 Scenario runs as
+// its one-body assembly (assembly_from_scenario, one_body_simulation), recording the one-body trace
+// (core/sim/simulation.hpp), with a fast path per drive kind.
 //
 // Integrator (AssemblySimulation), per step of length h, the one-body contract per contact:
 //   1. prescribed bodies: x(t + h), and the velocity over the step that their contacts see
@@ -165,10 +167,10 @@ class AssemblySimulation {
   static constexpr double kSlipVelocity = 1e-4;
   static constexpr std::size_t kMaxRecordedElements = 64;
 
-  // Validates (throws InputError). `trace` bounds the trace's memory as for the one-body
-  // Simulation: max_bytes > 0 compacts it (compact_minmax, bucket widths doubling) whenever it
-  // fills, so a run of any length keeps every extreme of every output within that memory;
-  // max_bytes = 0 keeps every recorded sample (a consumer can take them in chunks: clear_trace()).
+  // Validates (throws InputError). `trace` bounds the trace's memory: max_bytes > 0 compacts it
+  // (compact_minmax, bucket widths doubling) whenever it fills, so a run of any length keeps every
+  // extreme of every output within that memory; max_bytes = 0 keeps every recorded sample (a
+  // consumer can take them in chunks: clear_trace()).
   explicit AssemblySimulation(const AssemblyScenario& s, TraceOptions trace = {});
   // Not copyable (the trace's channel table points into this object's arrays); movable.
   AssemblySimulation(const AssemblySimulation&) = delete;
@@ -192,7 +194,7 @@ class AssemblySimulation {
   const AssemblyTrace& trace() const { return trace_; }
   // A run of one_body_simulation records the one-body trace instead: t, x, v, F_f, F_applied
   // (prescribed motion: F_f) and the contact's element columns, bounded and compacted by the
-  // TraceOptions as Simulation's trace. Empty for any other run.
+  // TraceOptions (compact_minmax of a Trace). Empty for any other run.
   const Trace& one_body_trace() const { return body_trace_; }
   Trace take_one_body_trace() { return std::move(body_trace_); }
   AssemblyTrace take_trace() { return std::move(trace_); }
@@ -229,12 +231,34 @@ class AssemblySimulation {
   // Offset of contact j's model state in state_vector().
   std::size_t contact_state_offset(std::size_t j) const;
 
+  // Live edits, between steps: from the next step on the plant's values are `a`'s, the state (time,
+  // positions, velocities, contact states, trace) kept. `a` must have the plant's structure: the
+  // same bodies, parts and names, each part between the same ends, each drive of the same kind on
+  // the same body (masses, coefficients, friction parameters, drive signals and pull spring and
+  // damper may change). A contact whose model keeps its tag and state size keeps its state; any
+  // other restarts from its virgin state, its recorded element columns re-laid (earlier samples:
+  // zeros). The energy watch is rebased. Throws InputError (naming the key) for an invalid plant or
+  // another structure; nothing changes then.
+  void set_plant(const Assembly& a);
+  // Contact j's friction model (set_plant with that one change). For a one-body run the checks of
+  // a one-body scenario (check_scenario: its messages) come first.
+  void set_friction(const ModelParams& p, std::size_t contact = 0);
+  // A one-body run's plant (mass, spring, damper); InputError for any other run.
+  void set_plant(const Plant& p);
+  // The one-body scenario this run's plant is (one_body_scenario, updated by live edits); nullopt
+  // for any other plant.
+  const std::optional<Scenario>& one_body() const { return as_scenario_; }
+
  private:
   friend AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace);
   AssemblySimulation(const AssemblyScenario& s, TraceOptions trace, bool one_body_layout);
   void record();
   void record_one_body();
   void compact_trace();
+  // The parts compiled for the step loop from sc_.plant (coefficients, 1/m, fast-path choice).
+  void compile();
+  void set_history_limit();            // max_samples_ from the options and the trace's sample size
+  void relay_elements(std::size_t j);  // contact j's recorded element columns after a model change
   bool body_layout_ = false;      // record body_trace_ (one_body_simulation)
   bool body_prescribed_ = false;  // its drive prescribes the motion
   Trace body_trace_;
@@ -249,10 +273,15 @@ class AssemblySimulation {
   // position, 3 displacement, 4 velocity), spring, damper and contact, as a v1 preset maps:
   // advance_one_body's (K <= 2) or compute_step's (K >= 3) sums with the parts' values, the step
   // counters and the outputs in locals (written back before a sample is recorded), and the drive
-  // inlined - the same loop as Simulation::advance_as.
-  template <int K>
+  // inlined: the one-body loop of the one-body presets.
+  // Gms: the contact is a GmsModel of at most GmsModel::kScalarElements elements, stepped inline.
+  template <int K, bool Gms>
   std::size_t advance_simple(std::size_t n);
+  // Full: exactly one spring, damper and contact (known at compile time).
+  template <int K, bool Gms, bool Full>
+  std::size_t advance_simple_as(std::size_t n);
   int simple_ = -1;  // K of advance_simple when it applies, else -1
+  bool simple_gms_ = false;
   // Throws SimulationError: "simulation diverged at t = T s (non-finite friction force | state)"
   // and the likely cause.
   [[noreturn]] void diverged(bool friction) const;
@@ -301,9 +330,9 @@ class AssemblySimulation {
 
 AssemblyTrace simulate(const AssemblyScenario& s);
 
-// A one-body scenario on the assembled plant's engine: checks it as the one-body Simulation does
-// (check_scenario: its messages), then the simulation of assembly_from_scenario(s), recording the
-// one-body trace (one_body_trace(): Simulation's samples, bit for bit).
+// A one-body scenario on the engine: checks it as a one-body scenario (check_scenario: its
+// messages), then the simulation of assembly_from_scenario(s), recording the one-body trace
+// (one_body_trace()). The window's Simulation tab, the CLI, Python and the sweeps run it.
 AssemblySimulation one_body_simulation(const Scenario& s, TraceOptions trace = {});
 
 }  // namespace gmslab

@@ -54,7 +54,7 @@ struct Scenario {
 const char* to_string(Drive::Kind k);
 // Appends the problems of the run settings, each naming its key ("run.dt: must be in (0, 1] s"):
 // dt in (0, 1] s, duration in (0, 1e6] s, record_every >= 1, and - when `bad` is still empty - at
-// most 1e10 steps. Both engines' validation (Simulation, AssemblySimulation) ends with it.
+// most 1e10 steps. The engine's validation (check_scenario, AssemblySimulation) ends with it.
 void append_run_problems(const RunSettings& r, std::vector<std::string>& bad);
 // Throws InputError "invalid scenario 'NAME':" listing `bad` one per line; nothing when empty.
 void throw_if_invalid(const std::string& name, const std::vector<std::string>& bad);

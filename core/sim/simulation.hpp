@@ -1,6 +1,9 @@
-// gmslab core: deterministic fixed-step simulation of a scenario.
+// gmslab core: the one-body trace and the checks of a one-body scenario. A one-body scenario runs
+// on the one engine, AssemblySimulation (core/sim/assembly.hpp), as its one-body assembly
+// (one_body_simulation), which records this trace: t, x, v, F_f, F_applied and the contact's
+// element columns.
 //
-// Integrator (semi-implicit / symplectic Euler with frozen-velocity friction steps):
+// Integrator (semi-implicit / symplectic Euler with frozen-velocity friction steps), per step h:
 //   1. friction: advance its state over [t, t + h] with v frozen -> F_f (exact per model)
 //   2. v <- v + h (F_drive(t) - k x - c v - F_f) / m
 //   3. x <- x + h v
@@ -10,7 +13,6 @@
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -75,74 +77,6 @@ std::uint64_t compact_to_half(T& tr, double dt, std::uint64_t bucket_steps, std:
   return w;
 }
 
-class Simulation {
- public:
-  // Up to this many elements are recorded per sample in the trace.
-  static constexpr std::size_t kMaxRecordedElements = 64;
-
-  explicit Simulation(const Scenario& scenario, TraceOptions trace = {});  // validates; throws InputError
-  void reset();
-  // Advance by n steps of scenario.run.dt (stops early at the end of the run). Returns steps done.
-  // Throws SimulationError, naming the likely cause (step vs stiffness / damping limits), when the
-  // state turns non-finite or, for force and pull drives, the energy of the mass and springs grows
-  // beyond what the drive put in (checked every 1024 steps). The trace keeps the finite samples
-  // before that; reset() or a live edit makes the simulation usable again.
-  std::size_t advance(std::size_t n);
-  void run_to_end();
-  bool finished() const { return step_ >= total_steps_; }
-
-  // Live edits: take effect from the next step. A friction model of the same kind and element
-  // count keeps its state; anything else restarts the friction from its virgin state.
-  void set_friction(const ModelParams& p);
-  void set_plant(const Plant& p);
-
-  const Scenario& scenario() const { return sc_; }
-  const FrictionModel& model() const { return *model_; }
-  const Trace& trace() const { return trace_; }
-  // Drops the recorded samples (a streaming consumer has taken them); the run goes on.
-  void clear_trace();
-  // Integration steps per bucket of a compacted trace (TraceOptions::max_bytes); 0 while every
-  // recorded sample is kept.
-  std::uint64_t trace_bucket_steps() const { return bucket_steps_; }
-  std::size_t trace_max_samples() const { return max_samples_; }
-  // Moves the trace out (no copy of a long run); reset() before advancing again.
-  Trace take_trace() { return std::move(trace_); }
-  double time() const { return static_cast<double>(step_) * sc_.run.dt; }
-  double position() const { return x_; }
-  double velocity() const { return v_; }
-  std::span<const double> friction_state() const { return state_; }
-
- private:
-  void record(double ff, double fapp);
-  void set_history_limit();  // max_samples_ from the options and the recorded element count
-  void compact_trace();
-  template <Drive::Kind K>
-  std::size_t advance_as(std::size_t n);
-  [[noreturn]] void diverged(double ff) const;
-  // Divergence watch for mass-driven plants, every kEnergyCheckEvery steps (hardening): throws
-  // SimulationError naming the likely cause when the energy of the mass and springs exceeds its
-  // start value + the drive's work + the friction's elastic storage by a margin.
-  static constexpr std::uint64_t kEnergyCheckEvery = 1024;  // a power of 2
-  double mechanical_energy() const;  // 1/2 m v^2 + 1/2 k x^2 (+ 1/2 k_p (x_p - x)^2) [J]
-  void rebase_energy();              // at reset and after live edits
-  void check_energy() const;
-
-  Scenario sc_;
-  std::unique_ptr<FrictionModel> model_;
-  std::vector<double> state_;
-  Trace trace_;
-  TraceOptions trace_opts_;
-  std::size_t max_samples_ = 0;     // 0: unbounded
-  std::uint64_t bucket_steps_ = 0;  // current compaction bucket width (0: none yet)
-  std::uint64_t step_ = 0;
-  std::uint64_t total_steps_ = 0;
-  std::uint64_t until_record_ = 1;  // steps until the next trace sample
-  double x_ = 0.0, v_ = 0.0;
-  double drive_work_ = 0.0;  // work done by the drive since the last rebase [J]
-  double energy0_ = 0.0;     // mechanical energy at the last rebase [J]
-  double storage_ = 0.0;     // largest elastic energy the friction can hold [J]
-};
-
 // Throws InputError listing every problem of the scenario (friction parameters, plant, run, the
 // step against the stiffest mode for force and pull drives), each naming its key.
 void check_scenario(const Scenario& s);
@@ -160,8 +94,8 @@ double energy_margin(double budget, double dt, double dt_limit);
 // creates energy. " (the cause follows).
 std::string energy_growth_message(double t, double e, double e0, double work, double storage);
 
-// Runs a whole scenario and returns its trace: on the assembled plant's engine
-// (one_body_simulation, core/sim/assembly.hpp), the samples as Simulation records them.
+// Runs a whole scenario and returns its one-body trace (one_body_simulation,
+// core/sim/assembly.hpp).
 Trace simulate(const Scenario& scenario);
 
 }  // namespace gmslab

@@ -7,7 +7,7 @@
 
 #include "core/friction/model.hpp"
 #include "core/io/scenario_io.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 
 int main(int argc, char** argv) {
   using namespace gmslab;
@@ -15,9 +15,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: core_consumer PRESET.json\n");
     return 2;
   }
-  Simulation sim(load_scenario(argv[1]));
+  AssemblySimulation sim = one_body_simulation(load_scenario(argv[1]));
   sim.run_to_end();
-  const Trace& tr = sim.trace();
+  const Trace& tr = sim.one_body_trace();
   std::printf("simulated %zu samples of %s, last friction %.6g N\n", tr.size(), argv[1], tr.friction.back());
 
   auto model = build_model(model_info("gms").defaults());

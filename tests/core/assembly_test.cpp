@@ -30,12 +30,15 @@ int file_schema_version(const std::string& path) {
   return j.at("schema_version").get<int>();
 }
 
-// Old one-body path vs the assembled plant: x, v, friction force, drive force at every sample.
+// The one-body loop (simulate(Scenario): the fast path of its drive kind, the one-body trace) vs
+// the general loops (the plant with a second, zero spring to ground, which no fast path takes:
+// advance_one_body for a free body, compute_step for prescribed motion): x, v, friction force,
+// drive force at every sample.
 void expect_same_trace(const Scenario& s) {
-  Simulation one_body(s);
-  one_body.run_to_end();
-  const Trace a = one_body.take_trace();
-  const AssemblyTrace b = simulate(assembly_from_scenario(s));
+  const Trace a = simulate(s);
+  AssemblyScenario general = assembly_from_scenario(s);
+  general.plant.springs.push_back({"spring_zero", 0, kGround, 0.0});
+  const AssemblyTrace b = simulate(general);
   ASSERT_EQ(a.size(), b.size());
   const auto x = b.series("x.mass"), v = b.series("v.mass"), f = b.series("F.friction"),
              d = b.series("F.drive");
@@ -365,6 +368,78 @@ TEST(Assembly, StepAboveTheStiffestModeIsRejected) {
 }
 
 std::string preset(const std::string& name) { return std::string(GMSLAB_SOURCE_DIR) + "/presets/" + name; }
+
+// Live edits (the window's Simulation and Plant tabs): values change between steps, the state is
+// kept. The same values again leave the run as it would have been; a spring's new stiffness is in
+// the very next step's spring force, k (x_a - x_b) at the step's start; a contact given another
+// model restarts virgin while the other contact keeps its state; another structure or an invalid
+// value is refused naming the key, and nothing changes.
+TEST(Assembly, LiveEditsChangeValuesAndKeepTheState) {
+  const AssemblyScenario sc =
+      load_assembly_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/three_body_chain.json");
+  AssemblySimulation a(sc), b(sc);
+  a.advance(123457);
+  b.advance(123457);
+  b.set_plant(sc.plant);  // the same values
+  a.advance(50000);
+  b.advance(50000);
+  EXPECT_EQ(a.trace().values, b.trace().values);
+  for (std::size_t j = 0; j < 2; ++j)
+    EXPECT_EQ(a.trace().element_force[j], b.trace().element_force[j]);
+
+  Assembly stiffer = sc.plant;
+  ASSERT_EQ(stiffer.springs[0].name, "k12");
+  stiffer.springs[0].stiffness = 800.0;
+  b.set_plant(stiffer);
+  // Up to the step that records a sample (every run.record_every steps), then that step.
+  const auto every = static_cast<std::uint64_t>(sc.run.record_every);
+  const auto step = static_cast<std::uint64_t>(std::llround(b.time() / sc.run.dt));
+  b.advance((every - 1 - step % every + every) % every);
+  const std::vector<double> x0(b.positions().begin(), b.positions().end());
+  b.advance(1);
+  ASSERT_EQ(std::llround(b.time() / sc.run.dt) % static_cast<long long>(every), 0);
+  const auto c = static_cast<std::size_t>(b.trace().channel("F.k12"));
+  EXPECT_EQ(b.trace().values[(b.trace().size() - 1) * b.trace().channels.size() + c],
+            800.0 * (x0[0] - x0[1]));
+
+  const std::vector<double> other(b.contact_state(1).begin(), b.contact_state(1).end());
+  ModelParams lugre = model_info("lugre").defaults();
+  b.set_friction(lugre, 0);
+  EXPECT_EQ(b.contact_model(0).info().tag, "lugre");
+  std::vector<double> virgin(b.contact_model(0).state_size());
+  b.contact_model(0).reset(virgin);
+  EXPECT_EQ(std::vector<double>(b.contact_state(0).begin(), b.contact_state(0).end()), virgin);
+  EXPECT_EQ(std::vector<double>(b.contact_state(1).begin(), b.contact_state(1).end()), other);
+  b.advance(1000);
+  const AssemblyTrace& tr = b.trace();
+  EXPECT_EQ(tr.n_elements[0], b.contact_model(0).element_count());
+  EXPECT_EQ(tr.element_force[0].size(), tr.size() * tr.n_elements[0]);
+  EXPECT_EQ(tr.element_slip[0].size(), tr.size() * tr.n_elements[0]);
+
+  const double t = b.time();
+  const std::vector<double> x1(b.positions().begin(), b.positions().end());
+  Assembly fewer = stiffer;
+  fewer.springs.pop_back();
+  try {
+    b.set_plant(fewer);
+    ADD_FAILURE() << "another structure accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plant.springs: 1 instead of 2"), std::string::npos)
+        << e.what();
+  }
+  Assembly bad = stiffer;
+  bad.bodies[1].mass = -1.0;
+  try {
+    b.set_plant(bad);
+    ADD_FAILURE() << "a negative mass accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plant.bodies[1].mass"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(b.time(), t);
+  EXPECT_EQ(std::vector<double>(b.positions().begin(), b.positions().end()), x1);
+  EXPECT_EQ(b.scenario().plant.bodies[1].mass, sc.plant.bodies[1].mass);
+  EXPECT_EQ(b.contact_model(0).info().tag, "lugre");
+}
 
 TEST(AssemblyIo, Version2PresetsLoadRoundTripAndRun) {
   int n = 0;

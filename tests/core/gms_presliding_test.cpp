@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/friction/gms.hpp"
+#include "core/sim/assembly.hpp"
 #include "test_util.hpp"
 
 namespace gmslab {
@@ -174,7 +175,8 @@ namespace gmslab {
 namespace {
 
 TEST(LiveEdits, ChangingElementCountKeepsTraceColumnsAligned) {
-  Simulation sim(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
+  AssemblySimulation sim =
+      one_body_simulation(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
   sim.advance(1000);
   GmsParams g = GmsParams::reference(true);
   g.alpha = {0.5, 0.5};
@@ -182,7 +184,7 @@ TEST(LiveEdits, ChangingElementCountKeepsTraceColumnsAligned) {
   g.sigma = {0, 0};
   sim.set_friction(g.to_params());
   sim.advance(1000);
-  const Trace& tr = sim.trace();
+  const Trace& tr = sim.one_body_trace();
   EXPECT_EQ(tr.n_elements, 2u);
   EXPECT_EQ(tr.element_force.size(), tr.size() * 2);
   EXPECT_EQ(tr.element_slip.size(), tr.size() * 2);
@@ -190,14 +192,15 @@ TEST(LiveEdits, ChangingElementCountKeepsTraceColumnsAligned) {
 
 TEST(LiveEdits, SameShapeEditKeepsFrictionState) {
   // Editing a parameter while stuck must not release the elements' stored forces.
-  Simulation sim(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
+  AssemblySimulation sim =
+      one_body_simulation(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
   sim.advance(300000);  // 3 s: loaded at about 0.6 N, stuck
-  const double before = sim.trace().friction.back();
-  ModelParams p = sim.scenario().friction;
+  const double before = sim.one_body_trace().friction.back();
+  ModelParams p = sim.one_body()->friction;
   p.set_scalar("C", 300.0);
   sim.set_friction(p);
   sim.advance(10);
-  EXPECT_NEAR(sim.trace().friction.back(), before, 0.01);
+  EXPECT_NEAR(sim.one_body_trace().friction.back(), before, 0.01);
   EXPECT_GT(before, 0.5);
 }
 

@@ -1,10 +1,12 @@
 // Stick / slip phases are derived from the trace in core: a changed threshold reclassifies every
 // sample already recorded, and a growing trace is classified as it grows.
+#include "core/sim/phases.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/sim/phases.hpp"
+#include "core/sim/assembly.hpp"
 #include "test_util.hpp"
 
 namespace gmslab {
@@ -29,9 +31,10 @@ std::size_t count_slip(std::span<const std::uint8_t> p) {
 }
 
 TEST(Phases, ChangedThresholdAfterARunReclassifiesTheWholeTrace) {
-  Simulation sim(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
+  AssemblySimulation sim =
+      one_body_simulation(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
   sim.run_to_end();
-  const Trace& tr = sim.trace();
+  const Trace& tr = sim.one_body_trace();
   PhaseSeries ps;
   const std::vector<std::uint8_t> low(ps.update(tr, 1e-4).begin(), ps.update(tr, 1e-4).end());
   ASSERT_EQ(low, expected_phases(tr, 1e-4));
@@ -52,15 +55,18 @@ TEST(Phases, ChangedThresholdAfterARunReclassifiesTheWholeTrace) {
 }
 
 TEST(Phases, GrowingTraceIsClassifiedAsItGrowsAndAResetStartsOver) {
-  Simulation sim(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
+  AssemblySimulation sim =
+      one_body_simulation(load_scenario(test_util::preset_path("fig4_stick_slip.json")));
   PhaseSeries ps;
   for (int i = 0; i < 20; ++i) {
     sim.advance(100000);
-    const auto p = ps.update(sim.trace(), 2e-4);
-    ASSERT_EQ(std::vector<std::uint8_t>(p.begin(), p.end()), expected_phases(sim.trace(), 2e-4)) << i;
+    const auto p = ps.update(sim.one_body_trace(), 2e-4);
+    ASSERT_EQ(std::vector<std::uint8_t>(p.begin(), p.end()),
+              expected_phases(sim.one_body_trace(), 2e-4))
+        << i;
   }
   sim.reset();
-  EXPECT_EQ(ps.update(sim.trace(), 2e-4).size(), 1u);
+  EXPECT_EQ(ps.update(sim.one_body_trace(), 2e-4).size(), 1u);
 }
 
 }  // namespace

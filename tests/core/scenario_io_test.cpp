@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/io/atomic_file.hpp"
+#include "core/sim/assembly.hpp"
 #include "test_util.hpp"
 
 namespace gmslab {
@@ -108,7 +109,7 @@ TEST(ScenarioIo, StepTooLargeForStiffestElementIsRejectedBySimulation) {
   Scenario s = load_scenario(test_util::preset_path("fig4_stick_slip.json"));
   s.run.dt = 0.01;  // omega = sqrt(210002) ~ 458 rad/s -> limit 2/omega ~ 4.4 ms
   try {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     FAIL() << "accepted dt = 0.01";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("run.dt"), std::string::npos) << e.what();

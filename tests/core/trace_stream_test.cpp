@@ -13,6 +13,7 @@
 #include "core/friction/gms.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/trace_csv.hpp"
+#include "core/sim/assembly.hpp"
 #include "test_util.hpp"
 
 namespace gmslab {
@@ -110,16 +111,18 @@ TEST(BoundedTrace, NeverExceedsItsLimitAndKeepsEveryExtremePerBucket) {
   const Scenario sc = load_scenario(test_util::preset_path("fig4_stick_slip.json"));  // 250001 samples
   const Trace full = simulate(sc);
   const std::size_t limit_bytes = 3000 * trace_sample_bytes(4);
-  Simulation sim(sc, TraceOptions{.max_bytes = limit_bytes});
+  AssemblySimulation sim = one_body_simulation(sc, TraceOptions{.max_bytes = limit_bytes});
   EXPECT_EQ(sim.trace_max_samples(), 3000u);
   std::size_t most = 0;
   while (!sim.finished()) {
     sim.advance(7919);
-    most = std::max(most, sim.trace().size());
-    ASSERT_LE(sim.trace().t.capacity() * 5 * sizeof(double) + sim.trace().element_force.capacity() * 9, limit_bytes + 64);
+    most = std::max(most, sim.one_body_trace().size());
+    ASSERT_LE(sim.one_body_trace().t.capacity() * 5 * sizeof(double) +
+                  sim.one_body_trace().element_force.capacity() * 9,
+              limit_bytes + 64);
   }
   EXPECT_LE(most, 3000u);
-  const Trace& b = sim.trace();
+  const Trace& b = sim.one_body_trace();
   const std::uint64_t w = sim.trace_bucket_steps();
   ASSERT_GT(w, 0u);
   EXPECT_GT(b.size(), 300u);  // still well resolved: more samples than a plot has pixel columns
@@ -159,12 +162,13 @@ TEST(BoundedTrace, NeverExceedsItsLimitAndKeepsEveryExtremePerBucket) {
 
 TEST(BoundedTrace, UnderTheLimitEveryStepIsKept) {
   const Scenario sc = load_scenario(test_util::preset_path("fig4_stick_slip.json"));
-  Simulation sim(sc, TraceOptions{.max_bytes = std::size_t{64} << 20});
+  AssemblySimulation sim =
+      one_body_simulation(sc, TraceOptions{.max_bytes = std::size_t{64} << 20});
   sim.run_to_end();
   const Trace full = simulate(sc);
   EXPECT_EQ(sim.trace_bucket_steps(), 0u);
-  EXPECT_EQ(sim.trace().t, full.t);
-  EXPECT_EQ(sim.trace().friction, full.friction);
+  EXPECT_EQ(sim.one_body_trace().t, full.t);
+  EXPECT_EQ(sim.one_body_trace().friction, full.friction);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 #include "core/error.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/scenario_io.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 
 namespace {
 constexpr std::size_t kSteps = 300;
@@ -39,9 +39,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!(scenario_from_json(parse_json(saved, "saved.json"), "saved.json") == sc))
     __builtin_trap();
   try {
-    Simulation sim(sc);
+    AssemblySimulation sim = one_body_simulation(sc);
     sim.advance(kSteps);
-    if (!finite_trace(sim.trace())) __builtin_trap();
+    if (!finite_trace(sim.one_body_trace())) __builtin_trap();
   } catch (const InputError&) {
   } catch (const SimulationError&) {
   }

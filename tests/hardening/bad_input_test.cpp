@@ -1,15 +1,14 @@
 // The bad-input table of README section `hardening`: one test per row. Every message must name
 // the file, the line or key path, and what would be accepted.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <limits>
 
 #include "core/io/csv.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 #include "hardening_util.hpp"
 
 namespace gmslab::hardening {
@@ -85,7 +84,7 @@ TEST(BadInput, NonFiniteValuesThroughTheApiAreRejectedByTheSimulation) {
   Scenario s = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
   s.plant.mass = std::numeric_limits<double>::quiet_NaN();
   try {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     FAIL() << "NaN mass accepted";
   } catch (const InputError& e) {
     EXPECT_HAS(std::string(e.what()), "plant.mass: must be > 0 kg");
@@ -93,7 +92,7 @@ TEST(BadInput, NonFiniteValuesThroughTheApiAreRejectedByTheSimulation) {
   s.plant.mass = 1.0;
   s.friction.set_scalar("Fs", std::numeric_limits<double>::infinity());
   try {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     FAIL() << "infinite Fs accepted";
   } catch (const InputError& e) {
     EXPECT_HAS(std::string(e.what()), "friction.Fs: inf is outside the allowed range (0, 1e+07] N");
@@ -134,7 +133,7 @@ TEST(BadInput, StepTooLargeForTheStiffestElementNamesTheLimit) {
   write_file_atomic(path, fig4_with("\"dt\": 1e-5", "\"dt\": 0.01"));
   const Scenario s = load_scenario(path);
   try {
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     FAIL() << "unstable step accepted";
   } catch (const InputError& e) {
     const std::string msg = e.what();

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/friction/gms.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 #include "hardening_util.hpp"
 
 namespace gmslab::hardening {
@@ -38,7 +38,8 @@ TEST(Divergence, EnergyGrowthFromAStepTooLargeForTheDampingStopsTheRun) {
   // v is multiplied by about -1.04 per step, so the energy grows by 1e34 in 1024 steps while
   // nothing is yet non-finite: the energy watch, not the NaN check, must catch it.
   const Scenario s = sliding_mass(1e-3, 2040.0);
-  Simulation sim(s);  // passes the stiffness check: 2 / sqrt(210000) = 4.4 ms > 1 ms
+  AssemblySimulation sim =
+      one_body_simulation(s);  // passes the stiffness check: 2 / sqrt(210000) = 4.4 ms > 1 ms
   try {
     sim.run_to_end();
     FAIL() << "unstable damping not detected";
@@ -49,11 +50,11 @@ TEST(Divergence, EnergyGrowthFromAStepTooLargeForTheDampingStopsTheRun) {
     EXPECT_HAS(msg, "on m = 1 kg needs dt < 2 m / sum c = 0.0009802 s");
   }
   EXPECT_LE(sim.time(), 1.024 + 1e-12);
-  EXPECT_TRUE(all_finite(sim.trace()));  // the plot shows what happened before, no NaN
+  EXPECT_TRUE(all_finite(sim.one_body_trace()));  // the plot shows what happened before, no NaN
   // The same plant with a step inside the limit runs to the end.
-  Simulation ok(sliding_mass(0.5e-3, 2040.0));
+  AssemblySimulation ok = one_body_simulation(sliding_mass(0.5e-3, 2040.0));
   EXPECT_NO_THROW(ok.run_to_end());
-  EXPECT_TRUE(all_finite(ok.trace()));
+  EXPECT_TRUE(all_finite(ok.one_body_trace()));
 }
 
 TEST(Divergence, NonFiniteStateAfterALiveEditStopsTheRunAndNamesTheStep) {
@@ -61,7 +62,7 @@ TEST(Divergence, NonFiniteStateAfterALiveEditStopsTheRunAndNamesTheStep) {
   // 100, v multiplied by -99 per step): the state overflows to inf within ~160 steps, before the
   // next energy check (every 1024 steps), so the non-finite check must stop it.
   const Scenario s = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig4_stick_slip.json");
-  Simulation sim(s);
+  AssemblySimulation sim = one_body_simulation(s);
   sim.advance(1025);
   ModelParams p = s.friction;
   p.set_scalar("sigma2", 1e7);
@@ -76,12 +77,12 @@ TEST(Divergence, NonFiniteStateAfterALiveEditStopsTheRunAndNamesTheStep) {
     EXPECT_HAS(msg, "needs dt < 2 m / sum c = 1.99996e-07 s");
   }
   EXPECT_LT(sim.time(), 2048 * 1e-5);
-  EXPECT_TRUE(all_finite(sim.trace()));
+  EXPECT_TRUE(all_finite(sim.one_body_trace()));
   // The window stays usable: undo the edit, reset, run again.
   sim.set_friction(s.friction);
   sim.reset();
   EXPECT_EQ(sim.advance(5000), 5000u);
-  EXPECT_TRUE(all_finite(sim.trace()));
+  EXPECT_TRUE(all_finite(sim.one_body_trace()));
 }
 
 TEST(Divergence, NoFalseAlarmForEveryModelNearTheStabilityLimit) {
@@ -99,9 +100,9 @@ TEST(Divergence, NoFalseAlarmForEveryModelNearTheStabilityLimit) {
     s.run = {1.0, 3.0, 100};
     s.run.dt = std::min(0.6 * stability_limit_dt(s), 1e-4);
     SCOPED_TRACE(s.name + ", dt = " + std::to_string(s.run.dt));
-    Simulation sim(s);
+    AssemblySimulation sim = one_body_simulation(s);
     EXPECT_NO_THROW(sim.run_to_end());
-    EXPECT_TRUE(all_finite(sim.trace()));
+    EXPECT_TRUE(all_finite(sim.one_body_trace()));
   }
 }
 

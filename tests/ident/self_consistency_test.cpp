@@ -14,10 +14,10 @@
 #include <random>
 #include <string>
 
-#include "core/ident/loop.hpp"
 #include "core/friction/model.hpp"
+#include "core/ident/loop.hpp"
 #include "core/io/scenario_io.hpp"
-#include "core/sim/simulation.hpp"
+#include "core/sim/assembly.hpp"
 
 using namespace gmslab;
 using namespace gmslab::ident;
@@ -36,9 +36,9 @@ class SelfConsistency : public ::testing::TestWithParam<Case> {};
 TEST_P(SelfConsistency, OwnTraceOfTheGeneratingModelNamesNothing) {
   const Case k = GetParam();
   const Scenario sc = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/" + k.preset);
-  Simulation sim(sc);
+  AssemblySimulation sim = one_body_simulation(sc);
   sim.run_to_end();
-  const Trace& tr = sim.trace();
+  const Trace& tr = sim.one_body_trace();
   ASSERT_GT(tr.size(), 100u);
   const std::size_t every = std::max<std::size_t>(1, tr.size() / k.samples);
   MeasuredRecord rec;

@@ -2,11 +2,11 @@
 // each measured on the protocols of the seed's figures and run over the models it concerns.
 #include <gtest/gtest.h>
 
-#include <iostream>
-
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
+#include "core/sim/assembly.hpp"
 #include "tests/models/model_protocols.hpp"
 
 namespace gmslab {
@@ -167,14 +167,14 @@ BreakAwayRun break_away_run(const std::string& tag, double rate) {
   s.drive.signal = Signal::ramp(0.0, rate);
   s.run.dt = 1e-5;
   s.run.duration = 3.0 / rate + 1.0;
-  Simulation sim(s);
+  AssemblySimulation sim = one_body_simulation(s);
   const double sigma2 = s.friction.scalar("sigma2");
   double peak = 0.0;
-  while (!sim.finished() && sim.velocity() < 1e-2) {
+  while (!sim.finished() && sim.velocities()[0] < 1e-2) {
     sim.advance(1);
-    peak = std::max(peak, sim.trace().friction.back() - sigma2 * sim.velocity());
+    peak = std::max(peak, sim.one_body_trace().friction.back() - sigma2 * sim.velocities()[0]);
   }
-  return {peak, sim.trace().applied.back()};
+  return {peak, sim.one_body_trace().applied.back()};
 }
 
 double break_away_force(const std::string& tag, double rate) {

@@ -190,8 +190,8 @@ TEST_F(Folders, UndoAndRedoRestoreEveryEditInOrder) {
       ASSERT_TRUE(ui::undo(s));
       ui::apply_pending(s);
       EXPECT_TRUE(ui::snapshot(s) == states[k]) << "undo to step " << k;
-      EXPECT_EQ(s.main.sim->scenario().friction, states[k].scenario.friction);
-      EXPECT_EQ(s.main.sim->scenario().plant, states[k].scenario.plant);
+      EXPECT_EQ(s.main.sim->one_body()->friction, states[k].scenario.friction);
+      EXPECT_EQ(s.main.sim->one_body()->plant, states[k].scenario.plant);
       EXPECT_EQ(s.overlay.sim != nullptr, states[k].compare.has_value());
     }
     EXPECT_FALSE(ui::undo(s));
@@ -263,7 +263,7 @@ TEST_F(Folders, ShortcutsRunPauseRerunSaveUndoAndRedo) {
     ASSERT_FALSE(after == before);
     press(90, true);  // Ctrl+Z
     EXPECT_EQ(s.scenario.friction, before);
-    EXPECT_EQ(s.main.sim->scenario().friction, before);
+    EXPECT_EQ(s.main.sim->one_body()->friction, before);
     press(90, true, true);  // Ctrl+Shift+Z
     EXPECT_EQ(s.scenario.friction, after);
     press(90, true);
@@ -334,7 +334,7 @@ TEST_F(Folders, OverlayFollowsTheMainModelsSharedParametersWhenLinked) {
       for (const char* k : {"Fs", "Fc", "Vs"}) {
         const double want = linked ? m.scalar(k) : own.scalar(k);
         EXPECT_DOUBLE_EQ(s.compare->scalar(k), want) << k;
-        EXPECT_DOUBLE_EQ(s.overlay.sim->scenario().friction.scalar(k), want) << k;
+        EXPECT_DOUBLE_EQ(s.overlay.sim->one_body()->friction.scalar(k), want) << k;
       }
     }
   }

@@ -25,9 +25,9 @@ TEST(AppState, EditsWaitForApplyPendingThenTakeEffect) {
   ModelParams p = s.scenario.friction;
   p.set_scalar("Fs", 2.0);
   s.pending.friction = p;
-  EXPECT_DOUBLE_EQ(s.main.sim->scenario().friction.scalar("Fs"), 1.5);  // not yet
+  EXPECT_DOUBLE_EQ(s.main.sim->one_body()->friction.scalar("Fs"), 1.5);  // not yet
   ui::apply_pending(s);
-  EXPECT_DOUBLE_EQ(s.main.sim->scenario().friction.scalar("Fs"), 2.0);
+  EXPECT_DOUBLE_EQ(s.main.sim->one_body()->friction.scalar("Fs"), 2.0);
   EXPECT_DOUBLE_EQ(s.scenario.friction.scalar("Fs"), 2.0);  // what "save" writes
   EXPECT_FALSE(s.pending.friction.has_value());
 }
@@ -39,7 +39,7 @@ TEST(AppState, InvalidEditIsRejectedWithAMessageAndTheRunKeepsItsParameters) {
   bad.mass = -1.0;
   s.pending.plant = bad;
   ui::apply_pending(s);
-  EXPECT_DOUBLE_EQ(s.main.sim->scenario().plant.mass, 1.0);
+  EXPECT_DOUBLE_EQ(s.main.sim->one_body()->plant.mass, 1.0);
   EXPECT_NE(s.status.find("plant.mass"), std::string::npos) << s.status;
 }
 
@@ -72,8 +72,8 @@ TEST(AppState, OverlayOfTheSameModelReproducesTheMainTraceExactly) {
   s.view.speed = 100.0;
   ui::apply_pending(s);
   for (int i = 0; i < 3; ++i) ui::advance(s);
-  const Trace& a = s.main.sim->trace();
-  const Trace& b = s.overlay.sim->trace();
+  const Trace& a = s.main.sim->one_body_trace();
+  const Trace& b = s.overlay.sim->one_body_trace();
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
     ASSERT_EQ(a.friction[k], b.friction[k]) << k;
@@ -191,7 +191,7 @@ TEST(AppState, ChangedSlipThresholdReclassifiesTheRecordedTrace) {
   std::vector<std::uint8_t> low(before.begin(), before.end());
   s.view.slip_velocity = 10.0;  // no |v| in this run comes near: only all-elements-slipping counts
   const auto after = s.main.phases(s.view.slip_velocity);
-  const Trace& tr = s.main.sim->trace();
+  const Trace& tr = s.main.sim->one_body_trace();
   ASSERT_EQ(after.size(), tr.size());
   std::size_t changed = 0;
   for (std::size_t k = 0; k < tr.size(); ++k) {
@@ -215,7 +215,7 @@ TEST(AppState, LiveRunsKeepABoundedHistoryWithTheExtremes) {
   ui::run_until(s, -1.0);
   const Trace full = simulate(s.scenario);
   for (const ui::LiveRun* r : {&s.main, &s.overlay}) {
-    const Trace& tr = r->sim->trace();
+    const Trace& tr = r->sim->one_body_trace();
     EXPECT_LE(tr.size(), 2000u);
     EXPECT_GT(r->sim->trace_bucket_steps(), 0u);
     EXPECT_EQ(*std::max_element(tr.friction.begin(), tr.friction.end()),

@@ -88,7 +88,7 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
     ASSERT_TRUE(fs::exists(csv)) << h.s.status;
     EXPECT_NE(h.s.status.find(csv.string()), std::string::npos) << h.s.status;
     const auto rows = read_csv(csv.string());
-    const Trace& tr = h.s.main.sim->trace();
+    const Trace& tr = h.s.main.sim->one_body_trace();
     // The friction series: every sample of the trace, t in s, F in the unit the axis shows
     // (N here: the forces stay between 0.01 and 1000 N).
     bool found = false;

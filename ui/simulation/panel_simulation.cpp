@@ -41,7 +41,8 @@ void sync(AppState& s, SimPanelState& p) {
 // "" when the scenario would run, else the validation message (names key and range).
 std::string check(const Scenario& sc) {
   try {
-    Simulation probe(sc, TraceOptions{.max_bytes = 0, .reserve_samples = 1});  // no trace memory
+    (void)one_body_simulation(
+        sc, TraceOptions{.max_bytes = 0, .reserve_samples = 1});  // no trace memory
     return "";
   } catch (const InputError& e) {
     return e.what();
@@ -93,7 +94,7 @@ void scenario_section(AppState& s, SimPanelState& p) {
 }
 
 void run_section(AppState& s) {
-  const Simulation* sim = s.main.sim.get();
+  const AssemblySimulation* sim = s.main.sim.get();
   const float bw = ImGui::GetFontSize() * 4.5f;
   if (s.running) {
     if (ImGui::Button("Pause", ImVec2(bw, 0))) s.pending.pause = true;
@@ -159,10 +160,10 @@ void friction_section(AppState& s, SimPanelState& p) {
   if (!ImGui::CollapsingHeader("Friction model", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::SetNextItemWidth(-1);
   bool c = edit_model_choice("##model", p.friction);
-  const Simulation* sim = s.main.sim.get();
-  const bool live = sim && sim->scenario().friction.model == p.friction.model;
-  c |= edit_model_params("friction", p.friction, live ? &sim->model() : nullptr,
-                         live ? sim->friction_state() : std::span<const double>{}, &p.marks);
+  const AssemblySimulation* sim = s.main.sim.get();
+  const bool live = sim && sim->one_body()->friction.model == p.friction.model;
+  c |= edit_model_params("friction", p.friction, live ? &sim->contact_model(0) : nullptr,
+                         live ? sim->contact_state(0) : std::span<const double>{}, &p.marks);
   if (c) {
     Scenario sc = s.scenario;
     sc.friction = p.friction;
@@ -202,10 +203,10 @@ void compare_section(AppState& s, SimPanelState& p) {
       "whenever the main model changes, so the two differ only in their dynamics");
   ImGui::SetNextItemWidth(-1);
   bool c = edit_model_choice("##cmpmodel", p.compare);
-  const Simulation* sim = s.overlay.sim.get();
-  const bool live = sim && sim->scenario().friction.model == p.compare.model;
-  c |= edit_model_params("compare", p.compare, live ? &sim->model() : nullptr,
-                         live ? sim->friction_state() : std::span<const double>{}, &p.marks);
+  const AssemblySimulation* sim = s.overlay.sim.get();
+  const bool live = sim && sim->one_body()->friction.model == p.compare.model;
+  c |= edit_model_params("compare", p.compare, live ? &sim->contact_model(0) : nullptr,
+                         live ? sim->contact_state(0) : std::span<const double>{}, &p.marks);
   if (c) {
     Scenario sc = s.scenario;
     sc.friction = p.compare;

@@ -117,8 +117,8 @@ void hysteresis_plot(const Runs& r, const AppState& s, ImVec2 size) {
 
 // A strip of bars, one per friction element: its force F_i (up or down from the centre line,
 // scaled to the largest |F_i|) in blue while it sticks and orange while it slips.
-void element_strip(const Simulation& sim, ImVec2 size) {
-  const FrictionModel& m = sim.model();
+void element_strip(const AssemblySimulation& sim, ImVec2 size) {
+  const FrictionModel& m = sim.contact_model(0);
   const std::size_t n = m.element_count();
   ImGui::BeginChild("##elements", size, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   const float fh = ImGui::GetFontSize();
@@ -128,7 +128,7 @@ void element_strip(const Simulation& sim, ImVec2 size) {
   double fmax = 1e-12;
   std::size_t slipping = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    st[i] = m.element(sim.friction_state(), i);
+    st[i] = m.element(sim.contact_state(0), i);
     fmax = std::max(fmax, std::fabs(st[i].force));
     slipping += st[i].slipping;
   }
@@ -172,15 +172,15 @@ void draw_simulation_plots(AppState& s) {
     return;
   }
   Runs r;
-  r.main = &s.main.sim->trace();
+  r.main = &s.main.sim->one_body_trace();
   r.phase = s.main.phases(s.view.slip_velocity).data();
   r.main_name = short_name(model_info(s.scenario.friction.model).name);
   if (s.overlay.sim) {
-    r.overlay = &s.overlay.sim->trace();
+    r.overlay = &s.overlay.sim->one_body_trace();
     r.overlay_name = short_name(model_info(s.compare->model).name) + " (overlay)";
     if (r.overlay_name == r.main_name + " (overlay)") r.overlay_name = r.main_name + " (overlay, own parameters)";
   }
-  const bool strip = s.main.sim->model().element_count() > 0;
+  const bool strip = s.main.sim->contact_model(0).element_count() > 0;
   const float strip_h = ImGui::GetFontSize() * 4.6f;
   ImVec2 c = cell(2, 2);
   if (strip) c.y -= 0.5f * (strip_h + ImGui::GetStyle().ItemSpacing.y);
