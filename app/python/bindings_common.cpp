@@ -87,7 +87,9 @@ std::string path_arg(const py::object& o, const char* what) {
 
 // A preset path as given, or a shipped preset's bare name (gmslab::resolve_preset, as the CLI and
 // the window's --open take it); the error names the closest preset and lists them.
-std::string resolve_preset_arg(const std::string& path) { return resolve_preset(path, preset_dir()); }
+std::string resolve_preset_arg(const std::string& path) {
+  return resolve_preset(path, preset_dir());
+}
 
 Scenario load_scenario_arg(const py::object& o) {
   return load_scenario(resolve_preset_arg(path_arg(o, "path")));

@@ -28,8 +28,8 @@ void append_trace_csv_rows(const Trace& tr, std::size_t n_elements, std::string&
 // the length of the run. The rows are formatted and passed to `sink` on a second thread while the
 // next chunk is simulated (the header on the calling thread first; one call at a time, in order;
 // the text is that of doing it all in turn). Returns the number of samples written. Throws what
-// the simulation throws (InputError, SimulationError); the samples of the chunks before a divergence
-// have been passed to the sink by then, and what `sink` throws.
+// the simulation throws (InputError, SimulationError); the samples of the chunks before a
+// divergence have been passed to the sink by then, and what `sink` throws.
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink);
 // The same into a file, atomically: the text streams to a temporary file beside `path`, renamed
 // over it once the run is complete (a failed run leaves `path` as it was).
