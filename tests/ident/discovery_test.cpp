@@ -148,7 +148,7 @@ TEST(Discovery, TermsOutsideTheCatalog) {
   const double sizes[] = {4.0, 10.0, 25.0, 50.0};
   int cases = 0, family_ok = 0, floor_ok = 0;
   std::printf("%-20s %6s %10s %6s | %-8s %-7s %-9s | %s\n", "term", "size", "scale", "seed", "family", "val/flr", "seconds",
-              "discovery");
+              "catalog | discovery");
   for (Term term : {Term::Reversal, Term::DirRipple, Term::History})
     for (double size : sizes) {
       const unsigned seed = s0 + static_cast<unsigned>(cases);
@@ -161,17 +161,31 @@ TEST(Discovery, TermsOutsideTheCatalog) {
       const auto t0 = std::chrono::steady_clock::now();
       const Outcome o = run(seed, &d, size);
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const bool fam = right_family(d, o.report.discovery);
+      const Discovery& ds = o.report.discovery;
+      const bool fam = right_family(d, ds);
+      // Said, never silently absent; a kept set lowers the validation RMS and passed the test.
+      EXPECT_TRUE(ds.summary.rfind("not run", 0) == 0 || ds.summary.rfind("nothing discovered", 0) == 0 ||
+                  ds.summary.rfind("discovered", 0) == 0) << ds.summary;
+      if (ds.found) {
+        EXPECT_LT(ds.rms_validation_after, ds.rms_validation_before) << ds.summary;
+        EXPECT_TRUE(ds.test.z >= ds.z_crit || ds.test.mse_difference >= ds.floor * ds.floor) << ds.summary;
+        EXPECT_GE(ds.contribution, 0.5 * ds.floor) << ds.summary;
+        EXPECT_NEAR(o.report.rms_after_validation, ds.rms_validation_after, 1e-12) << "the report includes the terms";
+      }
       const double ratio = o.report.rms_after_validation / o.floor;
       ++cases;
       family_ok += fam;
       floor_ok += ratio <= 1.5;
-      std::printf("%-20s %6.0f %10.3g %6u | %-8s %-7.2f %-9.1f | %s\n", term_name(term), size, d.scale, seed,
-                  fam ? "right" : "no", ratio, secs, o.report.discovery.summary.c_str());
+      std::string named;
+      for (Effect e : o.report.effects_added) named += std::string(named.empty() ? "" : ",") + std::string(effect_name(e));
+      std::printf("%-20s %6.0f %10.3g %6u | %-8s %-7.2f %-9.1f | %s | %s\n", term_name(term), size, d.scale, seed,
+                  fam ? "right" : "no", ratio, secs, named.empty() ? "-" : named.c_str(), ds.summary.c_str());
     }
   std::printf("terms outside the catalog: right family %d of %d, validation within 1.5x the floor %d of %d\n",
               family_ok, cases, floor_ok, cases);
-  EXPECT_GE(family_ok, 0);
+  // Limits from seeds 9100-9111 (right family 4 of 12, within 1.5x the floor 1 of 12): the catalog's
+  // shape absorbs much of these terms before the residual regression sees them.
+  EXPECT_GE(family_ok, 2);
 }
 
 }  // namespace
