@@ -143,15 +143,19 @@ TEST(Discovery, NothingOnEffectFreeRandomRecords) {
   EXPECT_EQ(fired, 0);
 }
 
-TEST(Discovery, TermsOutsideTheCatalog) {
-  const unsigned s0 = base_seed(7300);
+// One family a test (each about a minute on the idle machine), four sizes each.
+class DiscoveryOutside : public ::testing::TestWithParam<Term> {};
+
+TEST_P(DiscoveryOutside, TermsOutsideTheCatalog) {
+  const Term term = GetParam();
+  const unsigned s0 = base_seed(7300) + 4 * static_cast<unsigned>(term);
   const double sizes[] = {4.0, 10.0, 25.0, 50.0};
   int cases = 0, family_ok = 0, floor_ok = 0;
   std::printf("%-20s %6s %10s %6s | %-8s %-7s %-9s | %s\n", "term", "size", "scale", "seed", "family", "val/flr", "seconds",
               "catalog | discovery");
-  for (Term term : {Term::Reversal, Term::DirRipple, Term::History})
+  {
     for (double size : sizes) {
-      const unsigned seed = s0 + static_cast<unsigned>(cases);
+      const unsigned seed = s0 + static_cast<unsigned>(cases);  // 7300 + 4 family + case
       std::mt19937 rng(seed);
       std::uniform_real_distribution<double> U(0.0, 1.0);
       Drawn d{term};
@@ -181,11 +185,24 @@ TEST(Discovery, TermsOutsideTheCatalog) {
       std::printf("%-20s %6.0f %10.3g %6u | %-8s %-7.2f %-9.1f | %s | %s\n", term_name(term), size, d.scale, seed,
                   fam ? "right" : "no", ratio, secs, named.empty() ? "-" : named.c_str(), ds.summary.c_str());
     }
-  std::printf("terms outside the catalog: right family %d of %d, validation within 1.5x the floor %d of %d\n",
+  }
+  std::printf("%s: right family %d of %d, validation within 1.5x the floor %d of %d\n", term_name(term),
               family_ok, cases, floor_ok, cases);
-  // Limits from seeds 9100-9111 (right family 4 of 12, within 1.5x the floor 1 of 12): the catalog's
-  // shape absorbs much of these terms before the residual regression sees them.
-  EXPECT_GE(family_ok, 2);
+  // Limits from seeds 9100-9111: the sliding history was found in 3 of 4, the reversal transient in
+  // 0 of 4 and the direction-gated ripple in 1 of 4 (the catalog's shape and effects absorb much of
+  // these before the residual regression sees them); only the history has a count to hold.
+  if (term == Term::History) EXPECT_GE(family_ok, 2);
 }
+
+INSTANTIATE_TEST_SUITE_P(Families, DiscoveryOutside,
+                         ::testing::Values(Term::Reversal, Term::DirRipple, Term::History),
+                         [](const auto& info) {
+                           switch (info.param) {
+                             case Term::Reversal: return std::string("ReversalTransient");
+                             case Term::DirRipple: return std::string("DirectionRipple");
+                             case Term::History: return std::string("SlidingHistory");
+                           }
+                           return std::string("Other");
+                         });
 
 }  // namespace
