@@ -152,6 +152,7 @@ int run_identify(const IdentifyOptions& o) {
   else std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
   std::cout << '\n';
   print_ablation(rep.ablation);
+  std::cout << "  " << rep.discovery.summary << '\n';
   if (!rep.optimum.verified)
     std::cout << "  not converged: " << rep.optimum.reason << "; no standard errors\n";
   for (const auto& p : rep.parameters)

@@ -74,6 +74,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
     if (!detail::run_round(s, round)) break;
   detail::final_refit(s);
   detail::credit(s);
+  detail::discover_terms(s);
   detail::finish_report(s);
   return std::move(s.rep);
 }
@@ -110,6 +111,14 @@ nlohmann::json fit_json(const FitResult& f) {
 }
 
 }  // namespace
+
+std::vector<double> predict_final(const IdentReport& r, const Dataset& d) {
+  auto f = predict(r.final_fit(), d, r.context);
+  if (!r.discovery.found) return f;
+  const auto extra = discovered_force(r.discovery, d, r.context, f);
+  for (std::size_t k = 0; k < f.size(); ++k) f[k] += extra[k];
+  return f;
+}
 
 std::vector<ModelComparison> compare_models(const IdentReport& r, const Dataset& train,
                                             const Dataset& validation, const std::vector<std::string>& models,
@@ -295,6 +304,7 @@ nlohmann::json to_json(const IdentReport& r) {
   j["remaining_structure"] = to_json(r.remaining);
   j["notes"] = r.notes;
   j["ablation"] = to_json(r.ablation, r.effects_added);
+  j["discovery"] = to_json(r.discovery);
   j["base_fit"] = fit_json(r.stages.front());
   j["final_model"] = fit_json(r.final_fit());
   const auto& c = r.context;
@@ -399,8 +409,8 @@ Figure report_figure(const IdentReport& r, const Dataset& train, const Dataset& 
           "F [N]", {}};
   a.series.push_back(window("measured", val, val.F, t0, t1));
   a.series.push_back(window("base " + r.model, val, predict(r.stages.front(), val, r.context), t0, t1));
-  if (r.stages.size() > 1) {
-    a.series.push_back(window("final", val, predict(r.final_fit(), val, r.context), t0, t1));
+  if (r.stages.size() > 1 || r.discovery.found) {
+    a.series.push_back(window("final", val, predict_final(r, val), t0, t1));
     a.series.back().style = Series::Style::Dashed;
   }
   // Panels B and C: residual over time and by velocity after each stage. Stages whose RMS is more

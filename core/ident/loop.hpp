@@ -46,6 +46,7 @@
 
 #include "core/figures/figure.hpp"
 #include "core/ident/ablation.hpp"
+#include "core/ident/discovery.hpp"
 #include "core/ident/fit.hpp"
 #include "core/ident/structure.hpp"
 #include "core/sim/scenario.hpp"
@@ -158,6 +159,9 @@ struct IdentReport {
   // Credit by ablation (ablation.hpp): effects_added holds the credited effects only; the table
   // has the validation RMS with all of them and with each left out, and what was dropped.
   Ablation ablation;
+  // Terms beyond the catalog (discovery.hpp), run after the credit when structure remains; the
+  // kept terms are part of the final prediction (predict_final) and of rms_after_*.
+  Discovery discovery;
   OptimumCheck optimum;                     // standard errors only where verified
   // The path between samples: the base fit's friction along the fine path (every interval along
   // the cubic, kFinePath) minus along the adaptive one, RMS over the training record [N];
@@ -195,6 +199,9 @@ std::vector<ModelComparison> compare_models(const IdentReport& r, const Dataset&
                                             const FitOptions& o);
 // "all" -> every registered model; "a,b,c" -> those tags (InputError naming an unknown one).
 std::vector<std::string> parse_model_list(std::string_view spec);
+
+// The final model's force along d with the discovered terms (IdentReport::discovery) added.
+std::vector<double> predict_final(const IdentReport& r, const Dataset& d);
 
 nlohmann::json to_json(const IdentReport& r);
 // Data vs final fit (validation), and the residual of each stage over time (training).

@@ -553,7 +553,17 @@ void final_refit(LoopState& s) {
 void credit(LoopState& s) {
   NoiseEstimate at_final = s.noise_data;
   s.add_model_shares(at_final, s.cur, s.full());
-  credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, at_final.floor(), s.every, s.o);
+  s.credit_floor = at_final.floor();
+  credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor, s.every, s.o);
+}
+
+// Terms beyond the catalog (discovery.hpp): a sparse regression of the final model's residual on
+// all training samples, judged on validation against the credit floor.
+void discover_terms(LoopState& s) {
+  DiscoveryOptions o;
+  o.min_size = s.o.min_size;
+  const auto ft = predict(s.cur, s.full(), s.c), fv = predict(s.cur, s.val(), s.c);
+  s.rep.discovery = discover(s.full(), s.val(), s.c, ft, fv, s.credit_floor, o);
 }
 
 // The final model's figures: parameter errors (only at a verified optimum) and what the
@@ -567,11 +577,27 @@ void finish_report(LoopState& s) {
   rep.context = c;
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = s.cur_val;
+  const bool found = rep.discovery.found;
+  if (found) {
+    const auto ft = predict(cur, full, c);
+    const auto dt = discovered_force(rep.discovery, full, c, ft);
+    std::vector<double> r(full.size());
+    for (std::size_t k = 0; k < full.size(); ++k) r[k] = full.F[k] - ft[k] - dt[k];
+    double q = 0, n = 0;
+    for (std::size_t k = 0; k < full.size(); ++k)
+      if (full.use[k]) q += r[k] * r[k], n += 1;
+    rep.rms_after_train = n > 0 ? std::sqrt(q / n) : 0.0;
+    rep.rms_after_validation = rep.discovery.rms_validation_after;
+  }
   rep.parameters = parameter_estimates(cur, full, c);
   rep.optimum = check_optimum(cur, full, c);
   if (!rep.optimum.verified)
     for (auto& p : rep.parameters) p.std_error = std::numeric_limits<double>::quiet_NaN();
-  const auto rv = residual(cur, val, c);
+  auto rv = residual(cur, val, c);
+  if (found) {
+    const auto dv = discovered_force(rep.discovery, val, c, predict(cur, val, c));
+    for (std::size_t k = 0; k < val.size(); ++k) rv[k] -= dv[k];
+  }
   const auto gv = unit_friction(cur, val, c);
   NoiseEstimate nv = noise_level(val, c);
   if (nv.sigma <= 0 || (!nv.from_rests && rep.noise.from_rests)) nv = rep.noise;

@@ -10,6 +10,7 @@
 //   run_round          one round: screen the catalog, refit the best candidates, keep one
 //   final_refit        the final model refitted on all samples
 //   credit             credit by ablation (ablation.hpp): the effects and elements named
+//   discover_terms     terms beyond the catalog (discovery.hpp) when structure remains
 //   finish_report      parameter errors at a verified optimum, what the residual still holds
 //
 // Internal to the identification: not a public interface.
@@ -42,6 +43,7 @@ struct LoopState {
   double cur_val = 0;       // its validation RMS [N]
   NoiseEstimate noise_data; // the noise estimated from the data, before the model's shares
   double floor = 0;         // the floor the rounds judge against [N]
+  double credit_floor = 0;  // the floor the credit and the discovery are judged against [N]
   std::set<Effect> deep_done;  // channel effects whose scalar was searched with shape refits
 
   // All training samples, on the path the loop decided on.
@@ -65,6 +67,7 @@ void widen_element_range(LoopState& s, bool before_rounds);
 bool run_round(LoopState& s, int round);
 void final_refit(LoopState& s);
 void credit(LoopState& s);
+void discover_terms(LoopState& s);
 void finish_report(LoopState& s);
 
 // Shared by the stages.

@@ -75,9 +75,11 @@ TEST(IdentPanel, EmpsExampleGivesTheDocumentedResult) {
   EXPECT_EQ(ui::identify_error(s.identify), "");
   const auto* rep = ui::identify_report(s.identify);
   ASSERT_NE(rep, nullptr);
-  // README: 1.96 N (without the mask: 7.3 N). `gmslab identify` with the README's command gives
-  // the same 1.968 N as the panel on a 2-core machine.
-  EXPECT_NEAR(rep->rms_after_validation, 1.96, 0.02);
+  // The catalog model: 1.968 N (without the mask: 7.3 N); the discovery step adds a force-lag term
+  // (docs/identification.md: 1.97 -> 1.877 N), which the reported validation includes.
+  EXPECT_NEAR(rep->ablation.rms_validation_all, 1.97, 0.02);
+  EXPECT_TRUE(rep->discovery.found) << rep->discovery.summary;
+  EXPECT_NEAR(rep->rms_after_validation, 1.877, 0.02);
   ASSERT_FALSE(rep->effects_added.empty());
   EXPECT_EQ(rep->effects_added.front(), ident::Effect::Inertia);
 }

@@ -71,7 +71,9 @@ TEST_P(SelfConsistency, OwnTraceOfTheGeneratingModelNamesNothing) {
               k.preset, rec.t.size(), 100 * k.noise, r.rms_before_validation,
               r.rms_before_validation / r.ablation.floor, r.ablation.floor, named.empty() ? " nothing" : named.c_str());
   for (const auto& d : r.ablation.dropped) std::printf("  dropped %s: %s\n", std::string(effect_name(d.effect)).c_str(), d.verdict.c_str());
+  std::printf("  discovery: %s\n", r.discovery.summary.c_str());
   EXPECT_TRUE(r.effects_added.empty()) << k.preset << " named" << named;
+  EXPECT_FALSE(r.discovery.found) << k.preset << ": " << r.discovery.summary;
   EXPECT_GT(r.ablation.floor, 0.0) << "the floor is never zero";
 }
 

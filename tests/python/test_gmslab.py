@@ -311,6 +311,8 @@ def test_identify_report_matches_cli(cli, tmp_path):
     theirs = json.loads(report.read_text())
     assert mine["rms_after"] == pytest.approx(theirs["rms_after"], rel=1e-12)
     assert mine["effects_added"] == theirs["effects_added"]
+    assert mine["discovery"]["summary"] == theirs["discovery"]["summary"]  # said, never silently absent
+    assert mine["discovery"]["summary"].startswith(("not run", "nothing discovered", "discovered"))
     assert [p["value"] for p in mine["parameters"]] == pytest.approx([p["value"] for p in theirs["parameters"]], rel=1e-12)
     assert isinstance(mine["scenario"], dict)  # the report is JSON as the CLI's is
     json.dumps(mine)
