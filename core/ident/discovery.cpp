@@ -54,8 +54,10 @@ std::vector<double> time_since_rest(const Dataset& d, double vr) {
   std::vector<double> s(d.size(), 0.0);
   double since = 0;
   for (std::size_t k = 0; k < d.size(); ++k) {
-    if (std::abs(d.v[k]) <= vr) since = 0;
-    else if (k > 0) since += d.t[k] - d.t[k - 1];
+    if (std::abs(d.v[k]) <= vr)
+      since = 0;
+    else if (k > 0)
+      since += d.t[k] - d.t[k - 1];
     s[k] = since;
   }
   return s;
@@ -72,7 +74,8 @@ std::vector<double> low_pass(const Dataset& d, const std::vector<double>& u, dou
 }
 
 // Strongest wavelength of r's position spectrum over the samples moving in `dir` (0: none).
-double ripple_wavelength(const Dataset& train, const EffectContext& c, const std::vector<double>& r, int dir) {
+double ripple_wavelength(const Dataset& train, const EffectContext& c, const std::vector<double>& r,
+                         int dir) {
   Dataset d = train;
   const double vr = v_rest_of(c);
   std::size_t n = 0;
@@ -88,18 +91,29 @@ double ripple_wavelength(const Dataset& train, const EffectContext& c, const std
 
 std::string family_name(LibraryFamily f) {
   switch (f) {
-    case LibraryFamily::Velocity: return "velocity";
-    case LibraryFamily::Acceleration: return "acceleration";
-    case LibraryFamily::Position: return "position";
-    case LibraryFamily::Sign: return "direction";
-    case LibraryFamily::VelocitySquared: return "velocity squared";
-    case LibraryFamily::Reversal: return "travel since reversal";
-    case LibraryFamily::Rest: return "time since rest";
-    case LibraryFamily::HistoryV: return "sliding history |v|";
-    case LibraryFamily::HistoryFv: return "sliding history |F v|";
-    case LibraryFamily::ForceLag: return "force-channel lag";
+    case LibraryFamily::Velocity:
+      return "velocity";
+    case LibraryFamily::Acceleration:
+      return "acceleration";
+    case LibraryFamily::Position:
+      return "position";
+    case LibraryFamily::Sign:
+      return "direction";
+    case LibraryFamily::VelocitySquared:
+      return "velocity squared";
+    case LibraryFamily::Reversal:
+      return "travel since reversal";
+    case LibraryFamily::Rest:
+      return "time since rest";
+    case LibraryFamily::HistoryV:
+      return "sliding history |v|";
+    case LibraryFamily::HistoryFv:
+      return "sliding history |F v|";
+    case LibraryFamily::ForceLag:
+      return "force-channel lag";
     case LibraryFamily::DirRippleSin:
-    case LibraryFamily::DirRippleCos: return "direction-dependent ripple";
+    case LibraryFamily::DirRippleCos:
+      return "direction-dependent ripple";
   }
   return "?";
 }
@@ -107,36 +121,53 @@ std::string family_name(LibraryFamily f) {
 std::string column_formula(const LibraryColumn& c) {
   const std::string gate = c.direction > 0 ? " [v > 0]" : " [v < 0]";
   switch (c.family) {
-    case LibraryFamily::Velocity: return "v / v_ref";
-    case LibraryFamily::Acceleration: return "a";
-    case LibraryFamily::Position: return "(x - x_mid) / x_half";
-    case LibraryFamily::Sign: return "sgn(v)";
-    case LibraryFamily::VelocitySquared: return "v |v| / v_ref^2";
-    case LibraryFamily::Reversal: return "sgn(v) exp(-s / " + length(c.scale) + ")";
-    case LibraryFamily::Rest: return "sgn(v) exp(-tau_rest / " + num(c.scale) + " s)";
-    case LibraryFamily::HistoryV: return "sgn(v) LP(|v| / v_ref, " + num(c.scale) + " s)";
-    case LibraryFamily::HistoryFv: return "sgn(v) LP(|F v| / (F_level v_ref), " + num(c.scale) + " s)";
-    case LibraryFamily::ForceLag: return "dF/dt";
-    case LibraryFamily::DirRippleSin: return "sin(2 pi x / " + length(c.scale) + ")" + gate;
-    case LibraryFamily::DirRippleCos: return "cos(2 pi x / " + length(c.scale) + ")" + gate;
+    case LibraryFamily::Velocity:
+      return "v / v_ref";
+    case LibraryFamily::Acceleration:
+      return "a";
+    case LibraryFamily::Position:
+      return "(x - x_mid) / x_half";
+    case LibraryFamily::Sign:
+      return "sgn(v)";
+    case LibraryFamily::VelocitySquared:
+      return "v |v| / v_ref^2";
+    case LibraryFamily::Reversal:
+      return "sgn(v) exp(-s / " + length(c.scale) + ")";
+    case LibraryFamily::Rest:
+      return "sgn(v) exp(-tau_rest / " + num(c.scale) + " s)";
+    case LibraryFamily::HistoryV:
+      return "sgn(v) LP(|v| / v_ref, " + num(c.scale) + " s)";
+    case LibraryFamily::HistoryFv:
+      return "sgn(v) LP(|F v| / (F_level v_ref), " + num(c.scale) + " s)";
+    case LibraryFamily::ForceLag:
+      return "dF/dt";
+    case LibraryFamily::DirRippleSin:
+      return "sin(2 pi x / " + length(c.scale) + ")" + gate;
+    case LibraryFamily::DirRippleCos:
+      return "cos(2 pi x / " + length(c.scale) + ")" + gate;
   }
   return "?";
 }
 
 std::string coefficient_unit(const LibraryColumn& c) {
   switch (c.family) {
-    case LibraryFamily::Acceleration: return "kg";
-    case LibraryFamily::ForceLag: return "s";
-    default: return "N";
+    case LibraryFamily::Acceleration:
+      return "kg";
+    case LibraryFamily::ForceLag:
+      return "s";
+    default:
+      return "N";
   }
 }
 
 std::vector<LibraryColumn> discovery_library(const Dataset& train, const EffectContext& c,
                                              const std::vector<double>& r) {
   using F = LibraryFamily;
-  std::vector<LibraryColumn> lib = {{F::Velocity}, {F::Acceleration}, {F::Position}, {F::Sign}, {F::VelocitySquared}};
+  std::vector<LibraryColumn> lib = {
+      {F::Velocity}, {F::Acceleration}, {F::Position}, {F::Sign}, {F::VelocitySquared}};
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t k = 0; k < train.size(); ++k) lo = std::min(lo, train.x[k]), hi = std::max(hi, train.x[k]);
+  for (std::size_t k = 0; k < train.size(); ++k)
+    lo = std::min(lo, train.x[k]), hi = std::max(hi, train.x[k]);
   const double stroke = std::max(hi - lo, 2e-6);
   for (double L = 1e-6; L <= stroke * 1.0001; L *= 2.0) lib.push_back({F::Reversal, L});
   const double step = std::sqrt(10.0);
@@ -153,8 +184,8 @@ std::vector<LibraryColumn> discovery_library(const Dataset& train, const EffectC
   return lib;
 }
 
-std::vector<double> library_values(const LibraryColumn& col, const Dataset& d, const EffectContext& c,
-                                   const std::vector<double>& f) {
+std::vector<double> library_values(const LibraryColumn& col, const Dataset& d,
+                                   const EffectContext& c, const std::vector<double>& f) {
   using F = LibraryFamily;
   const std::size_t n = d.size();
   const double vr = v_rest_of(c), vref = c.v_ref > 0 ? c.v_ref : 1.0;
@@ -163,7 +194,9 @@ std::vector<double> library_values(const LibraryColumn& col, const Dataset& d, c
     case F::Velocity:
       for (std::size_t k = 0; k < n; ++k) out[k] = d.v[k] / vref;
       break;
-    case F::Acceleration: out = d.a; break;
+    case F::Acceleration:
+      out = d.a;
+      break;
     case F::Position:
       for (std::size_t k = 0; k < n; ++k) out[k] = (d.x[k] - c.x_mid) / c.x_half;
       break;
@@ -175,24 +208,29 @@ std::vector<double> library_values(const LibraryColumn& col, const Dataset& d, c
       break;
     case F::Reversal: {
       const auto s = travel_since_reversal(d, vr);
-      for (std::size_t k = 0; k < n; ++k) out[k] = sgn_moving(d.v[k], vr) * std::exp(-s[k] / col.scale);
+      for (std::size_t k = 0; k < n; ++k)
+        out[k] = sgn_moving(d.v[k], vr) * std::exp(-s[k] / col.scale);
       break;
     }
     case F::Rest: {
       const auto tau = time_since_rest(d, vr);
-      for (std::size_t k = 0; k < n; ++k) out[k] = sgn_moving(d.v[k], vr) * std::exp(-tau[k] / col.scale);
+      for (std::size_t k = 0; k < n; ++k)
+        out[k] = sgn_moving(d.v[k], vr) * std::exp(-tau[k] / col.scale);
       break;
     }
     case F::HistoryV:
     case F::HistoryFv: {
       const double fl = c.f_level > 0 ? c.f_level : 1.0;
       for (std::size_t k = 0; k < n; ++k)
-        u[k] = col.family == F::HistoryV ? std::abs(d.v[k]) / vref : std::abs(f[k] * d.v[k]) / (fl * vref);
+        u[k] = col.family == F::HistoryV ? std::abs(d.v[k]) / vref
+                                         : std::abs(f[k] * d.v[k]) / (fl * vref);
       const auto y = low_pass(d, u, col.scale);
       for (std::size_t k = 0; k < n; ++k) out[k] = sgn_moving(d.v[k], vr) * y[k];
       break;
     }
-    case F::ForceLag: out = local_slope(d.t, f, 2); break;
+    case F::ForceLag:
+      out = local_slope(d.t, f, 2);
+      break;
     case F::DirRippleSin:
     case F::DirRippleCos:
       for (std::size_t k = 0; k < n; ++k) {
@@ -208,27 +246,33 @@ std::vector<double> library_values(const LibraryColumn& col, const Dataset& d, c
 namespace {
 
 // Least squares of r on the chosen columns over the used samples.
-std::vector<double> solve(const std::vector<std::vector<double>>& X, const std::vector<std::size_t>& set,
-                          const std::vector<double>& r, const Dataset& d) {
+std::vector<double> solve(const std::vector<std::vector<double>>& X,
+                          const std::vector<std::size_t>& set, const std::vector<double>& r,
+                          const Dataset& d) {
   const std::size_t m = set.size();
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+  Eigen::MatrixXd A =
+      Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
   Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
   for (std::size_t k = 0; k < d.size(); ++k) {
     if (!d.use[k]) continue;
     for (std::size_t i = 0; i < m; ++i) {
       const double xi = X[set[i]][k];
       b(static_cast<Eigen::Index>(i)) += xi * r[k];
-      for (std::size_t j = 0; j <= i; ++j) A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += xi * X[set[j]][k];
+      for (std::size_t j = 0; j <= i; ++j)
+        A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) += xi * X[set[j]][k];
     }
   }
   for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t j = 0; j < i; ++j) A(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) = A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    for (std::size_t j = 0; j < i; ++j)
+      A(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(i)) =
+          A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
   const Eigen::VectorXd th = A.completeOrthogonalDecomposition().solve(b);
   return std::vector<double>(th.data(), th.data() + th.size());
 }
 
-std::vector<double> after(const std::vector<std::vector<double>>& X, const std::vector<std::size_t>& set,
-                          const std::vector<double>& theta, const std::vector<double>& r) {
+std::vector<double> after(const std::vector<std::vector<double>>& X,
+                          const std::vector<std::size_t>& set, const std::vector<double>& theta,
+                          const std::vector<double>& r) {
   std::vector<double> out = r;
   for (std::size_t i = 0; i < set.size(); ++i)
     for (std::size_t k = 0; k < out.size(); ++k) out[k] -= theta[i] * X[set[i]][k];
@@ -237,7 +281,8 @@ std::vector<double> after(const std::vector<std::vector<double>>& X, const std::
 
 // Next column of the forward path: the most correlated with the residual (normalised columns).
 std::size_t next_column(const std::vector<std::vector<double>>& X, const std::vector<double>& norm,
-                        const std::vector<std::size_t>& set, const std::vector<double>& r, const Dataset& d) {
+                        const std::vector<std::size_t>& set, const std::vector<double>& r,
+                        const Dataset& d) {
   std::size_t best = X.size();
   double best_score = 0;
   for (std::size_t j = 0; j < X.size(); ++j) {
@@ -262,8 +307,8 @@ std::vector<std::vector<double>> matrix(const std::vector<LibraryColumn>& lib, c
 }  // namespace
 
 Discovery discover(const Dataset& train, const Dataset& val, const EffectContext& c,
-                   const std::vector<double>& f_train, const std::vector<double>& f_val, double floor,
-                   const DiscoveryOptions& o) {
+                   const std::vector<double>& f_train, const std::vector<double>& f_val,
+                   double floor, const DiscoveryOptions& o) {
   Discovery s;
   s.floor = floor;
   s.z_crit = o.z_crit;
@@ -272,8 +317,8 @@ Discovery discover(const Dataset& train, const Dataset& val, const EffectContext
   for (std::size_t k = 0; k < val.size(); ++k) rv[k] = val.F[k] - f_val[k];
   s.rms_validation_before = s.rms_validation_after = rms_used(val, rv);
   if (!(s.rms_validation_before > o.near_floor * floor)) {
-    s.summary = "not run: no structure remains (validation " + num(s.rms_validation_before) + " N, within " +
-                num(o.near_floor) + "x the floor " + num(floor) + " N)";
+    s.summary = "not run: no structure remains (validation " + num(s.rms_validation_before) +
+                " N, within " + num(o.near_floor) + "x the floor " + num(floor) + " N)";
     return s;
   }
   s.ran = true;
@@ -315,27 +360,32 @@ Discovery discover(const Dataset& train, const Dataset& val, const EffectContext
       break;
     }
   const DiscoveryStep& p = s.path[pick];
-  for (std::size_t i = 0; i < p.columns.size(); ++i) s.terms.push_back({s.library[p.columns[i]], thetas[pick][i]});
+  for (std::size_t i = 0; i < p.columns.size(); ++i)
+    s.terms.push_back({s.library[p.columns[i]], thetas[pick][i]});
   std::vector<double> contrib(train.size(), 0.0);
   for (std::size_t i = 0; i < p.columns.size(); ++i)
-    for (std::size_t k = 0; k < train.size(); ++k) contrib[k] += thetas[pick][i] * Xt[p.columns[i]][k];
+    for (std::size_t k = 0; k < train.size(); ++k)
+      contrib[k] += thetas[pick][i] * Xt[p.columns[i]][k];
   s.contribution = rms_used(train, contrib);
   s.test = block_test(val, rv, res_val[pick], o.blocks);
-  const bool resolved = s.test.mse_difference > 0 &&
-                        (s.test.z >= o.z_crit || s.test.mse_difference >= floor * floor);
+  const bool resolved =
+      s.test.mse_difference > 0 && (s.test.z >= o.z_crit || s.test.mse_difference >= floor * floor);
   const bool large = s.contribution >= o.min_size * floor;
   const std::string z = std::isfinite(s.test.z) ? num(s.test.z, "%.2g") : std::string("inf");
-  const std::string gain = "(validation " + num(s.rms_validation_before) + " -> " + num(p.rms_validation) +
-                           " N, z = " + z + ")";
+  const std::string gain = "(validation " + num(s.rms_validation_before) + " -> " +
+                           num(p.rms_validation) + " N, z = " + z + ")";
   if (resolved && large) {
     s.found = true;
     s.rms_validation_after = p.rms_validation;
     s.summary = "discovered: " + discovered_formula(s) + "  " + gain;
     return s;
   }
-  std::string why = !resolved ? "z = " + z + " < " + num(o.z_crit) + " and the MSE rise below the floor's variance"
-                              : "contribution " + num(s.contribution) + " N < " + num(o.min_size) + "x the floor " + num(floor) + " N";
-  s.summary = "nothing discovered: best candidate " + discovered_formula(s) + " " + gain + " failed the credit test (" + why + ")";
+  std::string why = !resolved ? "z = " + z + " < " + num(o.z_crit) +
+                                    " and the MSE rise below the floor's variance"
+                              : "contribution " + num(s.contribution) + " N < " + num(o.min_size) +
+                                    "x the floor " + num(floor) + " N";
+  s.summary = "nothing discovered: best candidate " + discovered_formula(s) + " " + gain +
+              " failed the credit test (" + why + ")";
   return s;
 }
 
@@ -354,8 +404,8 @@ std::string discovered_formula(const Discovery& s) {
   std::string out;
   for (const auto& t : s.terms) {
     if (!out.empty()) out += " ";
-    out += (t.coefficient < 0 ? "-" : "+") + num(std::abs(t.coefficient)) + " " + coefficient_unit(t.column) +
-           " * " + column_formula(t.column);
+    out += (t.coefficient < 0 ? "-" : "+") + num(std::abs(t.coefficient)) + " " +
+           coefficient_unit(t.column) + " * " + column_formula(t.column);
   }
   return out;
 }
@@ -373,7 +423,8 @@ nlohmann::json to_json(const Discovery& s) {
   for (const auto& p : s.path) {
     nlohmann::json cols = nlohmann::json::array();
     for (std::size_t i : p.columns) cols.push_back(column_formula(s.library[i]));
-    path.push_back({{"terms", cols}, {"rms_train_N", p.rms_train}, {"rms_validation_N", p.rms_validation}});
+    path.push_back(
+        {{"terms", cols}, {"rms_train_N", p.rms_train}, {"rms_validation_N", p.rms_validation}});
   }
   j["path"] = path;
   nlohmann::json terms = nlohmann::json::array();
@@ -385,9 +436,11 @@ nlohmann::json to_json(const Discovery& s) {
                      {"scale", t.column.scale}});
   j["terms"] = terms;
   j["kept"] = s.found;
-  j["test"] = {{"description", "validation MSE without against with the terms over time blocks; kept when z >= " +
-                                   num(s.z_crit) + " (or the rise is at least the floor's variance) and the "
-                                   "contribution is at least half the floor"},
+  j["test"] = {{"description",
+                "validation MSE without against with the terms over time blocks; kept when z >= " +
+                    num(s.z_crit) +
+                    " (or the rise is at least the floor's variance) and the "
+                    "contribution is at least half the floor"},
                {"z", std::isfinite(s.test.z) ? nlohmann::json(s.test.z) : nlohmann::json("inf")},
                {"mse_difference_N2", s.test.mse_difference},
                {"std_error_N2", s.test.std_error},

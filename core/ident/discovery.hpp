@@ -10,7 +10,8 @@
 //                motion, L on a factor-2 grid from 1 um to the stroke
 //   rest         sgn(v) exp(-tau / T), tau = time since the last rest (|v| <= v_rest), T on a
 //                factor-sqrt(10) grid from 0.01 s to 100 s
-//   history |v|  sgn(v) LP_T(|v| / v_ref), LP_T a first-order low-pass (exact for piecewise-constant
+//   history |v|  sgn(v) LP_T(|v| / v_ref), LP_T a first-order low-pass (exact for
+//   piecewise-constant
 //                input), T on a factor-sqrt(10) grid from 0.1 s to 100 s
 //   history |Fv| sgn(v) LP_T(|f v| / (f_level v_ref)), the same grid (f: the model's force)
 //   force lag    df/dt [N/s] (local slope of the model's force): a lag of the force channel
@@ -38,8 +39,20 @@
 
 namespace gmslab::ident {
 
-enum class LibraryFamily { Velocity, Acceleration, Position, Sign, VelocitySquared, Reversal, Rest,
-                           HistoryV, HistoryFv, ForceLag, DirRippleSin, DirRippleCos };
+enum class LibraryFamily {
+  Velocity,
+  Acceleration,
+  Position,
+  Sign,
+  VelocitySquared,
+  Reversal,
+  Rest,
+  HistoryV,
+  HistoryFv,
+  ForceLag,
+  DirRippleSin,
+  DirRippleCos
+};
 
 // One candidate column. scale: L [m] (Reversal), T [s] (Rest, History*), wavelength [m]
 // (DirRipple*); direction: +1 / -1 for the direction-gated ripple.
@@ -48,39 +61,39 @@ struct LibraryColumn {
   double scale = 0;
   int direction = 0;
 };
-std::string family_name(LibraryFamily f);     // "reversal transient", ...
-std::string column_formula(const LibraryColumn& c);  // "sgn(v) exp(-s / 1 mm)"
+std::string family_name(LibraryFamily f);              // "reversal transient", ...
+std::string column_formula(const LibraryColumn& c);    // "sgn(v) exp(-s / 1 mm)"
 std::string coefficient_unit(const LibraryColumn& c);  // "N", "N s^2/m", "s"
 
 // The library for a training record (the ripple wavelengths from the residual r on train).
 std::vector<LibraryColumn> discovery_library(const Dataset& train, const EffectContext& c,
                                              const std::vector<double>& r);
 // Column values on d (f: the model's force along d) [one value per sample].
-std::vector<double> library_values(const LibraryColumn& col, const Dataset& d, const EffectContext& c,
-                                   const std::vector<double>& f);
+std::vector<double> library_values(const LibraryColumn& col, const Dataset& d,
+                                   const EffectContext& c, const std::vector<double>& f);
 
 struct DiscoveredTerm {
   LibraryColumn column;
   double coefficient = 0;  // in coefficient_unit(column)
 };
 
-struct DiscoveryStep {          // one set on the selection path
-  std::vector<std::size_t> columns;  // library indices
+struct DiscoveryStep {                       // one set on the selection path
+  std::vector<std::size_t> columns;          // library indices
   double rms_train = 0, rms_validation = 0;  // residual after the set's terms [N]
 };
 
 struct Discovery {
   bool ran = false;
   bool found = false;
-  std::string summary;          // one line for a person (CLI, panel)
+  std::string summary;  // one line for a person (CLI, panel)
   std::size_t library_size = 0;
   std::vector<LibraryColumn> library;
   std::vector<DiscoveryStep> path;
-  std::vector<DiscoveredTerm> terms;  // the proposed set (kept when found)
+  std::vector<DiscoveredTerm> terms;                           // the proposed set (kept when found)
   double rms_validation_before = 0, rms_validation_after = 0;  // [N]
-  BlockTest test;               // validation MSE without against with the proposed terms
-  double contribution = 0;      // RMS of the terms on training [N]
-  double floor = 0;             // [N]
+  BlockTest test;           // validation MSE without against with the proposed terms
+  double contribution = 0;  // RMS of the terms on training [N]
+  double floor = 0;         // [N]
   double z_crit = 3;
 };
 
@@ -94,8 +107,8 @@ struct DiscoveryOptions {
 
 // f_train, f_val: the final model's force along train and val; floor as the credit test uses.
 Discovery discover(const Dataset& train, const Dataset& val, const EffectContext& c,
-                   const std::vector<double>& f_train, const std::vector<double>& f_val, double floor,
-                   const DiscoveryOptions& o = {});
+                   const std::vector<double>& f_train, const std::vector<double>& f_val,
+                   double floor, const DiscoveryOptions& o = {});
 // The kept terms' force along d (zeros when nothing was found).
 std::vector<double> discovered_force(const Discovery& s, const Dataset& d, const EffectContext& c,
                                      const std::vector<double>& f);

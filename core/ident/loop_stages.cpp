@@ -554,7 +554,8 @@ void credit(LoopState& s) {
   NoiseEstimate at_final = s.noise_data;
   s.add_model_shares(at_final, s.cur, s.full());
   s.credit_floor = at_final.floor();
-  credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor, s.every, s.o);
+  credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor,
+                     s.every, s.o);
 }
 
 // Terms beyond the catalog (discovery.hpp): a sparse regression of the final model's residual on

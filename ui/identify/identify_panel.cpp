@@ -522,9 +522,10 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
     }
     if (!r.discovery.summary.empty()) {
       TextWrappedAtSpaces("Beyond the catalog: " + r.discovery.summary);
-      tooltip("A sparse regression of the final training residual on a library of candidate terms "
-              "(travel since reversal, time since rest, sliding history, force lag, direction-gated "
-              "ripple, ...), kept only when it passes the same credit test as the catalog effects");
+      tooltip(
+          "A sparse regression of the final training residual on a library of candidate terms "
+          "(travel since reversal, time since rest, sliding history, force lag, direction-gated "
+          "ripple, ...), kept only when it passes the same credit test as the catalog effects");
     }
     ImGui::Text("Base model: %s, %zu element%s found", r.model.c_str(), r.final_fit().spec.elements,
                 r.final_fit().spec.elements == 1 ? "" : "s");
