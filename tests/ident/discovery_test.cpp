@@ -219,7 +219,9 @@ TEST_P(DiscoveryOutside, TermsOutsideTheCatalog) {
   // these before the residual regression sees them); only the history has a count to hold, set
   // below both seed ranges' counts (3 and 2 of 4) because a last-bit difference between machines
   // can move a fit to another stopping point (docs/identification-credit.md).
-  if (term == Term::History) EXPECT_GE(family_ok, 1);
+  if (term == Term::History) {
+    EXPECT_GE(family_ok, 1);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Families, DiscoveryOutside,
