@@ -84,7 +84,7 @@ DesignInputs::GainGrid gain_grid(const std::string& text) {
 
 int run_cycles(const Opts& o) {
   DesignInputs in;
-  const Preset preset = load_preset(o.preset);
+  const Preset preset = load_preset(resolve_preset(o.preset, presets_dir()));  // a bare name too
   if (preset.assembled() || !o.drive.empty() || !o.output.empty()) {
     in.assembly = preset.scenario;
     in.plant.source = PlantSource::Assembly;
@@ -136,7 +136,9 @@ void register_cycles(CLI::App& app, Action& action) {
       "cycles",
       "Limit cycles of a preset's loop with a given controller: periodic orbits, their stability, "
       "a long simulation and the hunting map over a gain scale");
-  sub->add_option("preset", o->preset, "Scenario or assembled preset (JSON file)")->required();
+  sub->add_option("preset", o->preset,
+                  "Scenario or assembled preset (JSON file, or a shipped preset's name)")
+      ->required();
   sub->add_option("--controller-num", o->num,
                   "Controller numerator, highest power first, e.g. \"1000 5000\"")
       ->required();
