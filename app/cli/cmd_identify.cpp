@@ -155,15 +155,14 @@ int run_identify(const IdentifyOptions& o) {
   std::cout << "  " << rep.discovery.summary << '\n';
   if (!rep.optimum.verified)
     std::cout << "  not converged: " << rep.optimum.reason << "; no standard errors\n";
-  for (const auto& p : rep.parameters)
-    if (p.effect != "base") {
-      if (std::isfinite(p.std_error))
-        std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
-                     p.std_error, p.unit.c_str());
-      else
-        std::fprintf(stdout, "  %s.%s = %.4g %s (no standard error: not converged)\n", p.effect.c_str(),
-                     p.name.c_str(), p.value, p.unit.c_str());
-    }
+  for (const auto& p : rep.parameters) {
+    if (std::isfinite(p.std_error))
+      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+                   p.std_error, p.unit.c_str());
+    else
+      std::fprintf(stdout, "  %s.%s = %.4g %s (no standard error: %s)\n", p.effect.c_str(),
+                   p.name.c_str(), p.value, p.unit.c_str(), p.no_error.c_str());
+  }
   for (const auto& p : rep.ripples.peaks)
     std::fprintf(stdout, "  ripple in the base residual: wavelength %.4g mm, amplitude %.3g N, false-alarm probability %.2g\n",
                  p.wavelength * 1e3, p.amplitude, p.false_alarm);

@@ -4,10 +4,10 @@
 //
 //   gmslab_study base    [--records 50] [--seed 1] [--samples 6000]   base fit, no effect
 //   gmslab_study loop    [--records 50] ...   the residual loop on records with 0, 1 or 2 effects
-//   gmslab_study coverage [--records 100]   the standard errors: random records with an offset or
-//   an
-//                        inertia (2-10x the noise); how often the truth lies within +-2 sigma of
-//                        the estimate (Fc, and the effect's F0 or M), per parameter
+//   gmslab_study coverage [--records 100]   the standard errors: random records with an offset
+//                        (even seeds) or an inertia (odd seeds), 2-10x the noise; how often the
+//                        truth lies within +-2 sigma of the estimate (Fc, and the effect's F0 or
+//                        M), per parameter
 //   gmslab_study self    [--preset NAME]      self-consistency: gmslab's own trace of each shipped
 //                        one-body preset with back-and-forth motion, at 3 sample rates, noise-free
 //                        and with 0.3 % noise, identified with the generating model (nothing to
@@ -178,7 +178,7 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
 
 
 // Coverage of the standard errors: is the truth within +-2 sigma of the estimate?
-int run_coverage(int records, unsigned seed0, std::size_t samples) {
+int run_coverage(int records, unsigned seed0, std::size_t samples, const std::string& report_dir) {
   struct Count { int n = 0, covered = 0, no_error = 0, not_found = 0; };
   std::map<std::string, Count> counts;
   double total_s = 0;
@@ -189,7 +189,7 @@ int run_coverage(int records, unsigned seed0, std::size_t samples) {
     Truth tr = draw_truth(seed);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    const GenEffect kind = i % 2 == 0 ? GenEffect::Offset : GenEffect::Inertia;
+    const GenEffect kind = seed % 2 == 0 ? GenEffect::Offset : GenEffect::Inertia;
     tr.effects.push_back({kind, 2.0 + 8.0 * U(rng)});
     auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
     const Dataset train = prepare_dataset(g_train.record), val = prepare_dataset(g_val.record);
@@ -199,7 +199,13 @@ int run_coverage(int records, unsigned seed0, std::size_t samples) {
     const auto rep = identify(train, val, spec, LoopOptions{});
     const double s = seconds_since(t0);
     total_s += s;
+    if (!report_dir.empty())
+      std::ofstream(report_dir + "/record" + std::to_string(seed) + ".json")
+          << to_json(rep).dump(1);
     const std::string effect = gen_effect_name(kind);
+    const auto reach = stribeck_reach(rep.final_fit().friction, train, kStribeckReachLimit);
+    std::printf("%-6u reach: top speed %.3g m/s, the fitted curve %.3g x Fc above Fc there\n", seed,
+                reach ? reach->v_top : 0.0, reach ? reach->excess : 0.0);
     const struct { std::string effect, name; double truth; } wanted[] = {
         {"base", "Fc", tr.Fc}, {effect, kind == GenEffect::Offset ? "F0" : "M", tr.effects[0].param}};
     for (const auto& w : wanted) {
@@ -216,8 +222,9 @@ int run_coverage(int records, unsigned seed0, std::size_t samples) {
       }
       if (!std::isfinite(pe->std_error) || !(pe->std_error > 0)) {
         ++c.no_error;
-        std::printf("%-6u %-8s %-10s %12.4g %12.4g %10s %8s %6.2f\n", seed, effect.substr(0, 8).c_str(), w.name.c_str(),
-                    w.truth, pe->value, "none", "-", s);
+        std::printf("%-6u %-8s %-10s %12.4g %12.4g %10s %8s %6.2f  (%s)\n", seed,
+                    effect.substr(0, 8).c_str(), w.name.c_str(), w.truth, pe->value, "none", "-", s,
+                    pe->no_error.c_str());
         continue;
       }
       const double z = std::abs(pe->value - w.truth) / pe->std_error;
@@ -459,11 +466,12 @@ int main(int argc, char** argv) {
   app.add_flag("--detail", detail, "print the truth and the fitted parameters of each record");
   app.add_option("--skip", skip, "loop: start at this record index (seed + index; the index also sets the effects)")
       ->check(CLI::Range(0, 100000));
-  app.add_option("--report-dir", report_dir, "loop: write each record's report JSON into this folder");
+  app.add_option("--report-dir", report_dir,
+                 "loop, coverage: write each record's report JSON into this folder");
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   CLI11_PARSE(app, argc, argv);
-  if (mode == "coverage") return run_coverage(records, seed, samples);
+  if (mode == "coverage") return run_coverage(records, seed, samples, report_dir);
   if (mode == "cycles") return run_cycles(records, seed);
   if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "registry")

@@ -297,8 +297,13 @@ nlohmann::json to_json(const IdentReport& r) {
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)
-    pars.push_back({{"effect", p.effect}, {"name", p.name}, {"unit", p.unit}, {"value", p.value},
-                    {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()}});
+    pars.push_back(
+        {{"effect", p.effect},
+         {"name", p.name},
+         {"unit", p.unit},
+         {"value", p.value},
+         {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()},
+         {"no_error", p.no_error}});
   j["parameters"] = pars;
   j["converged"] = {{"verified_minimum", r.optimum.verified}, {"reason", r.optimum.reason}};
   j["remaining_structure"] = to_json(r.remaining);

@@ -116,14 +116,14 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   for (const auto& t : f.terms)
     if (t.effect == "base") {
       cols.push_back(t.name == "Fc" ? g : d.v);
-      out.push_back({t.effect, t.name, t.unit, t.value, 0});
+      out.push_back({t.effect, t.name, t.unit, t.value, 0, ""});
     }
   for (Effect e : f.spec.effects) {
     auto m = effect_matrix(e, d, c, g);
     const auto ts = terms_of(f, e);
     for (std::size_t j = 0; j < m.size() && j < ts.size(); ++j) {
       cols.push_back(std::move(m[j]));
-      out.push_back({ts[j].effect, ts[j].name, ts[j].unit, ts[j].value, 0});
+      out.push_back({ts[j].effect, ts[j].name, ts[j].unit, ts[j].value, 0, ""});
     }
   }
   // The scalars: derivative of the effect's contribution sum_j theta_j c_j with respect to them.
@@ -152,7 +152,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
         for (std::size_t k = 0; k < d.size(); ++k) der[k] += sign * ts[j].value * m[j][k] / (2 * step);
     }
     cols.push_back(std::move(der));
-    out.push_back({std::string(effect_name(s.e)), s.name, s.unit, s.value, 0});
+    out.push_back({std::string(effect_name(s.e)), s.name, s.unit, s.value, 0, ""});
   }
   // The shape (the nonlinear parameters, in the unit box): nuisance columns, so that the errors
   // of the terms above carry their correlation with it (Gauss-Newton covariance of all).
@@ -165,7 +165,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
     std::vector<double> der(d.size());
     for (std::size_t k = 0; k < d.size(); ++k) der[k] = (ph[k] - pl[k]) / (hi.u[i] - lo.u[i]);
     cols.push_back(std::move(der));
-    out.push_back({"shape", "u" + std::to_string(i), "-", f.u[i], 0});
+    out.push_back({"shape", "u" + std::to_string(i), "-", f.u[i], 0, ""});
   }
   std::vector<std::size_t> rows;
   for (std::size_t k = 0; k < d.size(); ++k)
@@ -569,6 +569,27 @@ void discover_terms(LoopState& s) {
 
 // The final model's figures: parameter errors (only at a verified optimum) and what the
 // validation residual still holds, against the validation record's own floor.
+namespace {
+// No standard error where the fit is not at a verified minimum, or where the base level is an
+// extrapolation of the Stribeck curve (loop.hpp: stribeck_reach).
+void withhold_errors(IdentReport& rep, const FitResult& f, const Dataset& train) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  if (!rep.optimum.verified) {
+    for (auto& p : rep.parameters) p.std_error = kNaN, p.no_error = "not converged";
+    return;
+  }
+  const auto reach = stribeck_reach(f.friction, train, kStribeckReachLimit);
+  if (!reach || !(reach->excess > kStribeckReachLimit)) return;
+  const std::string why = "extrapolated: at the record's top sliding speed (" + fmt(reach->v_top) +
+                          " m/s) the Stribeck curve still stands " + fmt(100 * reach->excess) +
+                          " % above Fc; slide faster than " + fmt(reach->v_needed) +
+                          " m/s to measure it";
+  for (auto& p : rep.parameters)
+    if (p.effect == "base" && (p.name == "Fc" || p.name == "sigma2"))
+      p.std_error = kNaN, p.no_error = why;
+}
+}  // namespace
+
 void finish_report(LoopState& s) {
   IdentReport& rep = s.rep;
   const FitResult& cur = s.cur;
@@ -592,8 +613,7 @@ void finish_report(LoopState& s) {
   }
   rep.parameters = parameter_estimates(cur, full, c);
   rep.optimum = check_optimum(cur, full, c);
-  if (!rep.optimum.verified)
-    for (auto& p : rep.parameters) p.std_error = std::numeric_limits<double>::quiet_NaN();
+  withhold_errors(rep, cur, full);
   auto rv = residual(cur, val, c);
   if (found) {
     const auto dv = discovered_force(rep.discovery, val, c, predict(cur, val, c));
@@ -607,3 +627,30 @@ void finish_report(LoopState& s) {
 }
 
 }  // namespace gmslab::ident::detail
+
+namespace gmslab::ident {
+
+std::optional<StribeckReach> stribeck_reach(const ModelParams& p, const Dataset& d, double limit) {
+  const ModelInfo& info = model_info(p.model);
+  for (const char* k : {"Fs", "Fc", "Vs", "delta"})
+    if (info.scalar_index(k) < 0) return std::nullopt;
+  std::vector<double> speeds;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) speeds.push_back(std::abs(d.v[k]));
+  if (speeds.empty()) return std::nullopt;
+  const auto top =
+      speeds.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(speeds.size() - 1));
+  std::nth_element(speeds.begin(), top, speeds.end());
+  if (!(*top > 0)) return std::nullopt;
+  const double Fs = p.scalar("Fs"), Fc = p.scalar("Fc"), Vs = p.scalar("Vs"),
+               delta = p.scalar("delta");
+  if (!(Fc > 0) || !(Vs > 0) || !(delta > 0)) return std::nullopt;
+  StribeckReach r;
+  r.v_top = *top;
+  const double drop = (Fs - Fc) / Fc;  // the curve's whole drop over Fc
+  r.excess = drop * std::exp(-std::pow(r.v_top / Vs, delta));
+  r.v_needed = drop > limit ? Vs * std::pow(std::log(drop / limit), 1.0 / delta) : 0.0;
+  return r;
+}
+
+}  // namespace gmslab::ident

@@ -182,10 +182,15 @@ def points(spec):
             raise SpecError("from_report: %s is not at a verified minimum (%s): it has no standard errors "
                             "to draw from; identify again with a larger budget" % (spec["from_report"], conv.get("reason", "")))
         for p in rep.get("parameters", []):
-            if p.get("effect") == "base" and p.get("std_error") and math.isfinite(p["std_error"]):
+            if p.get("effect") != "base":
+                continue
+            key = "friction." + p["name"].replace("[", ".").replace("]", "")
+            if p.get("std_error") and math.isfinite(p["std_error"]):
                 mean, sd = float(p["value"]), float(p["std_error"])
-                key = "friction." + p["name"].replace("[", ".").replace("]", "")
                 axes.setdefault(key, (lambda m, s: (lambda rng: float(rng.normal(m, s))))(mean, sd))
+            elif key not in axes:
+                print("gmslab sweep: from_report: %s kept at %g (no standard error: %s)"
+                      % (key, float(p["value"]), p.get("no_error") or "none given"), file=sys.stderr)
     if sample == "grid":
         names = list(axes)
         for k in names:
