@@ -519,16 +519,27 @@ void widen_element_range(LoopState& s, bool before_rounds) {
 // with it by at least the floor's variance (ablation.hpp). The most an effect can lower the
 // model's validation MSE is what lies above the floor, cur_val^2 - floor^2: below floor^2 (within
 // sqrt(2) x the floor) no effect can reach that rise, and the rounds - which would only add
-// effects for the credit to drop - are not run. The block test's other clause (z >= 3: a small
-// but consistent gain) is not bounded by size; that it credits nothing where this bound skips
-// the rounds is checked on random records with effects of 1.5-50x the noise (IdentCreditBound).
+// effects for the credit to drop - are not run. That holds only for a floor no model beats, so
+// the bound takes the floor's parts that are measured or computed through the model (the noise
+// only where it was measured at rests: without rests it is an upper bound) and is not used where
+// the model already predicts the held-out record better than that floor (the estimate is then
+// shown too high). The block test's other clause (z >= 3: a small but consistent gain) is not
+// bounded by size. That the rounds credit nothing where this bound skips them is checked on
+// random records with effects of 1.5-50x the noise (IdentCreditBound): an effect of 34x the noise
+// beside a floor estimate above the base fit's validation RMS was credited by the full rounds.
 // A base fit above the bound is first refitted with the rounds' budget (round 1's control refit:
 // what it gains is optimisation); when that is within the bound it becomes the model, else it is
 // kept for round 1, which would make the same fit (a pure function of the same inputs: the base
 // spec depends on no context value the round tunes).
 bool no_effect_creditable(LoopState& s) {
-  if (!s.o.credit_bound || !(s.floor > 0)) return false;
-  auto within = [&](double val) { return val * val - s.floor * s.floor < s.floor * s.floor; };
+  const NoiseEstimate& n = s.rep.noise;
+  const double noise = n.from_rests ? n.sigma : 0.0;
+  const double floor =
+      std::sqrt(noise * noise + n.quantisation * n.quantisation + n.sampling * n.sampling);
+  if (!s.o.credit_bound || !(floor > 0)) return false;
+  auto within = [&](double val) {
+    return val >= floor && val * val - floor * floor < floor * floor;
+  };
   if (!within(s.cur_val)) {
     if (!s.cur.spec.effects.empty()) return false;
     FitOptions co = serialised_progress(s.o.refit);
@@ -546,8 +557,8 @@ bool no_effect_creditable(LoopState& s) {
     s.rep.rms_before_validation = s.cur_val;
   }
   s.rep.rounds_skipped =
-      "no effect can pass the credit test (base within " + fmt(s.cur_val / s.floor) +
-      "x the floor of " + fmt(s.floor) + " N: its validation MSE above the floor is below " +
+      "no effect can pass the credit test (base within " + fmt(s.cur_val / floor) +
+      "x the floor of " + fmt(floor) + " N: its validation MSE above the floor is below " +
       "the floor's variance, the rise the credit test needs to name an effect by size); " +
       "the rounds were not run";
   return true;
