@@ -541,7 +541,9 @@ bool no_effect_creditable(LoopState& s) {
     return val >= floor && val * val - floor * floor < floor * floor;
   };
   if (!within(s.cur_val)) {
-    if (!s.cur.spec.effects.empty()) return false;
+    // Far above the floor (5x, as the base-fit retry) a refit that only optimises will not reach
+    // the bound, and round 1 makes its control refit only when an effect passes the gain.
+    if (!s.cur.spec.effects.empty() || !(s.cur_val < 5.0 * floor)) return false;
     FitOptions co = serialised_progress(s.o.refit);
     co.stage = "round 1: control refit without a new effect";
     FitResult ctrl = fit_model(s.cur.spec, s.train(), s.c, co, &s.cur.u);
