@@ -148,7 +148,8 @@ int run_identify(const IdentifyOptions& o) {
   std::cout << "identify: " << rep.model << ", " << rep.final_fit().spec.elements
             << " elements; validation RMS " << rep.rms_before_validation << " -> "
             << rep.rms_after_validation << " N; ";
-  if (rep.effects_added.empty()) std::cout << "nothing added: no catalog effect is credited by the data";
+  if (rep.effects_added.empty())
+    std::cout << ident::nothing_added(rep);
   else std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
   std::cout << '\n';
   print_ablation(rep.ablation);

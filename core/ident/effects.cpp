@@ -3,6 +3,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include "core/error.hpp"
@@ -151,8 +154,13 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
     return;
   }
   double s = y[0];
+  double h_last = std::numeric_limits<double>::quiet_NaN(), e = 0.0;  // steps repeat: exp once each
   for (std::size_t k = 0; k < d.size(); ++k) {
-    if (k > 0) s = y[k] + (s - y[k]) * std::exp(-(d.t[k] - d.t[k - 1]) / T);
+    if (k > 0) {
+      const double h = d.t[k] - d.t[k - 1];
+      if (!(h == h_last)) h_last = h, e = std::exp(-h / T);
+      s = y[k] + (s - y[k]) * e;
+    }
     out[k] = s;
   }
 }
@@ -170,27 +178,65 @@ Column channel_column(std::string name, Transform tf) {
           }};
 }
 
-void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> g, double b,
-                      std::span<double> out) {
+BacklashMap backlash_map(const Dataset& d, const EffectContext& c, double b) {
   const std::size_t n = d.size();
+  BacklashMap m;
+  m.lo.resize(n), m.hi.resize(n), m.w.assign(n, 0.0);
   std::vector<std::size_t> turn;
   const auto travel = travel_since_reversal(d, c, &turn);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t seg = turn[k];  // the sample of the last reversal
+    m.lo[k] = m.hi[k] = seg;          // held at the reversal value (w = 0)
     const double want = travel[k] - b;
-    if (want <= 0 || k <= seg) { out[k] = g[seg]; continue; }
+    if (want <= 0 || k <= seg) continue;
     // The sample of this segment where the travel was `want` (travel grows within a segment).
     std::size_t lo = seg, hi = k;
-    if (travel[hi] < want) { out[k] = g[seg]; continue; }
+    if (travel[hi] < want) continue;
     while (hi - lo > 1) {
       const std::size_t mid = (lo + hi) / 2;
       (travel[mid] < want ? lo : hi) = mid;
     }
     const double span = travel[hi] - travel[lo];
-    const double w = span > 0 ? std::clamp((want - travel[lo]) / span, 0.0, 1.0) : 1.0;
-    out[k] = g[lo] + w * (g[hi] - g[lo]);
+    m.lo[k] = lo, m.hi[k] = hi;
+    m.w[k] = span > 0 ? std::clamp((want - travel[lo]) / span, 0.0, 1.0) : 1.0;
   }
+  return m;
 }
+
+void apply_backlash(const BacklashMap& m, std::span<const double> g, std::span<double> out) {
+  for (std::size_t k = 0; k < m.w.size(); ++k)
+    out[k] = g[m.lo[k]] + m.w[k] * (g[m.hi[k]] - g[m.lo[k]]);
+}
+
+void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> g, double b,
+                      std::span<double> out) {
+  apply_backlash(backlash_map(d, c, b), g, out);
+}
+
+namespace {
+
+// The backlash column's map, kept while the record's motion, the rest threshold and b are those
+// it was made for (a fit evaluates the column thousands of times on one record): the map depends
+// on x, v, v_rest and b only, and applying it is the arithmetic of through_backlash.
+class BacklashCache {
+ public:
+  std::shared_ptr<const BacklashMap> get(const Dataset& d, const EffectContext& c) {
+    std::lock_guard<std::mutex> lock(m_);
+    if (!map_ || b_ != c.backlash || v_rest_ != c.v_rest || x_ != d.x || v_ != d.v) {
+      map_ = std::make_shared<const BacklashMap>(backlash_map(d, c, c.backlash));
+      b_ = c.backlash, v_rest_ = c.v_rest, x_ = d.x, v_ = d.v;
+    }
+    return map_;
+  }
+
+ private:
+  std::mutex m_;
+  std::shared_ptr<const BacklashMap> map_;
+  double b_ = 0, v_rest_ = 0;
+  std::vector<double> x_, v_;
+};
+
+}  // namespace
 
 const std::vector<Effect>& effect_catalog() {
   static const std::vector<Effect> v = [] {
@@ -420,10 +466,11 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::Backlash:
-      v.push_back(col("backlash_level", "N", true, [](D d, C c, G g, O o) {
-        through_backlash(d, c, g, c.backlash, o);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
-      }));
+      v.push_back(col("backlash_level", "N", true,
+                      [cache = std::make_shared<BacklashCache>()](D d, C c, G g, O o) {
+                        apply_backlash(*cache->get(d, c), g, o);
+                        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
+                      }));
       break;
   }
   return v;

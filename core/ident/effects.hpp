@@ -127,6 +127,14 @@ void shifted(const Dataset& d, std::span<const double> y, double tau, std::span<
 void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<double> out);
 void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> y, double b,
                       std::span<double> out);
+// through_backlash as a map made once per record and b: out[k] = y[lo[k]] + w[k] (y[hi[k]] -
+// y[lo[k]]) (lo = hi, w = 0 where y is held at the reversal value).
+struct BacklashMap {
+  std::vector<std::size_t> lo, hi;
+  std::vector<double> w;
+};
+BacklashMap backlash_map(const Dataset& d, const EffectContext& c, double b);
+void apply_backlash(const BacklashMap& m, std::span<const double> y, std::span<double> out);
 
 // Motion starts after rests of at least c.dwell_min: index of the first moving sample, rest
 // duration [s], direction (+-1).

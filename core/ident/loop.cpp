@@ -50,6 +50,12 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
   return fit_model(base, train, c, o);
 }
 
+std::string nothing_added(const IdentReport& r) {
+  if (!r.effects_added.empty()) return {};
+  if (!r.rounds_skipped.empty()) return "nothing added: " + r.rounds_skipped;
+  return "nothing added: no catalog effect is credited by the data";
+}
+
 std::string screen_summary(const IdentReport& r) {
   if (r.screen_every <= 1) return {};
   return "the loop screened every " + ordinal(r.screen_every) + " training sample; the final fit used all";
@@ -70,8 +76,9 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
   s.rep.stages.push_back(s.cur);
   s.rep.rms_before_train = s.cur.rms_train;
   s.rep.rms_before_validation = s.cur_val;
-  for (int round = 1; round <= o.max_rounds; ++round)
-    if (!detail::run_round(s, round)) break;
+  if (!detail::no_effect_creditable(s))
+    for (int round = 1; round <= o.max_rounds; ++round)
+      if (!detail::run_round(s, round)) break;
   detail::final_refit(s);
   detail::credit(s);
   detail::discover_terms(s);
@@ -292,6 +299,8 @@ nlohmann::json to_json(const IdentReport& r) {
                 {"floor_N", r.noise.floor()}};
   j["path"] = {{"fine", r.fine_path}, {"difference_N", r.path_difference}};
   j["screened_every"] = r.screen_every;
+  j["rounds_skipped"] =
+      r.rounds_skipped.empty() ? nlohmann::json() : nlohmann::json(r.rounds_skipped);
   j["base_retried"] = r.base_retried;
   j["element_range_widened"] = r.range_widened;
   j["ripple_search"] = to_json(r.ripples);

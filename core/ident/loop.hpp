@@ -75,6 +75,11 @@ struct LoopOptions {
   // the noise floor, the final refit (one local search from the screened shape), the parameter
   // errors and all validation RMS use every sample. 0: never.
   std::size_t screen_samples = 2000;
+  // The rounds are not run when the base fit's validation MSE above the floor is below the
+  // floor's variance (base within sqrt(2) x the floor): an effect could lower the validation MSE
+  // by no more than that, less than the rise the credit test needs to name it by size
+  // (ablation.hpp). IdentReport::rounds_skipped says so. false: the rounds always run.
+  bool credit_bound = true;
   std::vector<Effect> candidates;  // empty = the whole catalog
   LoopOptions();
 };
@@ -197,6 +202,8 @@ struct IdentReport {
   // The loop screened the training record on every screen_every-th sample (1: all of them;
   // LoopOptions::screen_samples). Training RMS of the stages before the final one are on those.
   std::size_t screen_every = 1;
+  // Why the rounds were not run (LoopOptions::credit_bound), empty when they ran.
+  std::string rounds_skipped;
   const FitResult& final_fit() const { return stages.back(); }
 };
 
@@ -204,6 +211,10 @@ struct IdentReport {
 // by the validation record (element_fit.hpp).
 FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& validation,
                    const EffectContext& c, const FitOptions& o);
+
+// "nothing added: no catalog effect is credited by the data", or with the rounds skipped by the
+// credit bound, why no effect could be credited; empty when effects were named.
+std::string nothing_added(const IdentReport& r);
 
 // "the loop screened every 12th training sample; the final fit used all" (empty when it used all).
 std::string screen_summary(const IdentReport& r);

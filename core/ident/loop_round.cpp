@@ -179,6 +179,7 @@ class RoundRun {
     if (best_) add_best();
     rd_.rms_train_after = s_.cur.rms_train;
     rd_.rms_validation_after = s_.cur_val;
+    s_.control.reset();  // made for this round's starting model only
     const bool added = rd_.added.has_value();
     s_.rep.rounds.push_back(std::move(rd_));
     return added;
@@ -276,7 +277,8 @@ class RoundRun {
     for (const Candidate* k : next)
       ahead_.emplace(k->effect, fit_ahead(with(s_.cur.spec, k->effect), *shape_of(k->effect),
                                           stage_ + "refit with " + std::string(effect_name(k->effect))));
-    if (!next.empty() && next.front()->screen_rms_validation <= (1.0 - o_.min_gain) * s_.cur_val)
+    if (!next.empty() && next.front()->screen_rms_validation <= (1.0 - o_.min_gain) * s_.cur_val &&
+        !s_.control)
       ahead_control_ = fit_ahead(s_.cur.spec, s_.cur.u, stage_ + "control refit without a new effect");
   }
 
@@ -308,7 +310,10 @@ class RoundRun {
     control_done_ = true;
     FitOptions co = fo;
     co.stage = stage_ + "control refit without a new effect";
-    FitResult ctrl = ahead_control_ ? ahead_control_->get() : fit_model(s_.cur.spec, train_, s_.c, co, &s_.cur.u);
+    FitResult ctrl = s_.control       ? std::move(*s_.control)
+                     : ahead_control_ ? ahead_control_->get()
+                                      : fit_model(s_.cur.spec, train_, s_.c, co, &s_.cur.u);
+    s_.control.reset();
     if (ctrl.rms_train < s_.cur.rms_train) {
       s_.cur = std::move(ctrl);
       s_.cur_val = rms_on(s_.cur, val_, s_.c);

@@ -1,5 +1,6 @@
 #include "core/ident/loop_stages.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,10 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Dense>
-
 #include "core/ident/ablation.hpp"
 #include "core/ident/element_fit.hpp"
+#include "core/ident/parallel.hpp"
 
 namespace gmslab::ident::detail {
 
@@ -513,6 +513,57 @@ void widen_element_range(LoopState& s, bool before_rounds) {
   rep.elements = cur.spec.elements;
   if (!rep.stages.empty()) rep.stages.back() = cur;
   if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = s.cur_val;
+}
+
+// The credit test names an effect by size when the validation MSE without it exceeds the MSE
+// with it by at least the floor's variance (ablation.hpp). The most an effect can lower the
+// model's validation MSE is what lies above the floor, cur_val^2 - floor^2: below floor^2 (within
+// sqrt(2) x the floor) no effect can reach that rise, and the rounds - which would only add
+// effects for the credit to drop - are not run. That holds only for a floor no model beats, so
+// the bound takes the floor's parts that are measured or computed through the model (the noise
+// only where it was measured at rests: without rests it is an upper bound) and is not used where
+// the model already predicts the held-out record better than that floor (the estimate is then
+// shown too high). The block test's other clause (z >= 3: a small but consistent gain) is not
+// bounded by size. That the rounds credit nothing where this bound skips them is checked on
+// random records with effects of 1.5-50x the noise (IdentCreditBound): an effect of 34x the noise
+// beside a floor estimate above the base fit's validation RMS was credited by the full rounds.
+// A base fit above the bound is first refitted with the rounds' budget (round 1's control refit:
+// what it gains is optimisation); when that is within the bound it becomes the model, else it is
+// kept for round 1, which would make the same fit (a pure function of the same inputs: the base
+// spec depends on no context value the round tunes).
+bool no_effect_creditable(LoopState& s) {
+  const NoiseEstimate& n = s.rep.noise;
+  const double noise = n.from_rests ? n.sigma : 0.0;
+  const double floor =
+      std::sqrt(noise * noise + n.quantisation * n.quantisation + n.sampling * n.sampling);
+  if (!s.o.credit_bound || !(floor > 0)) return false;
+  auto within = [&](double val) {
+    return val >= floor && val * val - floor * floor < floor * floor;
+  };
+  if (!within(s.cur_val)) {
+    // Far above the floor (5x, as the base-fit retry) a refit that only optimises will not reach
+    // the bound, and round 1 makes its control refit only when an effect passes the gain.
+    if (!s.cur.spec.effects.empty() || !(s.cur_val < 5.0 * floor)) return false;
+    FitOptions co = serialised_progress(s.o.refit);
+    co.stage = "round 1: control refit without a new effect";
+    FitResult ctrl = fit_model(s.cur.spec, s.train(), s.c, co, &s.cur.u);
+    const double val = ctrl.rms_train < s.cur.rms_train ? rms_on(ctrl, s.val(), s.c) : s.cur_val;
+    if (!within(val)) {
+      s.control = std::move(ctrl);
+      return false;
+    }
+    s.cur = std::move(ctrl);
+    s.cur_val = val;
+    s.rep.stages.back() = s.cur;
+    s.rep.rms_before_train = s.cur.rms_train;
+    s.rep.rms_before_validation = s.cur_val;
+  }
+  s.rep.rounds_skipped =
+      "no effect can pass the credit test (base within " + fmt(s.cur_val / floor) +
+      "x the floor of " + fmt(floor) + " N: its validation MSE above the floor is below " +
+      "the floor's variance, the rise the credit test needs to name an effect by size); " +
+      "the rounds were not run";
+  return true;
 }
 
 // The final model on all samples. Screened on every k-th sample: the element range tested there,

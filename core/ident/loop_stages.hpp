@@ -7,6 +7,7 @@
 //                      to matter, and the floor's quantisation and sampling shares
 //   retry_base_fit     the base fit again from other starts when it stays 1.3-5x above the floor
 //   widen_element_range softer elements than the swing estimate allows (before and after rounds)
+//   no_effect_creditable the credit bound: base within sqrt(2) x the floor, no round run
 //   run_round          one round: screen the catalog, refit the best candidates, keep one
 //   final_refit        the final model refitted on all samples
 //   credit             credit by ablation (ablation.hpp): the effects and elements named
@@ -18,6 +19,7 @@
 
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -45,6 +47,9 @@ struct LoopState {
   double floor = 0;         // the floor the rounds judge against [N]
   double credit_floor = 0;  // the floor the credit and the discovery are judged against [N]
   std::set<Effect> deep_done;  // channel effects whose scalar was searched with shape refits
+  // Round 1's control refit (the base model with the refit budget), made ahead by the credit
+  // bound (no_effect_creditable) when it did not skip the rounds.
+  std::optional<FitResult> control;
 
   // All training samples, on the path the loop decided on.
   const Dataset& full() const { return rep.fine_path ? train_fine : train_in; }
@@ -63,6 +68,9 @@ void screen_record(LoopState& s);
 void choose_path(LoopState& s);
 void retry_base_fit(LoopState& s);
 void widen_element_range(LoopState& s, bool before_rounds);
+// Whether the base fit is so close to the floor that no effect can be credited by size (the
+// credit bound, LoopOptions::credit_bound); then rep.rounds_skipped says why.
+bool no_effect_creditable(LoopState& s);
 // One round of the loop; whether it added an effect.
 bool run_round(LoopState& s, int round);
 void final_refit(LoopState& s);

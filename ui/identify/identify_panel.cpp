@@ -511,10 +511,10 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
   if (st.result) {
     const auto& r = st.result->report;
     const std::string added = ident::named_effects(r.ablation, r.effects_added);
-    ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); %s%s", r.rms_before_validation,
-                r.rms_after_validation, r.rms_before_train, r.rms_after_train,
-                added.empty() ? "nothing added: no catalog effect is credited by the data" : "effects added: ",
-                added.c_str());
+    ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); %s%s",
+                r.rms_before_validation, r.rms_after_validation, r.rms_before_train,
+                r.rms_after_train,
+                added.empty() ? ident::nothing_added(r).c_str() : "effects added: ", added.c_str());
     if (!r.optimum.verified) {
       ImGui::PushStyleColor(ImGuiCol_Text, red);
       TextWrappedAtSpaces("Not converged: " + r.optimum.reason + "; no standard errors");
