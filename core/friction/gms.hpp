@@ -67,19 +67,23 @@ class GmsModel final : public FrictionModel {
   }
   // step() with at most kScalarElements elements, inline for a caller's own loop (the engine's
   // one-body path): the same operations in the same order, so the same force and state bit for bit.
-  double step_scalar(double* __restrict state, double v, const StepConstants& c) const {
+  // N > 0: the model has N elements (element_count(); a loop of known length, unrolled).
+  template <std::size_t N = 0>
+  [[gnu::always_inline]] double step_scalar(double* __restrict state, double v,
+                                            const StepConstants& c) const {
+    const std::size_t n = N > 0 ? N : n_;
     const double s = sgn(v);
     const double r = std::abs(v) * inv_vs_;
     double* F = state;
-    double* d = state + n_;
+    double* d = state + n;
     gms_elements::Sums sums;
     if (r > r_sat_)  // a branch, not a select: S is then a constant, off the critical path
       sums = gms_elements::scalar(
-          n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, p_.S.Fc,
+          n, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, p_.S.Fc,
           [&] { return c.relax_sliding >= 0.0 ? c.relax_sliding : exp_neg(c.Ch / p_.S.Fc); },
           v * c.h);
     else
-      sums = scalar_at(F, d, s, p_.S.at_scaled(r), c, v * c.h);
+      sums = scalar_at(n, F, d, s, p_.S.at_scaled(r), c, v * c.h);
     return sums.force + sums.damping * c.inv_h + p_.sigma2 * v;
   }
 
@@ -90,10 +94,10 @@ class GmsModel final : public FrictionModel {
   std::vector<double> sigma_over_k_;  // sigma_i / k_i [s]
   double inv_vs_ = 0.0;              // 1 / Vs [s/m]
   double r_sat_ = 0.0;               // |v|/Vs beyond which S(v) == Fc exactly in doubles [-]
-  gms_elements::Sums scalar_at(double* F, double* d, double s, double S, const StepConstants& c,
-                               double vh) const {
+  gms_elements::Sums scalar_at(std::size_t n, double* F, double* d, double s, double S,
+                               const StepConstants& c, double vh) const {
     return gms_elements::scalar(
-        n_, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
+        n, F, d, p_.alpha.data(), p_.k.data(), sigma_over_k_.data(), s, S,
         [&] { return exp_neg(c.Ch / S); }, vh);
   }
 };

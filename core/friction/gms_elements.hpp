@@ -24,12 +24,13 @@ struct Sums {
 // element sticks, the force follows from F_i + k_i v h alone. relax() gives a slipping element's
 // relaxation exp(-C h / S); it is asked for once, at the first slipping element.
 template <class Relax>
-inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d,
-                   const double* __restrict alpha, const double* __restrict k,
-                   const double* __restrict sk, double s, double S, Relax&& relax, double vh) {
+[[gnu::always_inline]] inline Sums scalar(std::size_t n, double* __restrict F, double* __restrict d,
+                                          const double* __restrict alpha,
+                                          const double* __restrict k, const double* __restrict sk,
+                                          double s, double S, Relax&& relax, double vh) {
   double E = -1.0;
   // Element i's new force; adds its damping term sigma_i / k_i (F_i(t + h) - F_i(t)) to `damp`.
-  auto update = [&](std::size_t i, double& damp, bool first) {
+  auto update = [&](std::size_t i, double& damp, bool first) __attribute__((always_inline)) {
     const double f0 = F[i];
     const double lim = alpha[i] * S;
     double f1;

@@ -46,6 +46,20 @@ class Handoff {
     lock.unlock();
     cv_.notify_all();
   }
+  // put() if the slot is free now; returns false (and fills nothing) while it holds an item that
+  // the consumer has not taken yet.
+  bool try_put(const std::function<void(Item&)>& fill) {
+    std::unique_lock<std::mutex> lock(m_);
+    if (error_) std::rethrow_exception(error_);
+    if (full_) return false;
+    lock.unlock();
+    fill(slot_);
+    lock.lock();
+    full_ = true;
+    lock.unlock();
+    cv_.notify_all();
+    return true;
+  }
   // Waits until every item put has been consumed; throws what a `consume` threw.
   void drain() {
     std::unique_lock<std::mutex> lock(m_);

@@ -1,5 +1,8 @@
 #include "core/io/trace_csv.hpp"
 
+#include <algorithm>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/io/atomic_file.hpp"
@@ -22,34 +25,47 @@ void append_trace_csv_header(std::size_t ne, std::string& out) {
   out += '\n';
 }
 
+namespace {
+
+// Longest text of one row with `ne` element columns.
+std::size_t row_room(std::size_t ne) { return (5 + ne) * (kFormatG10MaxChars + 1) + 2 * ne + 1; }
+
+// Writes row k of `tr` at `o` (room for row_room(ne) characters) and returns its end.
+char* format_row(const Trace& tr, std::size_t k, std::size_t ne, char* o) {
+  o = format_g10(tr.t[k], o);
+  for (double x : {tr.x[k], tr.v[k], tr.friction[k], tr.applied[k]}) {
+    *o++ = ',';
+    o = format_g10(x, o);
+  }
+  for (std::size_t i = 0; i < ne; ++i) {
+    *o++ = ',';
+    o = format_g10(tr.element_force[k * ne + i], o);
+  }
+  for (std::size_t i = 0; i < ne; ++i) {
+    o[0] = ',';
+    o[1] = static_cast<char>('0' + tr.element_slip[k * ne + i]);
+    o += 2;
+  }
+  *o++ = '\n';
+  return o;
+}
+
+}  // namespace
+
 void append_trace_csv_rows(const Trace& tr, std::size_t ne, std::string& out) {
   // Rows are written in place into a block with room for 256 of their longest text (format_g10:
   // printf's %.10g), appended to `out` a block at a time.
-  const std::size_t row_room = (5 + ne) * (kFormatG10MaxChars + 1) + 2 * ne + 1;
-  std::vector<char> block(256 * row_room);
+  const std::size_t room = row_room(ne);
+  std::vector<char> block(256 * room);
   char* const end = block.data() + block.size();
   char* o = block.data();
   out.reserve(out.size() + tr.size() * (6 + ne) * 12);
   for (std::size_t k = 0; k < tr.size(); ++k) {
-    if (static_cast<std::size_t>(end - o) < row_room) {
+    if (static_cast<std::size_t>(end - o) < room) {
       out.append(block.data(), o);
       o = block.data();
     }
-    o = format_g10(tr.t[k], o);
-    for (double x : {tr.x[k], tr.v[k], tr.friction[k], tr.applied[k]}) {
-      *o++ = ',';
-      o = format_g10(x, o);
-    }
-    for (std::size_t i = 0; i < ne; ++i) {
-      *o++ = ',';
-      o = format_g10(tr.element_force[k * ne + i], o);
-    }
-    for (std::size_t i = 0; i < ne; ++i) {
-      o[0] = ',';
-      o[1] = static_cast<char>('0' + tr.element_slip[k * ne + i]);
-      o += 2;
-    }
-    *o++ = '\n';
+    o = format_row(tr, k, ne, o);
   }
   out.append(block.data(), o);
 }
@@ -70,30 +86,67 @@ void save_trace_csv(const Trace& tr, const std::string& path) {
   write_file_atomic(path, text);
 }
 
+namespace {
+
+// A chunk of samples on its way to the sink, with the text of its first `formatted` rows.
+struct CsvChunk {
+  Trace samples;
+  std::unique_ptr<char[]> text;  // room for every row; its first `used` characters are written
+  std::size_t room = 0, used = 0, formatted = 0;
+
+  // Takes the samples of `tr` (its memory reused chunk after chunk), none formatted yet.
+  void take(const Trace& tr, std::size_t ne) {
+    samples.t = tr.t, samples.x = tr.x, samples.v = tr.v, samples.friction = tr.friction;
+    samples.applied = tr.applied, samples.element_force = tr.element_force;
+    samples.element_slip = tr.element_slip;
+    used = formatted = 0;
+    const std::size_t need = tr.size() * row_room(ne);
+    if (room < need) {  // uninitialised: only the pages written are ever touched
+      text.reset(new char[need]);
+      room = need;
+    }
+  }
+  void format_until(std::size_t to, std::size_t ne) {
+    char* const start = text.get();
+    char* o = start + used;
+    for (; formatted < to; ++formatted) o = format_row(samples, formatted, ne, o);
+    used = static_cast<std::size_t>(o - start);
+  }
+};
+
+}  // namespace
+
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink) {
   constexpr std::size_t kChunkSamples = 1u << 14;
   AssemblySimulation sim = one_body_simulation(scenario, TraceOptions{.max_bytes = 0, .reserve_samples = kChunkSamples + 2});
   // Every sample has its element columns (the run has no live edits), so the header is known now.
   const std::size_t ne = sim.one_body_trace().n_elements;
-  std::string text;
-  append_trace_csv_header(ne, text);
-  sink(text);
-  // The text is formatted and passed to the sink on a second thread (Handoff) while the next
-  // chunk is simulated; the sink sees the same text in the same order as without it.
-  Handoff<Trace> writer([&](Trace& chunk) {
-    text.clear();
-    append_trace_csv_rows(chunk, ne, text);
-    sink(text);
+  std::string header;
+  append_trace_csv_header(ne, header);
+  sink(header);
+  // The text is passed to the sink on a second thread (Handoff) while the next chunk is
+  // simulated. Both threads format: the second one whatever the first has not, the first the rows
+  // of its newest chunk while the second still has an earlier chunk waiting, so neither waits
+  // while the other works. The sink sees the same text in the same order as without it.
+  Handoff<CsvChunk> writer([&](CsvChunk& c) {
+    c.format_until(c.samples.size(), ne);
+    sink(std::string_view(c.text.get(), c.used));
   });
   std::size_t written = 0;
+  CsvChunk next;
   auto hand_over = [&] {
-    const Trace& tr = sim.one_body_trace();
-    writer.put([&](Trace& c) {
-      c.t = tr.t, c.x = tr.x, c.v = tr.v, c.friction = tr.friction, c.applied = tr.applied;
-      c.element_force = tr.element_force, c.element_slip = tr.element_slip;
-    });
-    written += tr.size();
+    next.take(sim.one_body_trace(), ne);
     sim.clear_trace();
+    written += next.samples.size();
+    const auto fill = [&](CsvChunk& slot) { std::swap(slot, next); };
+    constexpr std::size_t kRowsPerTry = 256;  // rows formatted here between looks at the slot
+    while (!writer.try_put(fill)) {
+      if (next.formatted == next.samples.size()) {
+        writer.put(fill);
+        break;
+      }
+      next.format_until(std::min(next.samples.size(), next.formatted + kRowsPerTry), ne);
+    }
   };
   try {
     const auto chunk_steps = kChunkSamples * static_cast<std::size_t>(scenario.run.record_every);

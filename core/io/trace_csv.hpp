@@ -24,12 +24,14 @@ void append_trace_csv_header(std::size_t n_elements, std::string& out);
 void append_trace_csv_rows(const Trace& tr, std::size_t n_elements, std::string& out);
 
 // Simulates `scenario` and streams its trace as CSV into `sink` as it goes, a chunk of 16384
-// samples at a time: memory stays constant (three chunks of the trace and one of its text) whatever
-// the length of the run. The rows are formatted and passed to `sink` on a second thread while the
-// next chunk is simulated (the header on the calling thread first; one call at a time, in order;
-// the text is that of doing it all in turn). Returns the number of samples written. Throws what
-// the simulation throws (InputError, SimulationError); the samples of the chunks before a
-// divergence have been passed to the sink by then, and what `sink` throws.
+// samples at a time: memory stays constant (the chunk being simulated, and three chunks of samples
+// with room for their text: one being formatted here, one waiting, one being formatted and written
+// by the second thread) whatever the length of the run. Both threads format: this one the rows of
+// its newest chunk while the second thread still has an earlier chunk waiting, the second thread
+// the rest, and it passes the text to `sink` (the header on the calling thread first; one call at a
+// time, in order; the text is that of doing it all in turn). Returns the number of samples
+// written. Throws what the simulation throws (InputError, SimulationError); the samples of the
+// chunks before a divergence have been passed to the sink by then, and what `sink` throws.
 std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(std::string_view)>& sink);
 // The same into a file, atomically: the text streams to a temporary file beside `path`, renamed
 // over it once the run is complete (a failed run leaves `path` as it was).

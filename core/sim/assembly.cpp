@@ -809,12 +809,35 @@ template <int K, bool Gms>
 std::size_t AssemblySimulation::advance_simple(std::size_t n) {
   // Every v1 preset's plant has its spring, damper and contact (zero or not): that case with the
   // three known at compile time keeps fewer values live in the loop.
-  if (springs_c_.size() == 1 && dampers_c_.size() == 1 && contacts_c_.size() == 1)
-    return advance_simple_as<K, Gms, true>(n);
-  return advance_simple_as<K, Gms, false>(n);
+  if (springs_c_.size() == 1 && dampers_c_.size() == 1 && contacts_c_.size() == 1) {
+    if constexpr (Gms && (K == 1 || K == 2)) {  // a force or pull drive: the element count too
+      switch (models_[0]->element_count()) {
+        case 1:
+          return advance_simple_as<K, Gms, true, 1>(n);
+        case 2:
+          return advance_simple_as<K, Gms, true, 2>(n);
+        case 3:
+          return advance_simple_as<K, Gms, true, 3>(n);
+        case 4:
+          return advance_simple_as<K, Gms, true, 4>(n);
+        case 5:
+          return advance_simple_as<K, Gms, true, 5>(n);
+        case 6:
+          return advance_simple_as<K, Gms, true, 6>(n);
+        case 7:
+          return advance_simple_as<K, Gms, true, 7>(n);
+        case 8:
+          return advance_simple_as<K, Gms, true, 8>(n);
+        default:
+          break;
+      }
+    }
+    return advance_simple_as<K, Gms, true, 0>(n);
+  }
+  return advance_simple_as<K, Gms, false, 0>(n);
 }
 
-template <int K, bool Gms, bool Full>
+template <int K, bool Gms, bool Full, std::size_t N>
 std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
   const double h = sc_.run.dt;
   const Assembly& p = sc_.plant;
@@ -837,17 +860,22 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
   double F = has_f ? f_contact_[0] : 0.0, vr = has_f ? v_rel_[0] : 0.0;
   double work = drive_work_;
   std::uint64_t step = step_, left = until_record_;
-  auto flush = [&] {
-    x_[0] = x;
-    v_[0] = v;
-    step_ = step;
-    until_record_ = left;
-    if (K != 0) f_drive_[0] = fdrive;
-    if (has_k) f_spring_[0] = fs;
-    if (has_c) f_damper_[0] = fd;
-    if (has_f) f_contact_[0] = F, v_rel_[0] = vr;
-    drive_work_ = work;
+  // Writes the loop's values back (x and v passed by value: a lambda holding their addresses
+  // would keep them in memory through the loop).
+  auto store = [this, has_k, has_c, has_f](double x1, double v1, std::uint64_t step1,
+                                           std::uint64_t left1, double fdrive1, double fs1,
+                                           double fd1, double F1, double vr1, double work1) {
+    x_[0] = x1;
+    v_[0] = v1;
+    step_ = step1;
+    until_record_ = left1;
+    if (K != 0) f_drive_[0] = fdrive1;
+    if (has_k) f_spring_[0] = fs1;
+    if (has_c) f_damper_[0] = fd1;
+    if (has_f) f_contact_[0] = F1, v_rel_[0] = vr1;
+    drive_work_ = work1;
   };
+
   // The drive's values for a chunk of steps are computed ahead (they depend on t alone), so the
   // step loop calls nothing between samples and x and v stay in registers: K 1: F(t); 2: x_p(t)
   // and its rate; 3: x(t + h); 4: v(t) and v(t + h).
@@ -869,6 +897,55 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
         sa[i] = d->signal(t), sb[i] = d->signal(t + h);
     }
     for (std::size_t i = 0; i < chunk; ++i, ++done) {
+      if constexpr (K < 3) {
+        // The steps before the next event (a sample, an energy check, the chunk's end): the same
+        // operations with only x, v, the work and the element states carried from step to step
+        // (the outputs are those of the event's step, below).
+        const std::uint64_t quiet =
+            std::min<std::uint64_t>(
+                {chunk - i, left, kEnergyCheckEvery - (step & (kEnergyCheckEvery - 1))}) -
+            1;
+        for (std::uint64_t q = 0; q < quiet; ++q, ++i, ++done) {
+          double fq = 0.0, fsq = 0.0, fdq = 0.0, Fq = 0.0;
+          [[maybe_unused]] double rate_q = 0.0;
+          if constexpr (K == 1) {
+            fq = sa[i];
+          } else if constexpr (K == 2) {
+            rate_q = sb[i];
+            fq = d->pull_spring * (sa[i] - x) + d->pull_damper * (rate_q - v);
+          }
+          const double fdrq = fq, v0 = v;
+          if (has_k) {
+            fsq = k * (x - 0.0);
+            fq -= fsq;
+          }
+          if (has_c) {
+            fdq = c * (v - 0.0);
+            fq -= fdq;
+          }
+          if (has_f) {
+            if constexpr (Gms)
+              Fq = gms->template step_scalar<N>(st.data(), v, gc);
+            else
+              Fq = model->step(st, {v, h, fq, m});
+            fq -= Fq;
+          }
+          v += fq * hm;
+          x += h * v;
+          if constexpr (K == 1)
+            work += h * fdrq * v;
+          else if constexpr (K == 2)
+            work += h * fdrq * rate_q;
+          ++step;
+          if (!std::isfinite(fq + x + v)) [[unlikely]] {
+            fdrive = fdrq, fs = fsq, fd = fdq, F = Fq, vr = v0;
+            left -= q + 1;
+            store(x, v, step, left, fdrive, fs, fd, F, vr, work);
+            diverged(!std::isfinite(F));
+          }
+        }
+        left -= quiet;
+      }
       double f = 0.0;
       [[maybe_unused]] double xp_rate = 0.0;  // pull: the drive point's velocity [m/s]
       if constexpr (K >= 3) {
@@ -886,7 +963,7 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
         if (has_f) {
           vr = cv - 0.0;
           if constexpr (Gms)
-            F = gms->step_scalar(st.data(), vr, gc);
+            F = gms->template step_scalar<N>(st.data(), vr, gc);
           else
             F = model->step(st, {vr, h, 0.0, 0.0});
           f -= F;
@@ -901,12 +978,12 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
         }
         ++step;
         if (!std::isfinite(f + x + v)) {
-          flush();
+          store(x, v, step, left, fdrive, fs, fd, F, vr, work);
           diverged(!std::isfinite(F));
         }
         if (--left == 0 || step == total) {
           left = every;
-          flush();
+          store(x, v, step, left, fdrive, fs, fd, F, vr, work);
           record();
         }
         continue;
@@ -928,7 +1005,7 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
       }
       if (has_f) {
         if constexpr (Gms)
-          F = gms->step_scalar(st.data(), v, gc);
+          F = gms->template step_scalar<N>(st.data(), v, gc);
         else
           F = model->step(st, {v, h, f, m});
         vr = v;
@@ -943,21 +1020,21 @@ std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
         work += h * fdrive * xp_rate;
       ++step;
       if (!std::isfinite(f + x + v)) {
-        flush();
+        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
         diverged(!std::isfinite(F));
       }
       if ((step & (kEnergyCheckEvery - 1)) == 0) {
-        flush();
+        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
         check_energy();
       }
       if (--left == 0 || step == total) {
         left = every;
-        flush();
+        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
         record();
       }
     }
   }
-  flush();
+  store(x, v, step, left, fdrive, fs, fd, F, vr, work);
   return done;
 }
 

@@ -277,8 +277,9 @@ class AssemblySimulation {
   // Gms: the contact is a GmsModel of at most GmsModel::kScalarElements elements, stepped inline.
   template <int K, bool Gms>
   std::size_t advance_simple(std::size_t n);
-  // Full: exactly one spring, damper and contact (known at compile time).
-  template <int K, bool Gms, bool Full>
+  // Full: exactly one spring, damper and contact (known at compile time); N > 0: a GMS contact of
+  // N elements (known at compile time).
+  template <int K, bool Gms, bool Full, std::size_t N>
   std::size_t advance_simple_as(std::size_t n);
   int simple_ = -1;  // K of advance_simple when it applies, else -1
   bool simple_gms_ = false;

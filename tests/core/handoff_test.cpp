@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <thread>
@@ -45,6 +46,35 @@ TEST(Handoff, EveryItemInOrderWhateverTheTiming) {
       EXPECT_EQ(seen[2 * static_cast<std::size_t>(i) + 1], i);
     }
   }
+}
+
+// try_put fills the slot only when it is free: while the consumer is busy with one item and a
+// second waits in the slot, it refuses (and fills nothing); once the consumer takes the second,
+// it accepts. Every accepted item is consumed once, in order.
+TEST(Handoff, TryPutRefusesWhileTheSlotHoldsAnItem) {
+  std::mutex gate;
+  std::unique_lock<std::mutex> hold(gate);  // the consumer waits on this inside its first item
+  std::vector<int> seen;
+  {
+    Handoff<int> h([&](int& item) {
+      const std::lock_guard<std::mutex> wait(gate);
+      seen.push_back(item);
+    });
+    int fills = 0;
+    EXPECT_TRUE(h.try_put([&](int& item) { item = 1, ++fills; }));
+    // The consumer takes item 1 (and blocks on the gate); then the slot is free for item 2.
+    while (!h.try_put([&](int& item) { item = 2, ++fills; })) std::this_thread::yield();
+    int refused = 0;
+    for (int i = 0; i < 5; ++i)
+      refused += h.try_put([&](int& item) { item = 99, ++fills; }) ? 0 : 1;
+    EXPECT_EQ(refused, 5);  // item 2 waits in the slot while the consumer holds item 1
+    EXPECT_EQ(fills, 2);
+    hold.unlock();
+    while (!h.try_put([&](int& item) { item = 3, ++fills; })) std::this_thread::yield();
+    h.drain();
+    EXPECT_EQ(fills, 3);
+  }
+  EXPECT_EQ(seen, (std::vector<int>{1, 2, 3}));
 }
 
 TEST(Handoff, AConsumerErrorIsThrownByTheNextPutOrDrain) {
