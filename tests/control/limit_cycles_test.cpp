@@ -127,7 +127,12 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
   const OrbitReport r = find_orbits(L);
   ASSERT_NE(r.stable(), nullptr);
   const HuntingMap m = hunting_map(L, *r.stable(), 0.5, 2.0, 5);
-  ASSERT_EQ(m.points.size(), 5u);
+  // The branch from end to end of the range (no fold on this loop), one point per step of at
+  // most ln(2 / 0.5) / 4 in ln s at least.
+  ASSERT_GE(m.points.size(), 5u) << m.note;
+  EXPECT_NEAR(m.points.front().gain_scale, 0.5, 1e-9) << m.note;
+  EXPECT_NEAR(m.points.back().gain_scale, 2.0, 1e-9) << m.note;
+  EXPECT_FALSE(m.fold) << m.note;
   int checked = 0;
   for (const HuntingMapPoint& p : m.points) {
     if (!p.orbit) continue;
@@ -140,7 +145,7 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
     EXPECT_NEAR(p.orbit->period, sim.period, 0.05 * sim.period);
     ++checked;
   }
-  EXPECT_GE(checked, 4) << m.note;
+  EXPECT_EQ(checked, static_cast<int>(m.points.size())) << m.note;
   EXPECT_THROW(hunting_map(L, *r.stable(), 2.0, 1.0, 5), InputError);
 }
 

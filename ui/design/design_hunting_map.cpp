@@ -53,11 +53,11 @@ void hunting_map_request(DesignViewState& d) {
     return;
   }
   if (d.out.source == control::PlantSource::Typed) {
-    h.error = "a typed plant G(s) has no friction: no limit cycles to map";
+    h.error = "none for a typed plant (no friction)";
     return;
   }
   if (d.in.reference.kind != Signal::Kind::Constant) {
-    h.error = "computed around a constant set point: choose the step reference";
+    h.error = "step reference only";  // orbits around a constant set point
     return;
   }
   control::DesignInputs in = d.in;
