@@ -1,14 +1,9 @@
 #include "app/headless.hpp"
 
-#include <optional>
-
-#include "ui/figures/figure_svg.hpp"
-
 #include <GL/osmesa.h>
 #include <backends/imgui_impl_opengl2.h>
 #include <imgui.h>
 #include <stb_image_write.h>
-
 #include <strings.h>
 
 #include <algorithm>
@@ -18,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -27,13 +23,15 @@
 #include "core/error.hpp"
 #include "core/figures/figure_set.hpp"
 #include "core/ident/dataset.hpp"
+#include "core/io/assembly_io.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/json_reader.hpp"
 #include "core/io/preset_io.hpp"
-#include "core/io/assembly_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app.hpp"
 #include "ui/app_files.hpp"
+#include "ui/design/design_view.hpp"
+#include "ui/figures/figure_svg.hpp"
 #include "ui/figures/figure_view.hpp"
 #include "ui/identify/identify_panel.hpp"
 #include "ui/panels.hpp"
@@ -363,6 +361,13 @@ int render_resolved(const cli::RenderOptions& o) {
     return 0;
   }
   Offscreen off(w, h);
+  if (design_view) {  // the hunting map's background job: a deterministic picture waits for it
+    for (int frame = 0; frame < 3; ++frame) {  // the tab is selected, the design computed
+      off.render([&] { draw_app(s); }, 1);
+      while (ui::hunting_map_busy(s.design))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
   const auto& rgba = off.render([&] { draw_app(s); }, 4);
   write_png(o.out, w, h, rgba);
   std::cout << "wrote " << o.out << " (" << w << "x" << h << ", " << panel->name << " view, t = "

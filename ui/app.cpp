@@ -1,14 +1,13 @@
 #include "ui/app.hpp"
 
 #include <imgui.h>
+#include <strings.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <strings.h>
-
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -18,6 +17,7 @@
 #include "core/io/preset_io.hpp"
 #include "core/io/scenario_io.hpp"
 #include "ui/app_files.hpp"
+#include "ui/design/design_view.hpp"
 #include "ui/identify/identify_panel.hpp"
 #include "ui/panels.hpp"
 #include "ui/plant/plant_view.hpp"
@@ -427,7 +427,7 @@ FrameActivity frame_activity(AppState& s) {
   FrameActivity a;
   a.sim_running = s.running && s.main.sim;
   a.plant_running = s.plant.running && s.plant.sim && s.view.tab == "Plant";
-  a.identifying = identify_busy(s.identify);
+  a.identifying = identify_busy(s.identify) || hunting_map_busy(s.design);
   a.animating = s.select_tab > 0 || (s.view.tab == "Design" && s.design.dirty) || s.browser.open_request;
   a.text_input = ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantTextInput;
   return a;

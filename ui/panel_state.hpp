@@ -65,6 +65,30 @@ struct FiguresState {
   ErrorKind error_kind = ErrorKind::Internal;
 };
 
+// The Design view's hunting map (core/control/limit_cycles.hpp through compute_design: periodic
+// orbits of the loop without compensation and their branch over the gain scale), computed on a
+// worker thread so that dragging stays smooth. One job at a time: a design that changes while a
+// job runs is queued (only the latest) and started when that job ends, whose result, superseded,
+// is dropped. The worker writes `out` and then sets done.
+struct HuntingMapJob {
+  std::atomic<bool> done{false};
+  int generation = 0;          // the design generation it computes
+  control::DesignOutputs out;  // the worker's result (read once done)
+  std::string error;           // an exception the job did not catch as a typed error
+  std::thread thread;
+  ~HuntingMapJob() {
+    if (thread.joinable()) thread.join();
+  }
+};
+struct HuntingMapState {
+  int generation = 0;                           // bumped by each recomputation of the design
+  std::optional<control::DesignInputs> queued;  // the latest design's inputs, not yet started
+  int queued_generation = 0;
+  std::shared_ptr<HuntingMapJob> job;         // the running job (null: none)
+  std::optional<control::DesignOutputs> out;  // the map of the current design (null: computing)
+  std::string error;                          // why there is none ("" when computing or shown)
+};
+
 // The Design panel (root-locus design view, ui/design/design_view.hpp).
 struct DesignViewState {
   DesignSettings settings;           // what the user chose (the panel edits it; the session saves it)
@@ -91,6 +115,7 @@ struct DesignViewState {
   std::string num_edit, den_edit, num_error, den_error;
   bool z_plane = true;               // with a sample time: the locus canvas shows the z-plane locus
   PlotTransform z_canvas;            // data <-> pixel map of the z-plane canvas (zoom: in.z_locus_view)
+  HuntingMapState hunting_map;       // the hunting map beside the Nyquist plot (background job)
 };
 
 // The Identify panel (ui/identify/identify_panel.hpp).

@@ -62,8 +62,7 @@ nlohmann::json to_json(const HuntingMap& m) {
   }
   return {{"points", pts},
           {"fold_gain_scale", m.fold ? nlohmann::json(*m.fold) : nlohmann::json(nullptr)},
-          {"lost_above_gain_scale",
-           m.lost_above ? nlohmann::json(*m.lost_above) : nlohmann::json(nullptr)},
+          {"folds_gain_scale", m.folds},
           {"note", m.note},
           {"map_evaluations", m.map_evaluations}};
 }

@@ -87,8 +87,8 @@ nlohmann::json to_json(const LeadLagDesign& ll);
 // stick_fraction, multipliers [{re, im, abs}], multipliers_fresh, stable, residual, returns,
 // map_evaluations, seed}], method, not_found (null when there are orbits), map_evaluations, dt_s
 // (the loop's step: the simulation's, or the automatic one when the timing gives no step)};
-// limit_cycles.map: {points [an orbit, or {gain_scale, orbit: null}], fold_gain_scale,
-// lost_above_gain_scale, note, map_evaluations}.
+// limit_cycles.map: {points [an orbit (with stable), along the branch], fold_gain_scale (the fold
+// nearest the design's gain, or null), folds_gain_scale, note, map_evaluations}.
 nlohmann::json to_json(const PeriodicOrbit& o);
 nlohmann::json to_json(const OrbitReport& r);
 nlohmann::json to_json(const HuntingMap& m);

@@ -1,13 +1,14 @@
 #include "core/control/design_session.hpp"
 
-#include "core/error.hpp"
-
 #include <algorithm>
 #include <cmath>
-#include <numbers>
-#include <string>
 #include <exception>
 #include <limits>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "core/error.hpp"
 
 namespace gmslab::control {
 
@@ -405,15 +406,32 @@ void orbit_stage(const DesignInputs& in, DesignOutputs& out, const LoopConfig& c
   const ClosedLoop L = closed_loop_of(in, out, cfg);
   rep = find_orbits(L, OrbitOptions{}, out.hunting ? &*out.hunting : nullptr);
   if (!in.hunting_map) return;
-  const PeriodicOrbit* start = rep.stable();
+  const auto& grid = *in.hunting_map;
+  std::optional<PeriodicOrbit> start;
+  if (rep.stable()) start = *rep.stable();
+  // No cycle at the design's gain: the same search at the ends of the map's range (a cycle that
+  // exists only below or above a threshold gain), the map continued from the first found.
+  std::string searched = "at gain scale 1";
+  for (double g : {grid.lo, grid.hi}) {
+    if (start) break;
+    ClosedLoop Lg = L;
+    Lg.config.C.Kc *= g;
+    std::ostringstream label;
+    label << g;
+    searched += ", " + label.str();
+    try {
+      const OrbitReport rg = find_orbits(Lg);
+      if (rg.stable()) start = *rg.stable(), start->gain_scale = g;
+    } catch (const Error&) {  // a diverging loop or a step too coarse for that gain: none there
+    }
+  }
   if (!start) {
     HuntingMap& m = out.hunting_map.emplace();
-    m.note = "hunting map: no stable orbit at the design's gain to continue from (" +
+    m.note = "hunting map: no stable orbit found " + searched + " to continue from (" +
              rep.not_found + ")";
     return;
   }
-  out.hunting_map =
-      hunting_map(L, *start, in.hunting_map->lo, in.hunting_map->hi, in.hunting_map->n);
+  out.hunting_map = hunting_map(L, *start, grid.lo, grid.hi, grid.n);
 }
 
 // Each loop with friction, on the scenario's one body or the assembled plant.

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <sstream>
 
@@ -332,6 +333,7 @@ class OrbitSolver {
     return false;
   }
 
+ public:  // the branch tracer (hunting_map) sets the unknowns and scales and builds orbits here
   // The multipliers say unstable: the second method, iterating the map from the orbit displaced
   // by `size` (scaled) along the dominant eigenvector. The displacement's growth per period over
   // kIterations returns, (d_n / d_0)^(1/n), is kept; below 1 + 1e-2 (no growth: an attracting
@@ -651,61 +653,384 @@ std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& L, const PeriodicO
   return o;
 }
 
+namespace {
+// Pseudo-arclength continuation of an orbit's branch in x = (u, p): u the unknown entries of the
+// section state divided by their ranges over the last orbit (rescaled at each point), p = ln(gain
+// scale). F(x) = P(u; p) - u; its Jacobian A = [M - I, b] (M = dP/du, b = dP/dp by finite
+// differences, fresh at each point; Broyden's update inside the corrector). Each step: predictor
+// x + h t along the unit tangent t (A t = 0), corrector Newton on [F(x); t . (x - x_pred)] = 0. A
+// fold is where t's p-component changes sign: the branch turns around in the gain, one real
+// multiplier crossing +1 there.
+class BranchTracer {
+ public:
+  struct Node {
+    PeriodicOrbit orbit;
+    double p = 0.0;
+    std::vector<double> z;      // the full section state
+    std::vector<double> scale;  // the unknowns' scales at this node
+    Eigen::MatrixXd A;          // [M - I, b] in this node's scaling
+    Eigen::VectorXd t;          // unit tangent (oriented along the trace)
+    double h = 0.0;             // the arclength step that reached it
+  };
+
+  BranchTracer(const ClosedLoop& L, const PeriodicOrbit& start, const OrbitOptions& opt)
+      : L_(L),
+        opt_(opt),
+        level_(start.level),
+        returns_(start.returns),
+        max_period_(opt.max_period > 0.0 ? opt.max_period : 3.0 * start.period),
+        unknowns_(start.unknowns) {}
+
+  int evaluations() const { return evaluations_ + (map_ ? map_->evaluations : 0); }
+
+  // The start node (gain scale of `start`), its tangent oriented towards increasing p when up.
+  std::optional<Node> start_node(const PeriodicOrbit& start, bool up) {
+    Node nd;
+    nd.orbit = start;
+    nd.p = std::log(start.gain_scale);
+    nd.z = start.section_state;
+    nd.scale = start.scale;
+    const MapRun r = map_at(nd.p).run(nd.z);
+    if (!r.crossed) return std::nullopt;
+    set_resolution(r.period);
+    nd.A = jacobian(nd.z, nd.scale, nd.p, r);
+    Eigen::VectorXd dir = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(unknowns_.size()) + 1);
+    dir(dir.size() - 1) = up ? 1.0 : -1.0;
+    if (!tangent(nd.A, dir, nd.t)) return std::nullopt;
+    return nd;
+  }
+
+  // The next node from `nd` with arclength step h (clamped to p in [p_lo, p_hi]: there the
+  // constraint is p = the bound). nullopt: the corrector did not converge.
+  std::optional<Node> step(const Node& nd, double h, double p_lo, double p_hi, bool* at_bound) {
+    const auto n = static_cast<Eigen::Index>(unknowns_.size());
+    Eigen::VectorXd x0 = pack(nd.z, nd.scale, nd.p);
+    Eigen::VectorXd xp = x0 + h * nd.t;
+    Eigen::VectorXd c = nd.t;
+    *at_bound = false;
+    if (xp(n) > p_hi || xp(n) < p_lo) {  // natural-parameter step onto the range's end
+      const double pb = xp(n) > p_hi ? p_hi : p_lo;
+      xp = x0 + (pb - x0(n)) / nd.t(n) * nd.t;
+      xp(n) = pb;
+      c = Eigen::VectorXd::Zero(n + 1);
+      c(n) = 1.0;
+      *at_bound = true;
+    }
+    Eigen::VectorXd x;
+    std::vector<double> z;
+    MapRun r;
+    double res = 0.0;
+    // Newton on [F(x); c . (x - xp)] = 0 from xp; false when it does not converge or lands far
+    // from the prediction (a jump to another branch).
+    const auto correct = [&](const Eigen::VectorXd& c) {
+      Eigen::MatrixXd A = nd.A;
+      x = xp;
+      z = unpack(x, nd.z, nd.scale);
+      r = map_at(x(n)).run(z);
+      if (!r.crossed) return false;
+      Eigen::VectorXd g = scaled(r.z, nd.scale) - x.head(n);
+      res = g.cwiseAbs().maxCoeff();
+      bool fresh = false;
+      for (int it = 0; it < opt_.newton && res > opt_.tolerance; ++it) {
+        Eigen::MatrixXd K(n + 1, n + 1);
+        K.topRows(n) = A;
+        K.row(n) = c.transpose();
+        Eigen::VectorXd rhs(n + 1);
+        rhs.head(n) = -g;
+        rhs(n) = -c.dot(x - xp);
+        const Eigen::VectorXd dx = K.colPivHouseholderQr().solve(rhs);
+        bool accepted = false;
+        for (double lam = 1.0; dx.allFinite() && lam > 0.2 && !accepted; lam *= 0.5) {
+          const Eigen::VectorXd xn = x + lam * dx;
+          if (xn(n) > p_hi + 1e-9 || xn(n) < p_lo - 1e-9) continue;  // outside the map's range
+          const std::vector<double> zn = unpack(xn, nd.z, nd.scale);
+          MapRun rn = map_at(xn(n)).run(zn);
+          if (!rn.crossed) continue;
+          const Eigen::VectorXd gn = scaled(rn.z, nd.scale) - xn.head(n);
+          const double rr = gn.cwiseAbs().maxCoeff();
+          if (rr < res) {
+            const Eigen::VectorXd s = xn - x;
+            A += (gn - g - A * s) * s.transpose() / s.squaredNorm();
+            x = xn, z = zn, r = std::move(rn), g = gn, res = rr, accepted = true;
+          }
+        }
+        if (accepted) continue;
+        if (fresh) break;
+        A = jacobian(z, nd.scale, x(n), r), fresh = true;
+      }
+      if (res > std::max(opt_.tolerance, std::min(kResolutionFactor * noise_, kMaxResidual)))
+        return false;
+      return (x - xp).norm() <= 0.5 * std::abs(h) + 0.05;
+    };
+    // Where the arclength corrector fails away from a fold (the branch steep in the gain), the
+    // natural-parameter one (the gain fixed at the prediction's) is tried.
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(n + 1);
+    e(n) = 1.0;
+    if (!correct(c) && (*at_bound || std::abs(nd.t(n)) < 0.2 || !correct(e))) return std::nullopt;
+    std::optional<Node> next = node(x(n), z, nd, r, res);
+    if (next) next->h = nd.t.dot(x - x0);
+    return next;
+  }
+
+  // The branch point's orbit from a converged state: fresh Jacobian in the orbit's own scaling,
+  // multipliers, stability (the second method where the finite differences say unstable).
+  std::optional<Node> node(double p, const std::vector<double>& z, const Node& prev,
+                           const MapRun& r, double res) {
+    Node nd;
+    nd.p = p;
+    nd.z = z;
+    nd.scale = prev.scale;
+    for (std::size_t k : unknowns_)
+      if (r.range[k] > 0.0) nd.scale[k] = r.range[k];
+    set_resolution(r.period);
+    nd.A = jacobian(z, nd.scale, p, r);
+    // The previous tangent in this node's scaling orients the new one.
+    const auto n = static_cast<Eigen::Index>(unknowns_.size());
+    Eigen::VectorXd dir = prev.t;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const std::size_t k = unknowns_[static_cast<std::size_t>(i)];
+      dir(i) *= prev.scale[k] / nd.scale[k];
+    }
+    if (!tangent(nd.A, dir, nd.t)) return std::nullopt;
+    SectionMap& map = map_at(p);
+    OrbitSolver solver(map, opt_);
+    solver.unknowns_ = unknowns_, solver.scale_ = nd.scale, solver.fd_ = fd_,
+    solver.central_ = central_;
+    const Eigen::MatrixXd M = nd.A.leftCols(n) + Eigen::MatrixXd::Identity(n, n);
+    nd.orbit = solver.orbit(z, r, M, res, true);
+    if (!nd.orbit.stable) solver.check_by_iteration(nd.orbit, M, std::max(0.02, 4.0 * noise_));
+    nd.orbit.gain_scale = std::exp(p);
+    nd.orbit.seed = "continuation";
+    return nd;
+  }
+
+ private:
+  SectionMap& map_at(double p) {
+    if (!map_ || map_p_ != p) {
+      if (map_) evaluations_ += map_->evaluations;
+      map_ = std::make_unique<SectionMap>(L_, std::exp(p), level_, max_period_, returns_);
+      map_p_ = p;
+    }
+    return *map_;
+  }
+  void set_resolution(double period) {
+    const double resolution = L_.config.sample_time > 0.0 ? L_.config.sample_time : L_.config.dt;
+    noise_ = 2.0 * std::numbers::pi * resolution / period;
+    central_ = L_.config.sample_time > 0.0;
+    fd_ = std::max(opt_.fd_step, (central_ ? 16.0 : 4.0) * noise_);
+  }
+  Eigen::VectorXd scaled(const std::vector<double>& z, const std::vector<double>& scale) const {
+    Eigen::VectorXd u(static_cast<Eigen::Index>(unknowns_.size()));
+    for (std::size_t i = 0; i < unknowns_.size(); ++i)
+      u(static_cast<Eigen::Index>(i)) = z[unknowns_[i]] / scale[unknowns_[i]];
+    return u;
+  }
+  Eigen::VectorXd pack(const std::vector<double>& z, const std::vector<double>& scale,
+                       double p) const {
+    Eigen::VectorXd x(static_cast<Eigen::Index>(unknowns_.size()) + 1);
+    x.head(x.size() - 1) = scaled(z, scale);
+    x(x.size() - 1) = p;
+    return x;
+  }
+  std::vector<double> unpack(const Eigen::VectorXd& x, std::vector<double> z,
+                             const std::vector<double>& scale) const {
+    for (std::size_t i = 0; i < unknowns_.size(); ++i)
+      z[unknowns_[i]] = x(static_cast<Eigen::Index>(i)) * scale[unknowns_[i]];
+    return z;
+  }
+  // [dP/du - I, dP/dp] at (z, p) (forward differences; central for a sampled loop).
+  Eigen::MatrixXd jacobian(const std::vector<double>& z, const std::vector<double>& scale, double p,
+                           const MapRun& r) {
+    const auto n = static_cast<Eigen::Index>(unknowns_.size());
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n + 1);
+    const Eigen::VectorXd base = scaled(r.z, scale);
+    for (Eigen::Index j = 0; j <= n; ++j) {
+      const auto at = [&](double sign) -> std::optional<Eigen::VectorXd> {
+        std::vector<double> zj = z;
+        double pj = p;
+        if (j < n)
+          zj[unknowns_[static_cast<std::size_t>(j)]] +=
+              sign * fd_ * scale[unknowns_[static_cast<std::size_t>(j)]];
+        else
+          pj += sign * fd_;
+        const MapRun rj = map_at(pj).run(zj);
+        if (!rj.crossed) return std::nullopt;
+        return scaled(rj.z, scale);
+      };
+      const std::optional<Eigen::VectorXd> plus = at(1.0);
+      const std::optional<Eigen::VectorXd> minus = central_ ? at(-1.0) : std::optional(base);
+      if (plus && minus) A.col(j) = (*plus - *minus) / (central_ ? 2.0 * fd_ : fd_);
+    }
+    map_at(p);
+    A.leftCols(n) -= Eigen::MatrixXd::Identity(n, n);
+    return A;
+  }
+  // The unit null vector of A (n x (n+1)) with a positive component along dir.
+  static bool tangent(const Eigen::MatrixXd& A, const Eigen::VectorXd& dir, Eigen::VectorXd& t) {
+    const auto n = A.rows();
+    Eigen::MatrixXd K(n + 1, n + 1);
+    K.topRows(n) = A;
+    K.row(n) = dir.transpose();
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n + 1);
+    rhs(n) = 1.0;
+    t = K.colPivHouseholderQr().solve(rhs);
+    if (!t.allFinite() || t.norm() == 0.0) return false;
+    t.normalize();
+    if (t.dot(dir) < 0.0) t = -t;
+    return true;
+  }
+
+  const ClosedLoop& L_;
+  const OrbitOptions& opt_;
+  double level_;
+  int returns_;
+  double max_period_;
+  std::vector<std::size_t> unknowns_;
+  std::unique_ptr<SectionMap> map_;
+  double map_p_ = 0.0;
+  int evaluations_ = 0;
+  double noise_ = 0.0, fd_ = 1e-4;
+  bool central_ = false;
+};
+
+// The fold between two nodes a, b an arclength H apart whose tangents' p-components ta, tb (along
+// the branch) have opposite signs: p with that component linear in the arclength, at its zero.
+double fold_between(double pa, double ta, double tb, double H) {
+  const double s = H * ta / (ta - tb);
+  return pa + ta * s + (tb - ta) * s * s / (2.0 * H);
+}
+}  // namespace
+
 HuntingMap hunting_map(const ClosedLoop& L, const PeriodicOrbit& start, double lo, double hi, int n,
                        const OrbitOptions& opt) {
   if (!(lo > 0.0) || !(hi > lo) || n < 2)
     throw InputError("hunting map: need 0 < LO < HI and N >= 2 gain scales (got " + num(lo) + ":" +
                      num(hi) + ":" + std::to_string(n) + ")");
+  check_loop(L);
   HuntingMap m;
-  for (int i = 0; i < n; ++i)
-    m.points.push_back({lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1)), std::nullopt});
-  // From the start (gain scale 1) outwards in both directions, each point from its neighbour.
-  const auto it =
-      std::lower_bound(m.points.begin(), m.points.end(), 1.0,
-                       [](const HuntingMapPoint& p, double s) { return p.gain_scale < s; });
-  const auto up0 = static_cast<std::ptrdiff_t>(it - m.points.begin());
-  const auto walk = [&](std::ptrdiff_t i0, std::ptrdiff_t step) {
-    PeriodicOrbit prev = start;
-    for (std::ptrdiff_t i = i0; i >= 0 && i < static_cast<std::ptrdiff_t>(m.points.size());
-         i += step) {
-      const double target = m.points[static_cast<std::size_t>(i)].gain_scale;
-      double s = prev.gain_scale;
-      std::optional<PeriodicOrbit> o;
-      // Halve the step on a failure (4 times); a branch that ends: the fold lies beyond s.
-      double ds = target - s;
-      for (int halving = 0; halving <= 4 && std::abs(target - s) > 0.0;) {
-        o = continue_orbit(L, prev, s + ds, opt);
-        if (o) m.map_evaluations += o->map_evaluations;
-        if (o && o->stable == prev.stable) {
-          prev = *o, s += ds;
-          ds = target - s;
-        } else {
-          ds *= 0.5, ++halving;
-        }
-      }
-      if (std::abs(target - s) > 1e-12 * target) {
-        if (step < 0)
-          m.fold = s;  // the last orbit of the branch, within ds of its end
-        else
-          m.lost_above = s;
-        return;
-      }
-      m.points[static_cast<std::size_t>(i)].orbit = prev;
+  const double p_lo = std::log(lo), p_hi = std::log(hi);
+  const double dp_max = (p_hi - p_lo) / (n - 1);  // the longest step in ln(gain scale)
+  const int max_nodes = 4 * n + 24;
+  constexpr double kRefine = 0.04;  // the step that brackets a fold or a change of stability
+  BranchTracer tracer(L, start, opt);
+  std::vector<std::string> ends;
+  // One direction from the start: nodes until the range's end, a lost branch or max_nodes. The
+  // stability of a node: its own (multipliers, iteration) on the start's side of an even number of
+  // folds, unstable past an odd number (at a fold exactly one real multiplier crosses +1; next to
+  // it the iteration cannot tell a multiplier of 1.005 from 1).
+  const auto trace = [&](bool up) {
+    std::vector<BranchTracer::Node> nodes;
+    std::optional<BranchTracer::Node> nd;
+    std::string error;
+    try {
+      nd = tracer.start_node(start, up);
+    } catch (const Error& e) {  // a diverging loop, a step too coarse for the gain
+      error = e.what();
     }
+    if (!nd) {
+      ends.push_back("the branch's tangent at the start could not be computed" +
+                     (error.empty() ? std::string() : " (" + error + ")"));
+      return nodes;
+    }
+    nodes.push_back(*nd);
+    bool stable_side = start.stable;
+    std::size_t pending = 0;  // index of the point just past an unconfirmed fold (0: none)
+    double cap = 1.0;
+    bool done = false;
+    while (!done && static_cast<int>(nodes.size()) < max_nodes) {
+      const BranchTracer::Node& cur = nodes.back();
+      const auto k = cur.t.size() - 1;
+      const double h = std::min(cap, dp_max / std::max(std::abs(cur.t(k)), 1e-3));
+      bool at_bound = false;
+      std::optional<BranchTracer::Node> next;
+      try {
+        next = tracer.step(cur, h, p_lo, p_hi, &at_bound);
+      } catch (const Error& e) {  // a diverging loop, a step too coarse for the gain
+        error = e.what();
+      }
+      if (!next) {
+        cap = 0.5 * std::min(cap, h);
+        if (cap < 0.01) {
+          ends.push_back("continuation lost the branch at gain scale " + num(std::exp(cur.p)) +
+                         (up ? " going up" : " going down") +
+                         (error.empty() ? std::string() : " (" + error + ")"));
+          break;
+        }
+        continue;
+      }
+      // A turn in the gain or a change of stability: bracketed by a step of at most kRefine (the
+      // fold is interpolated between two close points).
+      const bool turn = next->t(k) * cur.t(k) < 0.0;
+      const bool raw_stable = next->orbit.stable;
+      if ((turn || (stable_side && raw_stable != cur.orbit.stable)) && h > kRefine) {
+        cap = 0.5 * h;
+        continue;
+      }
+      if (turn) {
+        // A fold: the largest finite-difference multiplier crosses 1 between the two points.
+        // A turn without is the corrector doubling back over the branch: the trace stops there.
+        const double mu0 = cur.orbit.multipliers.empty() ? 0.0 : std::abs(cur.orbit.multipliers[0]);
+        const double mu1 =
+            next->orbit.multipliers.empty() ? 0.0 : std::abs(next->orbit.multipliers[0]);
+        if ((mu0 < 1.0) == (mu1 < 1.0)) {
+          ends.push_back("the continuation turned back at gain scale " + num(std::exp(next->p)) +
+                         " without a multiplier crossing +1 (not a fold; the trace stops there)");
+          break;
+        }
+        stable_side = !stable_side;
+        m.folds.push_back(std::exp(fold_between(cur.p, cur.t(k), next->t(k), next->h)));
+        pending = nodes.size();  // confirmed by the next point's multipliers
+      } else if (pending > 0 && nodes.size() == pending + 1) {
+        // Past a fold the multiplier grows away from 1: one point later the orbit is unstable by
+        // itself (multipliers and the displaced orbit's growth). Stable there, the turn was the
+        // corrector retracing the branch (finite differences across an event): the points from
+        // the turn on are dropped and the trace stops.
+        if (raw_stable) {
+          nodes.resize(pending);
+          m.folds.pop_back();
+          ends.push_back("the continuation turned back at gain scale " +
+                         num(std::exp(nodes.back().p)) +
+                         " and retraced the branch (not a fold; the trace stops there)");
+          break;
+        }
+        pending = 0;
+      }
+      next->orbit.stable = stable_side && raw_stable;
+      if (next->orbit.amplitude < 1e-9 * std::max(1.0, std::abs(start.level))) {
+        ends.push_back("the orbit shrinks to the set point at gain scale " +
+                       num(std::exp(next->p)));
+        break;
+      }
+      cap = std::min(1.0, 1.5 * cap);
+      done = at_bound;
+      nodes.push_back(std::move(*next));
+    }
+    return nodes;
   };
-  walk(up0 - 1, -1);
-  walk(up0, +1);
+  std::vector<BranchTracer::Node> down = trace(false), up = trace(true);
+  // The branch in order: the far end of the downward trace first.
+  std::vector<const BranchTracer::Node*> branch;
+  for (auto it = down.rbegin(); it != down.rend(); ++it) branch.push_back(&*it);
+  for (std::size_t i = 1; i < up.size(); ++i) branch.push_back(&up[i]);
+  if (down.empty() && !up.empty()) branch.insert(branch.begin(), &up.front());
+  for (const BranchTracer::Node* a : branch) m.points.push_back({a->orbit.gain_scale, a->orbit});
+  std::sort(m.folds.begin(), m.folds.end());
+  if (!m.folds.empty()) {
+    // The fold nearest the start's gain.
+    m.fold = *std::min_element(m.folds.begin(), m.folds.end(), [&](double a, double b) {
+      return std::abs(std::log(a / start.gain_scale)) < std::abs(std::log(b / start.gain_scale));
+    });
+  }
+  m.map_evaluations = tracer.evaluations();
   std::ostringstream note;
-  note << "natural-parameter continuation in the gain scale from the orbit at 1 (Newton "
-          "warm-started from the "
-          "neighbouring orbit, step halved up to 4 times); ";
-  if (m.fold)
-    note << "the branch ends near gain scale " << num(*m.fold)
-         << " (fold: no orbit of this branch below)";
-  else
-    note << "no fold in [" << num(lo) << ", " << num(hi) << "]";
-  if (m.lost_above) note << "; the branch was lost above gain scale " << num(*m.lost_above);
-  note << "; unstable branches are not traced";
+  note << "pseudo-arclength continuation in (section state, ln gain scale) from the orbit at "
+       << num(start.gain_scale) << " over [" << num(lo) << ", " << num(hi) << "] (steps of at most "
+       << num(dp_max) << " in ln gain scale; fresh finite-difference "
+       << "Jacobian and multipliers at each point)";
+  if (m.folds.empty()) note << "; no fold in the traced branch";
+  for (double f : m.folds)
+    note << "; fold at gain scale " << num(f) << " (a stable and an unstable cycle meet)";
+  for (const std::string& e : ends) note << "; " << e;
   m.note = note.str();
   return m;
 }

@@ -16,11 +16,11 @@
 // iterations of P (a stick phase contracts the state strongly), then Newton on P(z) - z with the
 // finite-difference Jacobian M = dP/dz (steps 1e-4 of each entry's range over the orbit); at the
 // solution M's eigenvalues are the nontrivial Floquet multipliers; stable: all |mu| < 1.
-// Map (hunting_map): orbits against a scale s of the controller gain Kc, natural-parameter
-// continuation from the orbit at s = 1 down and up the grid, each point warm-started from its
-// neighbour; when Newton fails between two grid points the step is halved (4 times): a branch that
-// ends there is a fold (the threshold below which no cycle exists); the unstable branch beyond the
-// fold is not traced.
+// Map (hunting_map): orbits against a scale s of the controller gain Kc by pseudo-arclength
+// continuation from the orbit at s = 1, down and up: predictor along the tangent of the branch in
+// (u, ln s) (u: the section state's unknowns scaled by their ranges), corrector Newton on
+// P(u; s) - u = 0 with the arclength constraint; a fold (the branch turning back in s: the stable
+// and the unstable cycle meet, a real multiplier at +1) is passed and the unstable cycle traced.
 #pragma once
 
 #include <complex>
@@ -92,16 +92,19 @@ struct OrbitReport {
   const PeriodicOrbit* stable() const;  // the stable orbit of largest amplitude (nullptr: none)
 };
 
-// The map: one point per gain scale of the grid (orbit or none), the fold when one was found.
+// The map: the branch of orbits through the start orbit, traced by pseudo-arclength continuation
+// in (section state, ln gain scale); points in order along the branch (the gain scale need not be
+// monotone: past a fold the branch turns back as the unstable cycle). Each point's orbit says
+// stable or not (its multipliers, fresh finite differences at each point).
 struct HuntingMapPoint {
   double gain_scale = 0.0;
   std::optional<PeriodicOrbit> orbit;
 };
 struct HuntingMap {
-  std::vector<HuntingMapPoint> points;  // by increasing gain scale
-  std::optional<double> fold;           // gain scale where the branch ends (threshold)
-  std::optional<double> lost_above;     // gain scale above which continuation lost the branch
-  std::string note;                     // how it was traced, what was not found
+  std::vector<HuntingMapPoint> points;  // along the branch
+  std::vector<double> folds;            // gain scales where the branch turns (a multiplier at +1)
+  std::optional<double> fold;           // the fold nearest the start's gain (the threshold)
+  std::string note;                     // how it was traced, where and why the branch ends
   int map_evaluations = 0;
 };
 
@@ -113,9 +116,9 @@ OrbitReport find_orbits(const ClosedLoop& loop, const OrbitOptions& opt = {},
 // converge.
 std::optional<PeriodicOrbit> continue_orbit(const ClosedLoop& loop, const PeriodicOrbit& from,
                                             double gain_scale, const OrbitOptions& opt = {});
-// The map over gain scales lo..hi (n points, geometric when lo > 0), continued from `start` (an
-// orbit at gain scale 1, e.g. find_orbits' stable one). Throws InputError for lo <= 0, hi <= lo, n
-// < 2.
+// The map over gain scales lo..hi (steps of at most ln(hi / lo) / (n - 1) in ln s), continued from
+// `start` (an orbit at its gain scale, e.g. find_orbits' stable one at 1) both ways until the
+// branch leaves [lo, hi] or is lost. Throws InputError for lo <= 0, hi <= lo, n < 2.
 HuntingMap hunting_map(const ClosedLoop& loop, const PeriodicOrbit& start, double lo, double hi,
                        int n, const OrbitOptions& opt = {});
 

@@ -127,7 +127,12 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
   const OrbitReport r = find_orbits(L);
   ASSERT_NE(r.stable(), nullptr);
   const HuntingMap m = hunting_map(L, *r.stable(), 0.5, 2.0, 5);
-  ASSERT_EQ(m.points.size(), 5u);
+  // The branch from end to end of the range (no fold on this loop), one point per step of at
+  // most ln(2 / 0.5) / 4 in ln s at least.
+  ASSERT_GE(m.points.size(), 5u) << m.note;
+  EXPECT_NEAR(m.points.front().gain_scale, 0.5, 1e-9) << m.note;
+  EXPECT_NEAR(m.points.back().gain_scale, 2.0, 1e-9) << m.note;
+  EXPECT_FALSE(m.fold) << m.note;
   int checked = 0;
   for (const HuntingMapPoint& p : m.points) {
     if (!p.orbit) continue;
@@ -140,7 +145,7 @@ TEST(LimitCycles, HuntingMapOrbitsAreTheSimulatedCyclesAtTheirGain) {
     EXPECT_NEAR(p.orbit->period, sim.period, 0.05 * sim.period);
     ++checked;
   }
-  EXPECT_GE(checked, 4) << m.note;
+  EXPECT_EQ(checked, static_cast<int>(m.points.size())) << m.note;
   EXPECT_THROW(hunting_map(L, *r.stable(), 2.0, 1.0, 5), InputError);
 }
 
@@ -164,7 +169,15 @@ TEST(LimitCycles, CyclesCommandWritesOrbitsSimulationAndMap) {
   for (const char* key :
        {"orbits", "simulation", "map", "method", "not_found", "describing_function"})
     EXPECT_TRUE(j.contains(key)) << key;
-  EXPECT_EQ(j["map"].size(), 4u);
+  // The map: the branch's orbits (at least one per step of ln(2 / 0.5) / 3 in ln s, both ends of
+  // the range reached on this loop), each saying stable or not; the fold (none here) as null.
+  EXPECT_GE(j["map"].size(), 4u);
+  for (const auto& pt : j["map"]) {
+    EXPECT_TRUE(pt.contains("stable"));
+    EXPECT_GE(pt["gain_scale"].get<double>(), 0.5 - 1e-9);
+    EXPECT_LE(pt["gain_scale"].get<double>(), 2.0 + 1e-9);
+  }
+  EXPECT_TRUE(j.contains("fold_gain_scale"));
   for (const char* key : {"hunting", "amplitude_m", "period_s"})
     EXPECT_TRUE(j["simulation"].contains(key)) << key;
   if (j["simulation"]["hunting"].get<bool>()) {
@@ -187,4 +200,226 @@ TEST(LimitCycles, CyclesCommandWritesOrbitsSimulationAndMap) {
                                     den, "--gain-scale", grid, "--json", out}),
         2)
         << num << " / " << den << " " << grid;
+}
+
+namespace {
+// The loop simulated from the state z0 for `duration` (the loop's own stepper, as simulate_loop),
+// its settled cycle measured as the random-loop study measures it (measure_cycle).
+SimCycle simulate_from(const ClosedLoop& L, const std::vector<double>& z0, double duration) {
+  LoopConfig c = L.config;
+  c.duration = duration;
+  LoopStepper st = L.assembly ? loop_stepper(*L.assembly, L.port, c, duration + 1.0)
+                              : loop_stepper(L.scenario, c, duration + 1.0);
+  st.set_state(z0, 0);
+  LoopTrace tr;
+  const long long steps = std::llround(duration / c.dt),
+                  every = std::max(1LL, std::llround(1e-3 / c.dt));
+  try {
+    for (long long k = 0; k < steps; ++k) {
+      st.step();
+      if (k % every == 0)
+        tr.t.push_back(st.time()), tr.x.push_back(st.output()), tr.r.push_back(st.reference());
+    }
+  } catch (const SimulationError&) {
+    return SimCycle{SimState::Diverged, 0.0, 0.0};
+  }
+  return measure_cycle(tr);
+}
+// At rest at x0 (every other state entry zero: controller, friction elements).
+std::vector<double> rest_at(const ClosedLoop& L, double x0) {
+  LoopConfig c = L.config;
+  LoopStepper st =
+      L.assembly ? loop_stepper(*L.assembly, L.port, c, 1.0) : loop_stepper(L.scenario, c, 1.0);
+  std::vector<double> z(st.state().size(), 0.0);
+  z[st.output_index()] = x0;
+  return z;
+}
+ClosedLoop scaled_loop(ClosedLoop L, double g) {
+  L.config.C.Kc *= g;
+  return L;
+}
+// How many of the starts make the loop at gain scale g hunt: at rest 1, 3 and 10 mm below the set
+// point, and the section states `extra` (cycles' states). Hunting: steady over the last 40 % of
+// 60 s (200 s when unsettled).
+int starts_that_hunt(const ClosedLoop& L0, double g, const std::vector<std::vector<double>>& extra,
+                     int* unsettled) {
+  const ClosedLoop L = scaled_loop(L0, g);
+  const double r = L.config.reference(0.0);
+  std::vector<std::vector<double>> starts = {rest_at(L, r - 1e-3), rest_at(L, r - 3e-3),
+                                             rest_at(L, r - 1e-2)};
+  starts.insert(starts.end(), extra.begin(), extra.end());
+  int hunts = 0;
+  for (const auto& z0 : starts) {
+    SimCycle s = simulate_from(L, z0, 60.0);
+    if (s.state == SimState::Unsettled) s = simulate_from(L, z0, 200.0);
+    hunts += s.state == SimState::Hunting;
+    *unsettled += s.state == SimState::Unsettled;
+  }
+  return hunts;
+}
+}  // namespace
+
+// Folds of the hunting map against brute force. Random one-body continuous PI / PID loops
+// (tests/control/random_loops.hpp, models with stiction) whose stable orbit at gain scale 0.3 (or
+// else 1) is continued over 0.1-10 x that gain. At each fold: on the side of the stable branch, at
+// the fold x (1 -+ 5 %) and x (1 -+ 15 %), a start hunts (a long simulation from rest 1, 3 or 10 mm
+// off, or from the branch's stable orbits within a factor 1.3 of that gain, as they are and
+// continued to it); on the other side none does (from rest,
+// or from the states of the two orbits of the branch nearest the fold). Each unstable orbit of the
+// map past a fold is genuine: displaced 10 % of the way towards the stable orbit at its gain the
+// simulation settles on that cycle (5 %), displaced 10 % away it comes to rest (60 s, 200 s when
+// unsettled; orbits within 1 % of the stable one's amplitude are counted, not checked). Seeds from
+// 300000 (the tolerances were chosen on seeds 1-519); GMSLAB_FOLD_SEED / GMSLAB_FOLD_N draw others.
+TEST(LimitCycles, FoldsAgreeWithBruteForceSimulation) {
+  const char* seed_env = std::getenv("GMSLAB_FOLD_SEED");
+  const char* n_env = std::getenv("GMSLAB_FOLD_N");
+  const unsigned seed0 =
+      seed_env ? static_cast<unsigned>(std::strtoul(seed_env, nullptr, 10)) : 300000u;
+  const int n = n_env ? std::atoi(n_env) : 240;
+  constexpr double kFoldTol = 0.05;
+  int drawn = 0, skipped = 0, no_orbit = 0, no_fold = 0, folds = 0, fold_ok = 0, unstable = 0,
+      separates = 0, no_partner = 0, no_turn = 0, at_fold = 0;
+  for (int i = 0; i < n; ++i) {
+    const unsigned seed = seed0 + static_cast<unsigned>(i);
+    const RandomLoop r = draw_loop(seed);
+    ++drawn;
+    if (r.controller == "lead" || r.plant == "two-body" || r.sampled || r.model == "dahl" ||
+        r.model == "maxwell_slip") {
+      ++skipped;  // never hunt in the study (lead, Dahl, Maxwell-slip) or slow (sampled, two-body)
+      continue;
+    }
+    const PeriodicOrbit* start = nullptr;
+    OrbitReport rep;
+    double g0 = 0.0;
+    for (double g : {0.3, 1.0}) {
+      rep = find_orbits(scaled_loop(r.loop, g));
+      if ((start = rep.stable())) {
+        g0 = g;
+        break;
+      }
+    }
+    if (!start) {
+      ++no_orbit;
+      continue;
+    }
+    const ClosedLoop L = scaled_loop(r.loop, g0);
+    const HuntingMap m = hunting_map(L, *start, 0.1, 10.0, 11);
+    if (m.folds.empty()) {
+      ++no_fold;
+      continue;
+    }
+    for (std::size_t j = 1; j < m.points.size(); ++j) {
+      const PeriodicOrbit& a = *m.points[j - 1].orbit;
+      const PeriodicOrbit& b = *m.points[j].orbit;
+      if (a.stable == b.stable) continue;
+      const PeriodicOrbit& st = a.stable ? a : b;
+      // The fold between a and b; the cycle exists on the stable point's side.
+      const auto f = std::find_if(m.folds.begin(), m.folds.end(), [&](double x) {
+        return x >= 0.98 * std::min(a.gain_scale, b.gain_scale) &&
+               x <= 1.02 * std::max(a.gain_scale, b.gain_scale);
+      });
+      if (f == m.folds.end()) {  // a multiplier leaving the unit circle elsewhere than at +1
+        ++no_turn;
+        continue;
+      }
+      ++folds;
+      const double side = st.gain_scale < *f ? -1.0 : 1.0;
+      int unsettled = 0;
+      bool ok = true;
+      std::printf("seed %u %s %s (gain x %.2f): fold at %.4f, cycle %s it;", seed, r.model.c_str(),
+                  r.controller.c_str(), g0, *f, side < 0 ? "below" : "above");
+      // Beyond the fold even the states of the branch's orbits nearest to it come to rest.
+      std::vector<std::vector<double>> ghosts = {a.section_state, b.section_state};
+      for (double d : {kFoldTol, 3.0 * kFoldTol}) {
+        const double g_in = *f * (1.0 + side * d), g_out = *f * (1.0 - side * d);
+        // On the cycle's side: from rest, and from the branch's stable orbits within a factor
+        // 1.3 of g_in, as they are and continued to g_in (Newton at a fixed gain is
+        // ill-conditioned next to the fold, so several).
+        std::vector<std::vector<double>> cycle;
+        for (const HuntingMapPoint& q : m.points) {
+          if (!q.orbit->stable || std::abs(std::log(q.gain_scale / g_in)) > std::log(1.3)) continue;
+          cycle.push_back(q.orbit->section_state);
+          if (const auto c = continue_orbit(L, *q.orbit, g_in)) cycle.push_back(c->section_state);
+        }
+        const int in = starts_that_hunt(L, g_in, cycle, &unsettled);
+        const int out = starts_that_hunt(L, g_out, ghosts, &unsettled);
+        std::printf(" +-%.0f %%: %d / %d starts hunt", d * 100, in, out);
+        EXPECT_GE(in, 1) << "seed " << seed << ": no start hunts on the cycle's side of the fold";
+        EXPECT_EQ(out, 0) << "seed " << seed << ": a start hunts beyond the fold";
+        ok = ok && in >= 1 && out == 0;
+      }
+      std::printf(" (%d unsettled)\n", unsettled);
+      fold_ok += ok;
+    }
+    // The unstable orbits past a fold (the run of unstable points next to it): between the basin
+    // of rest and that of the stable cycle at their gain.
+    std::vector<bool> past_fold(m.points.size(), false);
+    for (std::size_t j = 1; j < m.points.size(); ++j) {
+      const double lo = std::min(m.points[j - 1].gain_scale, m.points[j].gain_scale),
+                   hi = std::max(m.points[j - 1].gain_scale, m.points[j].gain_scale);
+      if (m.points[j - 1].orbit->stable == m.points[j].orbit->stable ||
+          std::none_of(m.folds.begin(), m.folds.end(),
+                       [&](double x) { return x >= 0.98 * lo && x <= 1.02 * hi; }))
+        continue;
+      const int dir = m.points[j].orbit->stable ? -1 : 1;  // towards the unstable side
+      for (auto k = static_cast<std::ptrdiff_t>(dir > 0 ? j : j - 1);
+           k >= 0 && k < static_cast<std::ptrdiff_t>(m.points.size()) &&
+           !m.points[static_cast<std::size_t>(k)].orbit->stable;
+           k += dir)
+        past_fold[static_cast<std::size_t>(k)] = true;
+    }
+    for (std::size_t j = 0; j < m.points.size(); ++j) {
+      const HuntingMapPoint& p = m.points[j];
+      if (!past_fold[j]) continue;
+      ++unstable;
+      const PeriodicOrbit* near = nullptr;
+      for (const HuntingMapPoint& q : m.points)
+        if (q.orbit->stable && (!near || std::abs(std::log(q.gain_scale / p.gain_scale)) <
+                                             std::abs(std::log(near->gain_scale / p.gain_scale))))
+          near = &*q.orbit;
+      const std::optional<PeriodicOrbit> partner =
+          near ? continue_orbit(L, *near, p.gain_scale) : std::nullopt;
+      if (!partner || !partner->stable || partner->amplitude <= p.orbit->amplitude) {
+        ++no_partner;
+        continue;
+      }
+      // Within 1 % of the stable cycle's amplitude (right at the fold) the two cannot be told
+      // apart by a 10 % displacement: counted, not checked.
+      if (partner->amplitude < 1.01 * p.orbit->amplitude) {
+        ++at_fold;
+        continue;
+      }
+      const ClosedLoop Lp = scaled_loop(L, p.gain_scale);
+      std::vector<double> toward = p.orbit->section_state, away = toward;
+      for (std::size_t k : p.orbit->unknowns) {
+        const double d = partner->section_state[k] - p.orbit->section_state[k];
+        toward[k] += 0.1 * d, away[k] -= 0.1 * d;
+      }
+      SimCycle up = simulate_from(Lp, toward, 60.0), down = simulate_from(Lp, away, 60.0);
+      if (up.state == SimState::Unsettled) up = simulate_from(Lp, toward, 200.0);
+      if (down.state == SimState::Unsettled) down = simulate_from(Lp, away, 200.0);
+      std::printf(
+          "  unstable orbit at gain %.4f: %.4f mm (stable %.4f mm); displaced towards: %s %.4f "
+          "mm, away: %s\n",
+          p.gain_scale, p.orbit->amplitude * 1e3, partner->amplitude * 1e3, to_string(up.state),
+          up.amplitude * 1e3, to_string(down.state));
+      const bool ok = up.state == SimState::Hunting &&
+                      std::abs(up.amplitude - partner->amplitude) <= 0.05 * partner->amplitude &&
+                      down.state == SimState::Rest;
+      EXPECT_TRUE(ok) << "seed " << seed << " gain " << p.gain_scale;
+      separates += ok;
+    }
+  }
+  std::printf(
+      "loops %d: skipped %d, no stable orbit %d, no fold %d; folds %d (%d agree with brute "
+      "force), stability changes without a turn %d; unstable orbits past a fold %d (%d separate "
+      "rest from the cycle, %d without a stable partner, %d within 1 %% of it)\n",
+      drawn, skipped, no_orbit, no_fold, folds, fold_ok, no_turn, unstable, separates, no_partner,
+      at_fold);
+  EXPECT_EQ(fold_ok, folds);
+  EXPECT_EQ(separates + no_partner + at_fold, unstable);
+  if (!seed_env) {
+    EXPECT_GE(folds, 2);  // the draw has folds to check
+    EXPECT_GE(separates, 2);
+  }
 }

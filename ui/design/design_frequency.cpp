@@ -237,8 +237,8 @@ void draw_design_frequency(DesignViewState& d, ImVec2 size) {
     ImGui::Dummy(size);
     return;
   }
-  const float gap = ImGui::GetStyle().ItemSpacing.x;
-  const float wb = std::floor(0.5f * (size.x - gap));
+  const float gap = ImGui::GetStyle().ItemSpacing.x, vgap = ImGui::GetStyle().ItemSpacing.y;
+  const float wb = std::floor(0.4f * (size.x - gap));  // Bode; Nyquist over the hunting map beside
   ImGui::BeginGroup();
   draw_bode(*d.out.frequency, d.out.discrete ? &*d.out.discrete : nullptr, ImVec2(wb, size.y));
   if (d.out.discrete && ImGui::IsItemHovered())
@@ -250,7 +250,9 @@ void draw_design_frequency(DesignViewState& d, ImVec2 size) {
   ImGui::EndGroup();
   ImGui::SameLine();
   ImGui::BeginGroup();
-  draw_design_nyquist(d, ImVec2(size.x - wb - gap, size.y));
+  const float hn = std::floor(0.5f * (size.y - vgap));
+  draw_design_nyquist(d, ImVec2(size.x - wb - gap, hn));
+  draw_design_hunting_map(d, ImVec2(size.x - wb - gap, size.y - hn - vgap));
   ImGui::EndGroup();
 }
 

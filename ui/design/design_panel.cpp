@@ -207,6 +207,7 @@ void recompute(DesignViewState& d) {
   d.compute_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (d.picked) d.picked_poles = control::closed_loop_poles(d.out.loop, d.picked_k);
   d.dirty = false;
+  hunting_map_request(d);  // the map of this design, in the background
 }
 
 // The plant of an assembled or typed source: what G(s) is (and, assembled, the regime of its
@@ -501,7 +502,7 @@ void draw_design_panel(DesignViewState& d, const Scenario& scenario, int generat
   ImGui::BeginChild("##design_plots", ImVec2(0, avail.y), false);
   const ImVec2 r = ImGui::GetContentRegionAvail();
   const float top = 0.52f * r.y;
-  const float locus_w = std::floor(0.46f * r.x);
+  const float locus_w = std::floor(0.42f * r.x);
   draw_design_locus(d, ImVec2(locus_w, top));
   ImGui::SameLine();
   draw_design_frequency(d, ImVec2(r.x - locus_w - ImGui::GetStyle().ItemSpacing.x, top));

@@ -6,6 +6,8 @@
 //                         branch to read its gain, damping and all closed-loop poles
 //   design_frequency.cpp  Bode (margins, crossovers, closed-loop magnitude) and Nyquist (critical
 //                         point, encirclements) of the same loop, recomputed with the locus
+//   design_hunting_map.cpp the hunting map: limit-cycle amplitude against the gain scale (stable
+//                         solid, unstable dashed, fold), computed on a worker thread
 //   design_responses.cpp  the linked responses: linear step response, nonlinear loop with the
 //                         scenario's friction without and with compensation
 // Every edit marks the state dirty; the panel recomputes everything (core/control/
@@ -48,5 +50,13 @@ void draw_design_responses(const DesignViewState& d, ImVec2 size);
 // Bode (open loop with margins, closed-loop magnitude) beside the Nyquist plot (ui/design/design_frequency.cpp).
 void draw_design_frequency(DesignViewState& d, ImVec2 size);
 void draw_design_nyquist(DesignViewState& d, ImVec2 size);
+// The hunting map beside the Nyquist plot (ui/design/design_hunting_map.cpp): orbit amplitude
+// against the controller gain scale, from a background job. hunting_map_request starts (or queues)
+// the job for the design just computed; hunting_map_poll takes over a finished one and starts the
+// queued one (true while one runs); hunting_map_busy: a job runs or waits.
+void draw_design_hunting_map(DesignViewState& d, ImVec2 size);
+void hunting_map_request(DesignViewState& d);
+bool hunting_map_poll(DesignViewState& d);
+bool hunting_map_busy(const DesignViewState& d);
 
 }  // namespace gmslab::ui
