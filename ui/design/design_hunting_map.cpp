@@ -161,7 +161,14 @@ void draw_design_hunting_map(DesignViewState& d, ImVec2 size) {
   po.legend = false;  // the marks are labelled where they are drawn
   const control::HuntingMap* m = h.out && h.out->hunting_map ? &*h.out->hunting_map : nullptr;
   const double cx[2] = {0.0, 0.0}, cy[2] = {0.0, ymax};
-  std::vector<std::pair<ImVec2, std::string>> labels;  // data point, text
+  // A label at a data point (y NaN: a vertical mark's, at the top of the view, one line apart),
+  // right of the point unless `left` (or the view's edge) puts it on the left.
+  struct Label {
+    ImVec2 at;
+    std::string text;
+    bool left = false;
+  };
+  std::vector<Label> labels;
   if (BeginPlot("##hunting_map", size, po)) {
     SetupAxes("log10 s (controller gain Kc x s) [-]", "cycle amplitude [mm]");
     SetupFitRangeX(x0, x1);
@@ -173,13 +180,15 @@ void draw_design_hunting_map(DesignViewState& d, ImVec2 size) {
                {.color = 1, .line = LineStyle::Dashed});
     PlotLine("current gain (s = 1)", cx, cy, 2,
              {.color = 6, .line = LineStyle::Dotted, .thickness = 1.0f});
-    labels.push_back({ImVec2(0.0f, NAN), "current gain"});
+    // The two vertical marks labelled on the sides away from each other.
+    const bool fold_right = m && m->fold && *m->fold > 1.0;
+    labels.push_back({ImVec2(0.0f, NAN), "current gain", fold_right});
     if (m && m->fold) {
       const double fx[2] = {std::log10(*m->fold), std::log10(*m->fold)};
       PlotLine("threshold (fold)", fx, cy, 2,
                {.color = 3, .line = LineStyle::Dashed, .thickness = 1.5f});
-      labels.push_back(
-          {ImVec2(static_cast<float>(fx[0]), NAN), "threshold (fold) x " + num(*m->fold)});
+      labels.push_back({ImVec2(static_cast<float>(fx[0]), NAN), "fold x " + num(*m->fold),
+                        !fold_right});  // the title says it is the threshold
     }
     if (df && df->amplitude > 0.0) {  // a cross at s = 1
       const double a = df->amplitude * 1e3, dx = 0.03 * (x1 - x0), dy = 0.03 * ymax;
@@ -187,7 +196,7 @@ void draw_design_hunting_map(DesignViewState& d, ImVec2 size) {
       const double qx[5] = {-dx, dx, nan, 0.0, 0.0}, qy[5] = {a, a, nan, a - dy, a + dy};
       PlotLine("quick estimate (describing function)", qx, qy, 5, {.color = 4});
       labels.push_back({ImVec2(static_cast<float>(dx), static_cast<float>(a)),
-                        "quick estimate (describing function)"});
+                        "quick estimate (describing function)", false});
     }
     EndPlot();
   }
@@ -199,19 +208,21 @@ void draw_design_hunting_map(DesignViewState& d, ImVec2 size) {
   // The curves' kind at a point of each (solid: stable, dashed: unstable); the vertical marks'
   // labels at the top of the view, one line apart.
   if (!s.xs.empty())
-    labels.push_back(
-        {ImVec2(static_cast<float>(s.xs.front()), static_cast<float>(s.ys.front())), "stable"});
+    labels.push_back({ImVec2(static_cast<float>(s.xs.front()), static_cast<float>(s.ys.front())),
+                      "stable", false});
   if (!s.xu.empty())
-    labels.push_back(
-        {ImVec2(static_cast<float>(s.xu.front()), static_cast<float>(s.yu.front())), "unstable"});
+    labels.push_back({ImVec2(static_cast<float>(s.xu.front()), static_cast<float>(s.yu.front())),
+                      "unstable", false});
   float top = static_cast<float>(t.py0) + 2.0f;
-  for (const auto& [at, text] : labels) {
+  for (const auto& [at, text, left] : labels) {
     const float y =
         std::isnan(at.y) ? top : static_cast<float>(t.to_px_y(at.y)) - ImGui::GetFontSize();
     if (std::isnan(at.y)) top += ImGui::GetFontSize();
     const float w = ImGui::CalcTextSize(text.c_str()).x, px = static_cast<float>(t.to_px_x(at.x));
-    const float x = px + 4.0f + w > t.px1 ? px - 4.0f - w : px + 4.0f;  // left of it at the edge
-    dl->AddText(ImVec2(x, y), IM_COL32(60, 60, 65, 255), text.c_str());
+    const bool fits_right = px + 4.0f + w <= t.px1, fits_left = px - 4.0f - w >= t.px0;
+    const bool on_left = (left && fits_left) || !fits_right;
+    dl->AddText(ImVec2(on_left ? px - 4.0f - w : px + 4.0f, y), IM_COL32(60, 60, 65, 255),
+                text.c_str());
   }
   dl->PopClipRect();
   if (ImGui::IsItemHovered()) {
