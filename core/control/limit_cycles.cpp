@@ -586,8 +586,8 @@ OrbitReport find_orbits(const ClosedLoop& L, const OrbitOptions& opt, const Hunt
       if (seed.crossings < 2) {
         why.push_back("the " + name + " seed crossed the level " + std::to_string(seed.crossings) +
                       " time(s) in " + num(opt.seed_duration) +
-                      " s (at rest short of the level, or a motion slower than this span can "
-                      "show: no orbit of a period above half of it is searched)");
+                      " s (the loop settles, or moves slower than this span can show: no "
+                      "orbit of a period above half of it is searched)");
         continue;
       }
       const double max_period =
