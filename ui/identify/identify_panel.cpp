@@ -1,12 +1,12 @@
 #include "ui/identify/identify_panel.hpp"
 
-
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -511,10 +511,13 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
   if (st.result) {
     const auto& r = st.result->report;
     const std::string added = ident::named_effects(r.ablation, r.effects_added);
-    ImGui::Text("Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); %s%s",
-                r.rms_before_validation, r.rms_after_validation, r.rms_before_train,
-                r.rms_after_train,
-                added.empty() ? ident::nothing_added(r).c_str() : "effects added: ", added.c_str());
+    char rms[160];
+    std::snprintf(rms, sizeof rms, "Validation RMS %.4g N -> %.4g N (training %.4g -> %.4g N); ",
+                  r.rms_before_validation, r.rms_after_validation, r.rms_before_train,
+                  r.rms_after_train);
+    // Wrapped: the reason nothing was added can be longer than the column.
+    TextWrappedAtSpaces(rms +
+                        (added.empty() ? ident::nothing_added(r) : "effects added: " + added));
     if (!r.optimum.verified) {
       ImGui::PushStyleColor(ImGuiCol_Text, red);
       TextWrappedAtSpaces("Not converged: " + r.optimum.reason + "; no standard errors");
