@@ -81,6 +81,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
       if (!detail::run_round(s, round)) break;
   detail::final_refit(s);
   detail::credit(s);
+  detail::descend_to_minimum(s);
   detail::discover_terms(s);
   detail::finish_report(s);
   return std::move(s.rep);

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -262,7 +263,7 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
                "the range";
     }
   }
-  if (!pinned.empty()) out.verified = false, out.reason = pinned;
+  if (!pinned.empty()) out.verified = false, out.reason = pinned, out.pinned = true;
   return out;
 }
 
@@ -607,6 +608,100 @@ void credit(LoopState& s) {
   s.credit_floor = at_final.floor();
   credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor,
                      s.every, s.o);
+}
+
+// The final shape to a minimum the optimum test can verify. A derivative-free search stops where
+// its own model of the cost stops promising progress; on a curved ridge or a cost made rough by
+// the sampled path that can be short of a minimum by a fraction of a percent, and the optimum test
+// (check_optimum: coordinate steps of 1e-3 of the unit box, the linear terms re-solved) then
+// withholds every standard error. A pattern search (Hooke and Jeeves) continues from there: each
+// coordinate stepped up, else down, a step kept when it lowers the training RMS; after a sweep
+// that moved, the same move is repeated from the new point while it keeps lowering the RMS (so a
+// ridge is followed in strides, not steps); a sweep that does not move halves the step, from
+// 8e-3 down to the optimum test's own 1e-3. Within a bounded budget; the model, its validation
+// RMS and the last stage follow when it moved. A fit with a shape parameter pinned at an end of
+// its range is left as it is, and the search stops where a coordinate reaches the upper end
+// (check_optimum then says the range binds). The effects and the element count are those the
+// credit decided.
+namespace {
+struct PatternSearch {
+  std::function<double(const std::vector<double>&)> cost;
+  int evaluations = 0;
+  int budget = 0;
+  bool at_end = false;  // a kept step reached a coordinate's upper end
+  // A step is kept when it lowers the RMS by a tenth of what the optimum test calls a descent
+  // (1e-5 relative): crawling along a flat ridge for less would only spend the budget.
+  static constexpr double kGain = 1e-6;
+
+  // Coordinate steps of size h around x (cost fx); returns the point reached and its cost.
+  std::pair<std::vector<double>, double> explore(std::vector<double> x, double fx, double h) {
+    for (std::size_t i = 0; i < x.size() && evaluations < budget && !at_end; ++i)
+      for (double dir : {1.0, -1.0}) {
+        std::vector<double> w = x;
+        w[i] = std::clamp(x[i] + dir * h, 0.0, 1.0);
+        if (w[i] == x[i]) continue;
+        const double r = cost(w);
+        ++evaluations;
+        if (r < fx * (1.0 - kGain)) {
+          at_end = w[i] >= 1.0 - 1e-3;
+          x = std::move(w), fx = r;
+          break;
+        }
+      }
+    return {std::move(x), fx};
+  }
+
+  void run(std::vector<double>& base, double& fbase) {
+    for (double h = 8e-3; h >= 1e-3 && evaluations < budget && !at_end;) {
+      auto [x, fx] = explore(base, fbase, h);
+      if (!(fx < fbase * (1.0 - kGain))) {
+        h /= 2;
+        continue;
+      }
+      // Pattern moves: x + (x - base), explored, while they keep lowering the cost.
+      while (evaluations < budget && !at_end) {
+        std::vector<double> p(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) p[i] = std::clamp(2 * x[i] - base[i], 0.0, 1.0);
+        base = x, fbase = fx;
+        const double fp = cost(p);
+        ++evaluations;
+        auto [y, fy] = explore(p, fp, h);
+        if (!(fy < fbase * (1.0 - kGain))) break;
+        x = std::move(y), fx = fy;
+      }
+      if (fx < fbase) base = std::move(x), fbase = fx;
+    }
+  }
+};
+}  // namespace
+
+void descend_to_minimum(LoopState& s) {
+  FitResult& cur = s.cur;
+  if (cur.u.empty() || cur.time_limited) return;
+  const Dataset& full = s.full();
+  // Only a fit short of a minimum: at a pinned end the range binds, and sliding along the end
+  // would only find a point the range shaped as much as the data.
+  const OptimumCheck at = check_optimum(cur, full, s.c);
+  if (at.verified || at.pinned) return;
+  PatternSearch ps;
+  ps.cost = [&](const std::vector<double>& u) {
+    return refit_linear(cur.spec, full, s.c, u).rms_train;
+  };
+  ps.budget = 100 * static_cast<int>(
+                        cur.u.size());  // about 50 sweeps; each evaluation one run along the record
+  std::vector<double> u = cur.u;
+  double best = ps.cost(u);
+  const double start = best;
+  ps.run(u, best);
+  if (!(best < start) || !(best < cur.rms_train)) return;
+  FitResult f = refit_linear(cur.spec, full, s.c, u);
+  f.evaluations = cur.evaluations + ps.evaluations + 1;
+  cur = std::move(f);
+  s.cur_val = rms_on(cur, s.val(), s.c);
+  if (!s.rep.stages.empty()) s.rep.stages.back() = cur;
+  if (!s.rep.rounds.empty())
+    s.rep.rounds.back().rms_train_after = cur.rms_train,
+    s.rep.rounds.back().rms_validation_after = s.cur_val;
 }
 
 // Terms beyond the catalog (discovery.hpp): a sparse regression of the final model's residual on

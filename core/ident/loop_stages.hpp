@@ -75,6 +75,8 @@ bool no_effect_creditable(LoopState& s);
 bool run_round(LoopState& s, int round);
 void final_refit(LoopState& s);
 void credit(LoopState& s);
+// A compass search from the final shape on the optimum test's steps (check_optimum).
+void descend_to_minimum(LoopState& s);
 void discover_terms(LoopState& s);
 void finish_report(LoopState& s);
 
