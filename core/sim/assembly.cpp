@@ -837,204 +837,224 @@ std::size_t AssemblySimulation::advance_simple(std::size_t n) {
   return advance_simple_as<K, Gms, false, 0>(n);
 }
 
+namespace {
+// What the one-body loop (advance_simple_as) keeps constant over a call.
+struct SimpleParts {
+  double h, k, c, hm, m;  // step, spring, damper, h / m, the contact's mass
+  const DrivePart* d;
+  const FrictionModel* model;
+  const GmsModel* gms;  // the model, when it is a GmsModel stepped inline
+  GmsModel::StepConstants gc;
+  std::span<double> st;  // the contact's state
+  bool has_k, has_c, has_f;
+};
+
+// What it carries from step to step: the state, the last step's outputs (drive, spring, damper and
+// contact force, the contact's velocity), the drive's work and the counters.
+struct SimpleVars {
+  double x, v, fdrive, fs, fd, F, vr, work;
+  std::uint64_t step, left;
+};
+
+// The drive's values of steps step .. step + chunk - 1 (they depend on t alone): K 1: F(t) in a;
+// 2: x_p(t) in a and its rate in b; 3: x(t + h) in a; 4: v(t) in a and v(t + h) in b.
+template <int K>
+[[gnu::always_inline]] inline void drive_values(const DrivePart* d, std::uint64_t step,
+                                                std::size_t chunk, double h, double* a, double* b) {
+  for (std::size_t i = 0; i < chunk; ++i) {
+    const double t = static_cast<double>(step + i) * h;
+    if constexpr (K == 1)
+      a[i] = d->signal(t);
+    else if constexpr (K == 2)
+      a[i] = d->signal(t), b[i] = d->signal.rate_at(t);
+    else if constexpr (K == 3)
+      a[i] = d->signal(t + h);
+    else if constexpr (K == 4)
+      a[i] = d->signal(t), b[i] = d->signal(t + h);
+  }
+}
+
+// The contact's force at velocity v (f, m: the model's input besides v and h).
+template <bool Gms, std::size_t N>
+[[gnu::always_inline]] inline double contact_force(const SimpleParts& P, double v, double f,
+                                                   double m) {
+  if constexpr (Gms)
+    return P.gms->template step_scalar<N>(P.st.data(), v, P.gc);
+  else
+    return P.model->step(P.st, {v, P.h, f, m});
+}
+
+// One step of the free body (K 0 none, 1 force, 2 pull): advance_one_body's sums in its order, f
+// starting at the drive's force (0 + F but for a zero's sign). Returns the net force.
+template <int K, bool Gms, bool Full, std::size_t N>
+[[gnu::always_inline]] inline double free_step(const SimpleParts& P, double a, double b,
+                                               SimpleVars& s) {
+  double f = 0.0;
+  [[maybe_unused]] double rate = 0.0;  // pull: the drive point's velocity [m/s]
+  if constexpr (K == 1) {
+    s.fdrive = a;
+    f = a;
+  } else if constexpr (K == 2) {
+    rate = b;
+    s.fdrive = P.d->pull_spring * (a - s.x) + P.d->pull_damper * (rate - s.v);
+    f = s.fdrive;
+  }
+  if (Full || P.has_k) {
+    s.fs = P.k * (s.x - 0.0);
+    f -= s.fs;
+  }
+  if (Full || P.has_c) {
+    s.fd = P.c * (s.v - 0.0);
+    f -= s.fd;
+  }
+  if (Full || P.has_f) {
+    s.F = contact_force<Gms, N>(P, s.v, f, P.m);
+    s.vr = s.v;
+    f -= s.F;
+  }
+  s.v += f * P.hm;
+  s.x += P.h * s.v;
+  // The energy watch's account: work of the drive this step (force: F dx; pull: F dx_p) [J].
+  if constexpr (K == 1)
+    s.work += P.h * s.fdrive * s.v;
+  else if constexpr (K == 2)
+    s.work += P.h * s.fdrive * rate;
+  ++s.step;
+  return f;
+}
+
+// One step of prescribed motion (K 3 displacement, 4 velocity): compute_step's sums for one body,
+// the parts at the step's start, the contact at the velocity over the step, the drive supplying
+// what holds the motion. Returns the net force of the parts.
+template <int K, bool Gms, bool Full, std::size_t N>
+[[gnu::always_inline]] inline double prescribed_step(const SimpleParts& P, double a, double b,
+                                                     SimpleVars& s) {
+  const double cv = K == 3 ? (a - s.x) / P.h : 0.5 * (a + b);
+  double f = 0.0;
+  if (Full || P.has_k) {
+    s.fs = P.k * (s.x - 0.0);
+    f -= s.fs;
+  }
+  if (Full || P.has_c) {
+    s.fd = P.c * (s.v - 0.0);
+    f -= s.fd;
+  }
+  if (Full || P.has_f) {
+    s.vr = cv - 0.0;
+    s.F = contact_force<Gms, N>(P, s.vr, 0.0, 0.0);
+    f -= s.F;
+  }
+  s.fdrive = -f;
+  if constexpr (K == 3) {
+    s.x = a;
+    s.v = cv;
+  } else {
+    s.x += cv * P.h;
+    s.v = b;
+  }
+  ++s.step;
+  return f;
+}
+
+// `quiet` free steps before an event (a sample, an energy check, the chunk's end), with a[i], b[i]
+// the drive's values of step i: only x, v, the work and the element states carried from step to
+// step (the outputs kept are the last step's). A non-finite step calls stop(s).
+template <int K, bool Gms, bool Full, std::size_t N, class Stop>
+[[gnu::always_inline]] inline void quiet_steps(const SimpleParts& P, const double* a,
+                                               const double* b, std::uint64_t quiet, SimpleVars& s,
+                                               Stop&& stop) {
+  for (std::uint64_t q = 0; q < quiet; ++q) {
+    const double f = free_step<K, Gms, Full, N>(P, a[q], b[q], s);
+    if (!std::isfinite(f + s.x + s.v)) [[unlikely]] {
+      s.left -= q + 1;
+      stop(s);
+    }
+  }
+  s.left -= quiet;
+}
+}  // namespace
+
 template <int K, bool Gms, bool Full, std::size_t N>
 std::size_t AssemblySimulation::advance_simple_as(std::size_t n) {
   const double h = sc_.run.dt;
-  const Assembly& p = sc_.plant;
-  const DrivePart* d = p.drives.empty() ? nullptr : &p.drives[0];
-  const bool has_k = Full || !springs_c_.empty(), has_c = Full || !dampers_c_.empty();
   const bool has_f = Full || !contacts_c_.empty();
-  const double k = has_k ? springs_c_[0].c : 0.0, c = has_c ? dampers_c_[0].c : 0.0;
-  const double hm = h_over_m_[0];
-  const double m = has_f ? contacts_c_[0].m_eff : 0.0;
   const FrictionModel* model = has_f ? models_[0].get() : nullptr;
   // A GMS contact of few elements steps inline (GmsModel::step_scalar: step()'s operations).
   const GmsModel* gms = Gms ? static_cast<const GmsModel*>(model) : nullptr;
-  const GmsModel::StepConstants gc = Gms ? gms->constants(h) : GmsModel::StepConstants{};
-  const std::span<double> st = has_f ? std::span<double>(state_[0]) : std::span<double>();
+  const SimpleParts P{h,
+                      springs_c_.empty() ? 0.0 : springs_c_[0].c,
+                      dampers_c_.empty() ? 0.0 : dampers_c_[0].c,
+                      h_over_m_[0],
+                      has_f ? contacts_c_[0].m_eff : 0.0,
+                      sc_.plant.drives.empty() ? nullptr : &sc_.plant.drives[0],
+                      model,
+                      gms,
+                      Gms ? gms->constants(h) : GmsModel::StepConstants{},
+                      has_f ? std::span<double>(state_[0]) : std::span<double>(),
+                      Full || !springs_c_.empty(),
+                      Full || !dampers_c_.empty(),
+                      has_f};
   const auto every = static_cast<std::uint64_t>(sc_.run.record_every);
   const std::uint64_t total = total_steps_;
-  double x = x_[0], v = v_[0];
   // The outputs as they stand (the last step's, or the start's).
-  double fdrive = f_drive_.empty() ? 0.0 : f_drive_[0], fs = has_k ? f_spring_[0] : 0.0, fd = has_c ? f_damper_[0] : 0.0;
-  double F = has_f ? f_contact_[0] : 0.0, vr = has_f ? v_rel_[0] : 0.0;
-  double work = drive_work_;
-  std::uint64_t step = step_, left = until_record_;
-  // Writes the loop's values back (x and v passed by value: a lambda holding their addresses
-  // would keep them in memory through the loop).
-  auto store = [this, has_k, has_c, has_f](double x1, double v1, std::uint64_t step1,
-                                           std::uint64_t left1, double fdrive1, double fs1,
-                                           double fd1, double F1, double vr1, double work1) {
-    x_[0] = x1;
-    v_[0] = v1;
-    step_ = step1;
-    until_record_ = left1;
-    if (K != 0) f_drive_[0] = fdrive1;
-    if (has_k) f_spring_[0] = fs1;
-    if (has_c) f_damper_[0] = fd1;
-    if (has_f) f_contact_[0] = F1, v_rel_[0] = vr1;
-    drive_work_ = work1;
+  SimpleVars s{x_[0],
+               v_[0],
+               f_drive_.empty() ? 0.0 : f_drive_[0],
+               P.has_k ? f_spring_[0] : 0.0,
+               P.has_c ? f_damper_[0] : 0.0,
+               has_f ? f_contact_[0] : 0.0,
+               has_f ? v_rel_[0] : 0.0,
+               drive_work_,
+               step_,
+               until_record_};
+  auto store = [ this, &P ](const SimpleVars& s1) __attribute__((always_inline)) {
+    x_[0] = s1.x, v_[0] = s1.v, step_ = s1.step, until_record_ = s1.left;
+    if (K != 0) f_drive_[0] = s1.fdrive;
+    if (P.has_k) f_spring_[0] = s1.fs;
+    if (P.has_c) f_damper_[0] = s1.fd;
+    if (P.has_f) f_contact_[0] = s1.F, v_rel_[0] = s1.vr;
+    drive_work_ = s1.work;
   };
-
-  // The drive's values for a chunk of steps are computed ahead (they depend on t alone), so the
-  // step loop calls nothing between samples and x and v stay in registers: K 1: F(t); 2: x_p(t)
-  // and its rate; 3: x(t + h); 4: v(t) and v(t + h).
+  auto stop = [&](const SimpleVars& s1) {
+    store(s1);
+    diverged(!std::isfinite(s1.F));
+  };
+  // The drive's values of a chunk of steps are computed ahead, so the step loop calls nothing
+  // between samples and x and v stay in registers.
   constexpr std::size_t kChunk = 64;
   double sa[kChunk], sb[kChunk];
   std::size_t done = 0;
-  while (done < n && step < total) {
+  while (done < n && s.step < total) {
     const auto chunk =
-        static_cast<std::size_t>(std::min<std::uint64_t>({kChunk, n - done, total - step}));
-    for (std::size_t i = 0; i < chunk; ++i) {
-      const double t = static_cast<double>(step + i) * h;
-      if constexpr (K == 1)
-        sa[i] = d->signal(t);
-      else if constexpr (K == 2)
-        sa[i] = d->signal(t), sb[i] = d->signal.rate_at(t);
-      else if constexpr (K == 3)
-        sa[i] = d->signal(t + h);
-      else if constexpr (K == 4)
-        sa[i] = d->signal(t), sb[i] = d->signal(t + h);
-    }
+        static_cast<std::size_t>(std::min<std::uint64_t>({kChunk, n - done, total - s.step}));
+    drive_values<K>(P.d, s.step, chunk, h, sa, sb);
     for (std::size_t i = 0; i < chunk; ++i, ++done) {
       if constexpr (K < 3) {
-        // The steps before the next event (a sample, an energy check, the chunk's end): the same
-        // operations with only x, v, the work and the element states carried from step to step
-        // (the outputs are those of the event's step, below).
         const std::uint64_t quiet =
             std::min<std::uint64_t>(
-                {chunk - i, left, kEnergyCheckEvery - (step & (kEnergyCheckEvery - 1))}) -
+                {chunk - i, s.left, kEnergyCheckEvery - (s.step & (kEnergyCheckEvery - 1))}) -
             1;
-        for (std::uint64_t q = 0; q < quiet; ++q, ++i, ++done) {
-          double fq = 0.0, fsq = 0.0, fdq = 0.0, Fq = 0.0;
-          [[maybe_unused]] double rate_q = 0.0;
-          if constexpr (K == 1) {
-            fq = sa[i];
-          } else if constexpr (K == 2) {
-            rate_q = sb[i];
-            fq = d->pull_spring * (sa[i] - x) + d->pull_damper * (rate_q - v);
-          }
-          const double fdrq = fq, v0 = v;
-          if (has_k) {
-            fsq = k * (x - 0.0);
-            fq -= fsq;
-          }
-          if (has_c) {
-            fdq = c * (v - 0.0);
-            fq -= fdq;
-          }
-          if (has_f) {
-            if constexpr (Gms)
-              Fq = gms->template step_scalar<N>(st.data(), v, gc);
-            else
-              Fq = model->step(st, {v, h, fq, m});
-            fq -= Fq;
-          }
-          v += fq * hm;
-          x += h * v;
-          if constexpr (K == 1)
-            work += h * fdrq * v;
-          else if constexpr (K == 2)
-            work += h * fdrq * rate_q;
-          ++step;
-          if (!std::isfinite(fq + x + v)) [[unlikely]] {
-            fdrive = fdrq, fs = fsq, fd = fdq, F = Fq, vr = v0;
-            left -= q + 1;
-            store(x, v, step, left, fdrive, fs, fd, F, vr, work);
-            diverged(!std::isfinite(F));
-          }
+        quiet_steps<K, Gms, Full, N>(P, sa + i, sb + i, quiet, s, stop);
+        i += quiet, done += quiet;
+        // The event's step: its outputs are kept.
+        const double f = free_step<K, Gms, Full, N>(P, sa[i], sb[i], s);
+        if (!std::isfinite(f + s.x + s.v)) stop(s);
+        if ((s.step & (kEnergyCheckEvery - 1)) == 0) {
+          store(s);
+          check_energy();
         }
-        left -= quiet;
+      } else {
+        const double f = prescribed_step<K, Gms, Full, N>(P, sa[i], sb[i], s);
+        if (!std::isfinite(f + s.x + s.v)) stop(s);
       }
-      double f = 0.0;
-      [[maybe_unused]] double xp_rate = 0.0;  // pull: the drive point's velocity [m/s]
-      if constexpr (K >= 3) {
-        // Prescribed motion (compute_step's sums for one body): the parts at the step's start, the
-        // contact at the velocity over the step, the drive supplying what holds the motion.
-        const double cv = K == 3 ? (sa[i] - x) / h : 0.5 * (sa[i] + sb[i]);
-        if (has_k) {
-          fs = k * (x - 0.0);
-          f -= fs;
-        }
-        if (has_c) {
-          fd = c * (v - 0.0);
-          f -= fd;
-        }
-        if (has_f) {
-          vr = cv - 0.0;
-          if constexpr (Gms)
-            F = gms->template step_scalar<N>(st.data(), vr, gc);
-          else
-            F = model->step(st, {vr, h, 0.0, 0.0});
-          f -= F;
-        }
-        fdrive = -f;
-        if constexpr (K == 3) {
-          x = sa[i];
-          v = cv;
-        } else {
-          x += cv * h;
-          v = sb[i];
-        }
-        ++step;
-        if (!std::isfinite(f + x + v)) {
-          store(x, v, step, left, fdrive, fs, fd, F, vr, work);
-          diverged(!std::isfinite(F));
-        }
-        if (--left == 0 || step == total) {
-          left = every;
-          store(x, v, step, left, fdrive, fs, fd, F, vr, work);
-          record();
-        }
-        continue;
-      } else if constexpr (K == 1) {  // f starts at the drive's force (0 + F but for a zero's sign)
-        fdrive = sa[i];
-        f = fdrive;
-      } else if constexpr (K == 2) {
-        xp_rate = sb[i];
-        fdrive = d->pull_spring * (sa[i] - x) + d->pull_damper * (xp_rate - v);
-        f = fdrive;
-      }
-      if (has_k) {
-        fs = k * (x - 0.0);
-        f -= fs;
-      }
-      if (has_c) {
-        fd = c * (v - 0.0);
-        f -= fd;
-      }
-      if (has_f) {
-        if constexpr (Gms)
-          F = gms->template step_scalar<N>(st.data(), v, gc);
-        else
-          F = model->step(st, {v, h, f, m});
-        vr = v;
-        f -= F;
-      }
-      v += f * hm;
-      x += h * v;
-      // The energy watch's account: work of the drive this step (force: F dx; pull: F dx_p) [J].
-      if constexpr (K == 1)
-        work += h * fdrive * v;
-      else if constexpr (K == 2)
-        work += h * fdrive * xp_rate;
-      ++step;
-      if (!std::isfinite(f + x + v)) {
-        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
-        diverged(!std::isfinite(F));
-      }
-      if ((step & (kEnergyCheckEvery - 1)) == 0) {
-        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
-        check_energy();
-      }
-      if (--left == 0 || step == total) {
-        left = every;
-        store(x, v, step, left, fdrive, fs, fd, F, vr, work);
+      if (--s.left == 0 || s.step == total) {
+        s.left = every;
+        store(s);
         record();
       }
     }
   }
-  store(x, v, step, left, fdrive, fs, fd, F, vr, work);
+  store(s);
   return done;
 }
 
