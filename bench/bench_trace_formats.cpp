@@ -2,7 +2,8 @@
 // - BM_FormatG10 / BM_ToCharsG10: one number as %.10g, format_g10 / std::to_chars (general, 10
 //   digits), over the values of a recorded Fig. 4 trace (ns per number).
 // - BM_TraceCsvRows: CSV text of a recorded Fig. 4 trace (13 columns), formatting only (ns per
-//   row).
+//   row). BM_TraceCsvRows_10s: the same for the 10 s of BM_SimulateCsv_Streamed (10^6 rows, with
+//   its stick phases: a velocity and element forces whose text repeats row after row).
 // - BM_Simulate1e8_NoOutput: the Fig. 4 preset run for 1000 s at dt = 1e-5 s (10^8 steps) with
 //   the preset's record_every (10: 10^7 samples), the samples taken in chunks as the writers take
 //   them and dropped: the simulation's share of the runs below.
@@ -36,6 +37,17 @@ const Trace& recorded() {
   static const Trace tr = [] {
     Scenario s = fig4();
     s.run.duration = 1.0;
+    s.run.record_every = 1;
+    return simulate(s);
+  }();
+  return tr;
+}
+
+// 10^6 samples: the 10 s run of BM_SimulateCsv_Streamed, every step recorded.
+const Trace& recorded_10s() {
+  static const Trace tr = [] {
+    Scenario s = fig4();
+    s.run.duration = 10.0;
     s.run.record_every = 1;
     return simulate(s);
   }();
@@ -94,8 +106,7 @@ static void BM_ToCharsG10(benchmark::State& st) {
 }
 BENCHMARK(BM_ToCharsG10)->Unit(benchmark::kMillisecond);
 
-static void BM_TraceCsvRows(benchmark::State& st) {
-  const Trace& tr = recorded();
+static void trace_csv_rows(benchmark::State& st, const Trace& tr) {
   const std::size_t ne = trace_csv_elements(tr);
   std::string text;
   for (auto _ : st) {
@@ -108,7 +119,12 @@ static void BM_TraceCsvRows(benchmark::State& st) {
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["bytes_per_row"] = static_cast<double>(text.size()) / static_cast<double>(tr.size());
 }
+
+static void BM_TraceCsvRows(benchmark::State& st) { trace_csv_rows(st, recorded()); }
 BENCHMARK(BM_TraceCsvRows)->Unit(benchmark::kMillisecond);
+
+static void BM_TraceCsvRows_10s(benchmark::State& st) { trace_csv_rows(st, recorded_10s()); }
+BENCHMARK(BM_TraceCsvRows_10s)->Unit(benchmark::kMillisecond);
 
 static void BM_Simulate1e8_NoOutput(benchmark::State& st) {
   const Scenario s = run_1e8();

@@ -94,7 +94,22 @@ void AtomicFileWriter::write_all(const char* p, std::size_t left) {
     }
     p += w;
     left -= static_cast<std::size_t>(w);
+    written_ += static_cast<std::size_t>(w);
   }
+  start_writeback();
+}
+
+void AtomicFileWriter::start_writeback() {
+#if defined(__linux__)
+  // The disk writes of every 8 MiB written are started now (asynchronously), so that commit's
+  // fsync waits for the last few MiB only and not for the whole file. Only a hint: fsync is what
+  // makes the file durable and reports the errors.
+  constexpr std::size_t kWriteback = std::size_t{8} << 20;
+  if (written_ - started_ < kWriteback) return;
+  (void)::sync_file_range(fd_, static_cast<off_t>(started_),
+                          static_cast<off_t>(written_ - started_), SYNC_FILE_RANGE_WRITE);
+  started_ = written_;
+#endif
 }
 
 void AtomicFileWriter::write(std::string_view text) {

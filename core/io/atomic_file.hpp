@@ -12,8 +12,9 @@
 namespace gmslab {
 
 // A file written atomically in pieces (streamed): the pieces go to the temporary file as they
-// come (through a 1 MiB buffer, so memory stays constant whatever the size), and commit() flushes,
-// fsyncs and renames it over the target. Destroyed without commit() (an error, an exception), it
+// come (through a 1 MiB buffer, so memory stays constant whatever the size; on Linux the disk
+// writes of every 8 MiB are started as it goes), and commit() flushes, fsyncs and renames it over
+// the target. Destroyed without commit() (an error, an exception), it
 // removes the temporary file and the target is untouched. Errors throw IoError (core/error.hpp)
 // naming the path and the system error.
 class AtomicFileWriter {
@@ -30,10 +31,12 @@ class AtomicFileWriter {
   static constexpr std::size_t kBuffer = 1u << 20;
   void flush();
   void write_all(const char* p, std::size_t n);
+  void start_writeback();
   [[noreturn]] void fail(const char* what);
   void abandon() noexcept;
   std::string path_, tmp_, buf_;
   int fd_ = -1;
+  std::size_t written_ = 0, started_ = 0;  // bytes written; those whose disk write was started
 };
 
 // Throws IoError naming the path and the system error on failure.

@@ -30,16 +30,26 @@ namespace {
 // Longest text of one row with `ne` element columns.
 std::size_t row_room(std::size_t ne) { return (5 + ne) * (kFormatG10MaxChars + 1) + 2 * ne + 1; }
 
+// The last value written in each number column (t, x, v, F_friction, F_applied, then the element
+// forces): a value whose text is that of the value above it (it lies in that value's interval,
+// format_g10_cached) is copied from the row above, not formatted. The row above is still in the
+// buffer: a chunk's text is kept whole, and a block appended to the string is not cleared.
+struct RowTexts {
+  std::vector<G10Last> column;
+  explicit RowTexts(std::size_t ne) : column(5 + ne) {}
+};
+
 // Writes row k of `tr` at `o` (room for row_room(ne) characters) and returns its end.
-char* format_row(const Trace& tr, std::size_t k, std::size_t ne, char* o) {
-  o = format_g10(tr.t[k], o);
+char* format_row(const Trace& tr, std::size_t k, std::size_t ne, RowTexts& texts, char* o) {
+  G10Last* last = texts.column.data();
+  o = format_g10_cached(tr.t[k], o, last[0]);
   for (double x : {tr.x[k], tr.v[k], tr.friction[k], tr.applied[k]}) {
     *o++ = ',';
-    o = format_g10(x, o);
+    o = format_g10_cached(x, o, *++last);
   }
   for (std::size_t i = 0; i < ne; ++i) {
     *o++ = ',';
-    o = format_g10(tr.element_force[k * ne + i], o);
+    o = format_g10_cached(tr.element_force[k * ne + i], o, *++last);
   }
   for (std::size_t i = 0; i < ne; ++i) {
     o[0] = ',';
@@ -60,12 +70,13 @@ void append_trace_csv_rows(const Trace& tr, std::size_t ne, std::string& out) {
   char* const end = block.data() + block.size();
   char* o = block.data();
   out.reserve(out.size() + tr.size() * (6 + ne) * 12);
+  RowTexts texts(ne);
   for (std::size_t k = 0; k < tr.size(); ++k) {
     if (static_cast<std::size_t>(end - o) < room) {
       out.append(block.data(), o);
       o = block.data();
     }
-    o = format_row(tr, k, ne, o);
+    o = format_row(tr, k, ne, texts, o);
   }
   out.append(block.data(), o);
 }
@@ -93,6 +104,7 @@ struct CsvChunk {
   Trace samples;
   std::unique_ptr<char[]> text;  // room for every row; its first `used` characters are written
   std::size_t room = 0, used = 0, formatted = 0;
+  RowTexts texts{0};  // of the rows formatted so far (by whichever thread)
 
   // Takes the samples of `tr` (its memory reused chunk after chunk), none formatted yet.
   void take(const Trace& tr, std::size_t ne) {
@@ -100,6 +112,7 @@ struct CsvChunk {
     samples.applied = tr.applied, samples.element_force = tr.element_force;
     samples.element_slip = tr.element_slip;
     used = formatted = 0;
+    texts = RowTexts(ne);
     const std::size_t need = tr.size() * row_room(ne);
     if (room < need) {  // uninitialised: only the pages written are ever touched
       text.reset(new char[need]);
@@ -109,7 +122,7 @@ struct CsvChunk {
   void format_until(std::size_t to, std::size_t ne) {
     char* const start = text.get();
     char* o = start + used;
-    for (; formatted < to; ++formatted) o = format_row(samples, formatted, ne, o);
+    for (; formatted < to; ++formatted) o = format_row(samples, formatted, ne, texts, o);
     used = static_cast<std::size_t>(o - start);
   }
 };

@@ -47,26 +47,23 @@ inline void five_digits(std::uint32_t v, char* d) {
   std::memcpy(d + 3, kPairs + 2 * lo, 2);
 }
 
-}  // namespace
-
-char* format_g10(double x, char* out) {
-  if (!(x != 0.0 && std::isfinite(x))) return exact(x, out);
-  const double a = std::fabs(x);
-  if (!(a >= 1e-13 && a < 1e31)) return exact(x, out);
+// The 10 significant digits m (in [10^9, 10^10)) and the decimal exponent k of |x| when the
+// scaled path is certain of them (see the header), else false.
+bool decimal(double a, std::int64_t& m, int& k) {
+  if (!(a >= 1e-13 && a < 1e31)) return false;  // also 0, infinities and NaN
   // The decimal exponent k = floor(log10 a): a first guess from the binary exponent and a table,
   // then corrected by the digits (10 digits that round up to 11 are one decade higher).
   std::uint64_t bits = 0;
   std::memcpy(&bits, &a, sizeof bits);
   const int e2 =
       static_cast<int>((bits >> 52) & 0x7ff) - 1022;  // a in [2^(e2-1), 2^e2) (a is normal)
-  int k = ((e2 - 1) * 78913) >> 18;  // floor((e2 - 1) log10 2): floor(log10 a) or one less
+  k = ((e2 - 1) * 78913) >> 18;  // floor((e2 - 1) log10 2): floor(log10 a) or one less
   if (a >= kDecade[k + 1 - kDecadeLow]) ++k;
-  std::int64_t m = 0;
   for (int tries = 0;; ++tries) {
     const int s = 9 - k;
-    if (s > 22 || s < -22 || tries > 2) return exact(x, out);
+    if (s > 22 || s < -22 || tries > 2) return false;
     m = scaled(a, s);
-    if (m < 0) return exact(x, out);
+    if (m < 0) return false;
     if (m >= 10000000000) {
       ++k;
       continue;
@@ -75,8 +72,12 @@ char* format_g10(double x, char* out) {
       --k;
       continue;
     }
-    break;
+    return true;
   }
+}
+
+// The text of -m * 10^(k-9) (when `negative`) or m * 10^(k-9) in %.10g at `out`; returns its end.
+char* layout(bool negative, std::int64_t m, int k, char* out) {
   char d[24] = {};  // the 10 digits, then room for the fixed-size copies below
   five_digits(static_cast<std::uint32_t>(m / 100000), d);
   five_digits(static_cast<std::uint32_t>(m % 100000), d + 5);
@@ -84,7 +85,7 @@ char* format_g10(double x, char* out) {
   while (n > 1 && d[n - 1] == '0') --n;
   char* o = out;
   *o = '-';
-  o += x < 0;
+  o += negative;
   if (k >= -4 && k < 10) {  // fixed notation (%.{9-k}f), trailing zeros removed
     if (k >= 0) {
       const int whole = k + 1;
@@ -113,6 +114,45 @@ char* format_g10(double x, char* out) {
   if (ek >= 100) *o++ = static_cast<char>('0' + ek / 100);
   std::memcpy(o, kPairs + 2 * (ek % 100), 2);
   return o + 2;
+}
+
+// 10^-s for s in [0, 22] (the double nearest).
+constexpr double kPow10Neg[23] = {1e0,   1e-1,  1e-2,  1e-3,  1e-4,  1e-5,  1e-6,  1e-7,
+                                  1e-8,  1e-9,  1e-10, 1e-11, 1e-12, 1e-13, 1e-14, 1e-15,
+                                  1e-16, 1e-17, 1e-18, 1e-19, 1e-20, 1e-21, 1e-22};
+
+}  // namespace
+
+char* format_g10(double x, char* out) {
+  std::int64_t m = 0;
+  int k = 0;
+  if (!decimal(std::fabs(x), m, k)) return exact(x, out);
+  return layout(x < 0, m, k, out);
+}
+
+char* format_g10_remember(double x, char* out, G10Last& last) {
+  std::int64_t m = 0;
+  int k = 0;
+  char* end = nullptr;
+  if (decimal(std::fabs(x), m, k)) {
+    end = layout(x < 0, m, k, out);
+    // |x| has this text while |x| * 10^s rounds to m: inside (m - 0.5, m + 0.5) * 10^-s, less a
+    // margin of 1e-5 in units of the 10th digit, more than the error of computing the bounds:
+    // m -+ (0.5 - 1e-5) is rounded (< 1e10: 0.95e-6), times 10^-s (the nearest double) rounded
+    // again (2.2e-16 relative: 2.2e-6).
+    const int s = 9 - k;
+    const double f = s >= 0 ? kPow10Neg[s] : kPow10[-s];
+    const double lo = (static_cast<double>(m) - (0.5 - 1e-5)) * f;
+    const double hi = (static_cast<double>(m) + (0.5 - 1e-5)) * f;
+    last.lo = x < 0 ? -hi : lo;
+    last.hi = x < 0 ? -lo : hi;
+  } else {
+    end = exact(x, out);
+    last.lo = last.hi = 0.0;  // empty: never taken for another value
+  }
+  last.text = out;
+  last.len = static_cast<int>(end - out);
+  return end;
 }
 
 }  // namespace gmslab
