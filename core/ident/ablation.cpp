@@ -118,12 +118,17 @@ class AblationRun {
 
   // Every refit starts from the final shape with the same options: a pure function of its inputs,
   // so they run at once (two at a time on two cores) with the results of one after the other.
-  std::future<Scored> refit(FitSpec spec, std::string stage) const {
+  // The warm start is the final shape, or that of the model the refits are judged at when the
+  // data called for more elements (`warm`: its shape, of spec's element count).
+  std::future<Scored> refit(FitSpec spec, std::string stage,
+                            const std::vector<double>* warm = nullptr) const {
     FitOptions f = fo_;
     f.stage = std::move(stage);
-    return std::async(std::launch::async, [this, spec = std::move(spec), f = std::move(f)] {
-      return scored(fit_model(spec, train_, c_, f, &warm_));
-    });
+    std::vector<double> u = warm ? *warm : warm_;
+    return std::async(std::launch::async,
+                      [this, spec = std::move(spec), f = std::move(f), u = std::move(u)] {
+                        return scored(fit_model(spec, train_, c_, f, &u));
+                      });
   }
 
   Scored scored(FitResult fit) const {
@@ -261,14 +266,18 @@ class AblationRun {
   }
 
   // Drops, one at a time, the effect the data resolve least until every effect left is credited;
-  // then, while one more element explains an effect as well, that effect (ablation.hpp, 5).
+  // then, while one more element explains an effect as well, that effect (ablation.hpp, 5). Once
+  // the data called for more elements, the effects left are judged at that count (an effect may
+  // take up what two missing elements leave); a count the user fixed is restored at the end.
   void drop_effects(Scored& cur, Ablation& table) const {
     for (;;) {
       const auto& effects = cur.fit.spec.effects;
+      const bool grown = cur.fit.spec.elements != table.elements_before;
       std::vector<std::future<Scored>> fits;
       for (Effect e : effects)
         fits.push_back(refit(without(cur.fit.spec, e),
-                             "ablation: refit without " + std::string(effect_name(e))));
+                             "ablation: refit without " + std::string(effect_name(e)),
+                             grown ? &cur.fit.u : nullptr));
       std::vector<AblationRow> rows;
       std::vector<Scored> wo;
       for (std::size_t i = 0; i < effects.size(); ++i) {
@@ -288,17 +297,24 @@ class AblationRun {
       const std::size_t alike = one_more_element(cur, rows, more);
       if (alike == rows.size()) {
         table.rows = std::move(rows);
-        return;
+        break;
       }
       table.dropped.push_back(rows[alike]);
       table.elements_called_for = std::max(table.elements_called_for, cur.fit.spec.elements + 1);
-      if (o_.count_may_grow && more[alike].fit.spec.elements > cur.fit.spec.elements) {
-        table.count_raised = true;
-        cur = std::move(more[alike]);
-      } else {
-        cur = std::move(wo[alike]);
-      }
+      cur = more[alike].fit.spec.elements > cur.fit.spec.elements ? std::move(more[alike])
+                                                                  : std::move(wo[alike]);
     }
+    if (cur.fit.spec.elements == table.elements_before) return;
+    if (o_.count_may_grow) {
+      table.count_raised = cur.fit.spec.elements > table.elements_before;
+      return;
+    }
+    // The count the user fixed: the credited effects refitted with it from the final shape.
+    FitSpec spec = cur.fit.spec;
+    spec.elements = table.elements_before;
+    cur = refit(spec, "ablation: the credited effects with " + std::to_string(spec.elements) +
+                          " elements")
+              .get();
   }
 
   // The element count: the lightest element left out while the data do not resolve it.
@@ -351,7 +367,8 @@ class AblationRun {
       for (Effect alt : alts)
         fits.push_back(refit(replaced(cur.fit.spec, r.effect, alt),
                              "ablation: " + std::string(effect_name(alt)) + " in place of " +
-                                 std::string(effect_name(r.effect))));
+                                 std::string(effect_name(r.effect)),
+                             table.count_raised ? &cur.fit.u : nullptr));
       for (std::size_t i = 0; i < alts.size(); ++i) {
         const Scored s = fits[i].get();
         if (block_test(val_, s.res, cur.res, o_.blocks).z < o_.z_crit) r.alike.push_back(alts[i]);

@@ -32,10 +32,11 @@
 //      test of 2 against that model: z < z_crit and an MSE rise below the floor's variance, or
 //      it leaves at most near_floor x the floor), the effect is not credited: one more element
 //      explains it as well ("alike: N+1 elements"), and the data call for more elements. Of
-//      several such effects the one with the lowest z goes first and the rest are tested again
-//      (each against the model with the effects still named). The model then keeps the count
-//      it had (the user fixed it) without the effect, or, with count_may_grow (--elements
-//      auto), takes the refit with one element more.
+//      several such effects the one with the lowest z goes first; its refit with one element
+//      more becomes the model the rest are judged at (2 and 5 again, against it: an effect may
+//      take up what two missing elements leave). At the end a count the user fixed is restored
+//      (the credited effects refitted with it from the final shape; the count is not changed
+//      silently), while with count_may_grow (--elements auto) the larger count is kept.
 //   6. The element count the same way: the lightest element is left out (the others keep their
 //      stiffness and share; fit.hpp: shape_without_element) and the model refitted; while the
 //      data do not resolve it (the test of 2), the count goes down. An element count found by
