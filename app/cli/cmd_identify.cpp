@@ -38,8 +38,14 @@ void print_ablation(const ident::Ablation& a) {
                a.rms_validation_all, a.floor);
   auto row = [](const ident::AblationRow& r) {
     std::fprintf(stdout, "    without %-20s %11.4g N  z %7.3g  contribution %9.3g N  %s\n",
-                 std::string(ident::effect_name(r.effect)).c_str(), r.rms_validation_without, r.test.z,
-                 r.contribution, r.credited ? "credited" : "dropped");
+                 std::string(ident::effect_name(r.effect)).c_str(), r.rms_validation_without,
+                 r.test.z, r.contribution,
+                 r.credited               ? "credited"
+                 : r.explained_by_element ? "dropped (alike: one more element)"
+                                          : "dropped");
+    if (r.more_elements > 0)
+      std::fprintf(stdout, "      with %zu elements in its place     %11.4g N  z %7.3g\n",
+                   r.more_elements, r.rms_validation_more_elements, r.more_elements_test.z);
   };
   for (const auto& r : a.rows) row(r);
   for (const auto& r : a.dropped) row(r);
@@ -150,7 +156,11 @@ int run_identify(const IdentifyOptions& o) {
             << rep.rms_after_validation << " N; ";
   if (rep.effects_added.empty())
     std::cout << ident::nothing_added(rep);
-  else std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
+  else {
+    std::cout << "effects added: " << ident::named_effects(rep.ablation, rep.effects_added);
+    if (const std::string more = ident::more_elements_summary(rep.ablation); !more.empty())
+      std::cout << "; " << more;
+  }
   std::cout << '\n';
   print_ablation(rep.ablation);
   std::cout << "  " << rep.discovery.summary << '\n';

@@ -6,6 +6,7 @@
 #include <future>
 #include <limits>
 
+#include "core/ident/element_fit.hpp"
 #include "core/ident/parallel.hpp"
 
 namespace gmslab::ident {
@@ -117,12 +118,17 @@ class AblationRun {
 
   // Every refit starts from the final shape with the same options: a pure function of its inputs,
   // so they run at once (two at a time on two cores) with the results of one after the other.
-  std::future<Scored> refit(FitSpec spec, std::string stage) const {
+  // The warm start is the final shape, or that of the model the refits are judged at when the
+  // data called for more elements (`warm`: its shape, of spec's element count).
+  std::future<Scored> refit(FitSpec spec, std::string stage,
+                            const std::vector<double>* warm = nullptr) const {
     FitOptions f = fo_;
     f.stage = std::move(stage);
-    return std::async(std::launch::async, [this, spec = std::move(spec), f = std::move(f)] {
-      return scored(fit_model(spec, train_, c_, f, &warm_));
-    });
+    std::vector<double> u = warm ? *warm : warm_;
+    return std::async(std::launch::async,
+                      [this, spec = std::move(spec), f = std::move(f), u = std::move(u)] {
+                        return scored(fit_model(spec, train_, c_, f, &u));
+                      });
   }
 
   Scored scored(FitResult fit) const {
@@ -152,8 +158,9 @@ class AblationRun {
   // without it this much worse). Every test is against the model the loop ended with, not the
   // model left after earlier drops: drops each below the resolution must not add up to one the
   // data resolve.
-  bool resolvable(const BlockTest& t, double rms) const {
-    return t.z >= o_.z_crit || rms * rms - full_.rms * full_.rms >= floor_ * floor_;
+  bool resolvable(const BlockTest& t, double rms) const { return resolvable(t, rms, full_.rms); }
+  bool resolvable(const BlockTest& t, double rms, double ref_rms) const {
+    return t.z >= o_.z_crit || rms * rms - ref_rms * ref_rms >= floor_ * floor_;
   }
 
   // The row of one effect, judged from the refit without it.
@@ -200,14 +207,77 @@ class AblationRun {
            fmt(o_.near_floor) + " x the floor (" + fmt(floor_) + " N)";
   }
 
-  // Drops, one at a time, the effect the data resolve least until every effect left is credited.
+  // The refit of spec (cur's effects less one) with one element more than cur, warm-started from
+  // cur's shape plus the element whose insertion helps most (element_fit.hpp).
+  std::future<Scored> refit_more(const FitResult& cur, FitSpec spec, std::string stage) const {
+    FitOptions f = fo_;
+    f.stage = std::move(stage);
+    spec.elements = cur.spec.elements + 1;
+    return std::async(std::launch::async, [this, &cur, spec = std::move(spec), f = std::move(f)] {
+      const std::vector<double> u = shape_with_element(cur, spec, train_, c_);
+      if (u.empty()) return Scored{};
+      return scored(fit_model(spec, train_, c_, f, &u));
+    });
+  }
+
+  bool may_add_element(const FitResult& f) const {
+    return o_.more_elements && has_linear_elements(f.spec.model) && f.spec.elements >= 1 &&
+           f.spec.elements < o_.max_elements;
+  }
+
+  // One more element in place of each credited effect (ablation.hpp, 5): fills the rows' fields;
+  // returns the row one more element explains as well with the lowest z (rows.size(): none).
+  std::size_t one_more_element(const Scored& cur, std::vector<AblationRow>& rows,
+                               std::vector<Scored>& more) const {
+    more.assign(rows.size(), Scored{});
+    if (!may_add_element(cur.fit)) return rows.size();
+    const std::string n1 = std::to_string(cur.fit.spec.elements + 1);
+    std::vector<std::future<Scored>> fits;
+    for (const auto& r : rows)
+      fits.push_back(refit_more(
+          cur.fit, without(cur.fit.spec, r.effect),
+          "ablation: " + n1 + " elements in place of " + std::string(effect_name(r.effect))));
+    std::size_t pick = rows.size();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      more[i] = fits[i].get();
+      if (more[i].res.empty()) continue;
+      AblationRow& r = rows[i];
+      r.more_elements = more[i].fit.spec.elements;
+      r.rms_validation_more_elements = more[i].rms;
+      r.more_elements_test = block_test(val_, more[i].res, cur.res, o_.blocks);
+      const bool needed = more[i].rms > o_.near_floor * floor_;
+      r.explained_by_element = !(resolvable(r.more_elements_test, more[i].rms, cur.rms) && needed);
+      if (r.explained_by_element) {
+        r.credited = false;
+        r.verdict = "not credited: one more element explains it as well (alike: " + n1 +
+                    " elements): with " + n1 + " elements and without it validation " +
+                    fmt(more[i].rms) + " N against " + fmt(cur.rms) +
+                    " N, z = " + fmt(r.more_elements_test.z) +
+                    (needed ? "" : ", within " + fmt(o_.near_floor) + " x the floor") +
+                    "; the data call for more elements";
+        if (pick == rows.size() || r.more_elements_test.z < rows[pick].more_elements_test.z)
+          pick = i;
+      } else {
+        r.verdict += "; with " + n1 + " elements in its place validation " + fmt(more[i].rms) +
+                     " N, z = " + fmt(r.more_elements_test.z);
+      }
+    }
+    return pick;
+  }
+
+  // Drops, one at a time, the effect the data resolve least until every effect left is credited;
+  // then, while one more element explains an effect as well, that effect (ablation.hpp, 5). Once
+  // the data called for more elements, the effects left are judged at that count (an effect may
+  // take up what two missing elements leave); a count the user fixed is restored at the end.
   void drop_effects(Scored& cur, Ablation& table) const {
     for (;;) {
       const auto& effects = cur.fit.spec.effects;
+      const bool grown = cur.fit.spec.elements != table.elements_before;
       std::vector<std::future<Scored>> fits;
       for (Effect e : effects)
         fits.push_back(refit(without(cur.fit.spec, e),
-                             "ablation: refit without " + std::string(effect_name(e))));
+                             "ablation: refit without " + std::string(effect_name(e)),
+                             grown ? &cur.fit.u : nullptr));
       std::vector<AblationRow> rows;
       std::vector<Scored> wo;
       for (std::size_t i = 0; i < effects.size(); ++i) {
@@ -218,13 +288,33 @@ class AblationRun {
       for (std::size_t i = 0; i < rows.size(); ++i)
         if (!rows[i].credited && (worst == rows.size() || rows[i].test.z < rows[worst].test.z))
           worst = i;
-      if (worst == rows.size()) {
-        table.rows = std::move(rows);
-        return;
+      if (worst < rows.size()) {
+        table.dropped.push_back(rows[worst]);
+        cur = std::move(wo[worst]);
+        continue;
       }
-      table.dropped.push_back(rows[worst]);
-      cur = std::move(wo[worst]);
+      std::vector<Scored> more;
+      const std::size_t alike = one_more_element(cur, rows, more);
+      if (alike == rows.size()) {
+        table.rows = std::move(rows);
+        break;
+      }
+      table.dropped.push_back(rows[alike]);
+      table.elements_called_for = std::max(table.elements_called_for, cur.fit.spec.elements + 1);
+      cur = more[alike].fit.spec.elements > cur.fit.spec.elements ? std::move(more[alike])
+                                                                  : std::move(wo[alike]);
     }
+    if (cur.fit.spec.elements == table.elements_before) return;
+    if (o_.count_may_grow) {
+      table.count_raised = cur.fit.spec.elements > table.elements_before;
+      return;
+    }
+    // The count the user fixed: the credited effects refitted with it from the final shape.
+    FitSpec spec = cur.fit.spec;
+    spec.elements = table.elements_before;
+    cur = refit(spec, "ablation: the credited effects with " + std::to_string(spec.elements) +
+                          " elements")
+              .get();
   }
 
   // The element count: the lightest element left out while the data do not resolve it.
@@ -277,7 +367,8 @@ class AblationRun {
       for (Effect alt : alts)
         fits.push_back(refit(replaced(cur.fit.spec, r.effect, alt),
                              "ablation: " + std::string(effect_name(alt)) + " in place of " +
-                                 std::string(effect_name(r.effect))));
+                                 std::string(effect_name(r.effect)),
+                             table.count_raised ? &cur.fit.u : nullptr));
       for (std::size_t i = 0; i < alts.size(); ++i) {
         const Scored s = fits[i].get();
         if (block_test(val_, s.res, cur.res, o_.blocks).z < o_.z_crit) r.alike.push_back(alts[i]);
@@ -316,6 +407,21 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
   out.rms_validation = cur.rms;
   out.model = std::move(cur.fit);
   return out;
+}
+
+std::string more_elements_summary(const Ablation& a) {
+  if (a.elements_called_for == 0) return {};
+  std::string effects;
+  for (const auto& r : a.dropped)
+    if (r.explained_by_element)
+      effects += (effects.empty() ? "" : ", ") + std::string(effect_name(r.effect));
+  const std::string n = std::to_string(a.elements_called_for);
+  if (a.count_raised)
+    return "the element count went up to " + n + ": one more element explains " + effects +
+           " as well as the effect did";
+  return "the data call for more elements: one more element (" + n + ") explains " + effects +
+         " as well; identify with " + n + " elements (--elements " + n +
+         ") or let the count be chosen (--elements auto)";
 }
 
 std::string named_effects(const Ablation& a, const std::vector<Effect>& named) {

@@ -25,7 +25,19 @@
 //      that also passed the loop's tests in a round (its attempt verdict "passed, but ..."), the
 //      model with e' in place of e is refitted the same way; when it is not worse by the block
 //      test (z < z_crit), e' is listed as alike: the report names "e (or e')".
-//   5. The element count the same way: the lightest element is left out (the others keep their
+//   5. One more element in place of an effect: for each effect that passes 2, the model without it
+//      but with one element more is refitted the same way (warm start: the final shape plus the
+//      element whose insertion lowers the training cost most, element_fit.hpp:
+//      shape_with_element). When the data do not resolve it from the model with the effect (the
+//      test of 2 against that model: z < z_crit and an MSE rise below the floor's variance, or
+//      it leaves at most near_floor x the floor), the effect is not credited: one more element
+//      explains it as well ("alike: N+1 elements"), and the data call for more elements. Of
+//      several such effects the one with the lowest z goes first; its refit with one element
+//      more becomes the model the rest are judged at (2 and 5 again, against it: an effect may
+//      take up what two missing elements leave). At the end a count the user fixed is restored
+//      (the credited effects refitted with it from the final shape; the count is not changed
+//      silently), while with count_may_grow (--elements auto) the larger count is kept.
+//   6. The element count the same way: the lightest element is left out (the others keep their
 //      stiffness and share; fit.hpp: shape_without_element) and the model refitted; while the
 //      data do not resolve it (the test of 2), the count goes down. An element count found by
 //      thresholds on weights (the grid, the polish) then does not flip on the last bits.
@@ -57,6 +69,12 @@ struct AblationRow {
   bool credited = false;
   std::string verdict;
   std::vector<Effect> alike;          // alternatives that fit the validation record as well
+  // One more element in place of the effect (5 above); more_elements == 0: not tested (a model
+  // without linear element weights, or the effect failed the other tests first).
+  std::size_t more_elements = 0;            // the element count of that refit
+  double rms_validation_more_elements = 0;  // its validation RMS [N]
+  BlockTest more_elements_test;             // it against the model with the effect
+  bool explained_by_element = false;        // alike: one more element explains it as well
 };
 
 // One element left out (the lightest), refitted the same way.
@@ -77,6 +95,10 @@ struct Ablation {
   std::vector<AblationRow> rows;     // the credited effects (and, at the end, any left)
   std::vector<AblationRow> dropped;  // not credited, in the order dropped
   std::vector<ElementAblation> elements;  // the element count tested the same way, lightest first
+  // One more element explained an effect as well (5 above): the element count the data call for
+  // (the largest such count tested; 0: none), and whether the model took it (count_may_grow).
+  std::size_t elements_called_for = 0;
+  bool count_raised = false;
 };
 
 struct AblationOptions {
@@ -86,6 +108,13 @@ struct AblationOptions {
   double near_floor = 1.15;   // validation RMS without the effect / floor at or below which the
                               // effect is not needed [-]
   std::size_t blocks = 20;
+  // One more element in place of an effect (5 above) on models with linear element weights, up
+  // to this many elements.
+  bool more_elements = true;
+  std::size_t max_elements = 8;
+  // The element count may go up (--elements auto): the model takes the refit with one element
+  // more where that explains an effect as well; else it keeps its count without the effect.
+  bool count_may_grow = false;
 };
 
 struct AblationResult {
@@ -102,6 +131,12 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
 
 // RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c);
+
+// "the data call for more elements: one more element (3) explains backlash, sensor_filter as well;
+// identify with 3 elements (--elements 3) or let the count be chosen (--elements auto)", or with
+// the count raised "the element count went up to 3: ..."; empty when no effect was explained by
+// one more element.
+std::string more_elements_summary(const Ablation& a);
 
 // "offset (or direction_asymmetry)": the named effects with the alternatives the data cannot
 // tell from them.

@@ -531,6 +531,51 @@ std::vector<GridElement> group(const GridSolution& g, std::size_t n) {
 
 namespace {
 
+// Unit-box coordinates of the standard parameterization (fit.hpp) for scalar shape coordinates
+// `shape` and elements `found` (heaviest first: the first weight is the fixed one).
+std::vector<double> standard_shape(const std::string& model, const EffectContext& c,
+                                   const std::vector<double>& shape,
+                                   const std::vector<GridElement>& found) {
+  const ModelInfo& info = model_info(model);
+  const Parameterization par(info, found.size(), c);
+  const auto a = info.column_index("alpha"), kc = info.column_index("k"),
+             W = info.column_index("W");
+  std::vector<double> u(par.size(), 0.5);
+  std::size_t si = 0;
+  for (std::size_t i = 0; i < par.size(); ++i) {
+    const auto& p = par.params()[i];
+    if (p.scalar >= 0) {
+      u[i] = shape[si++];
+      continue;
+    }
+    const auto& e = found[static_cast<std::size_t>(p.row)];
+    if (p.column == kc)
+      u[i] = par.box(i, e.kappa);
+    else if (p.column == a || p.column == W)
+      u[i] = par.box(i, e.weight / found.front().weight);
+  }
+  return u;
+}
+
+// The scalar shape coordinates and the elements (kappa, level) of a standard-parameterization
+// shape u of `elements` elements.
+void split_standard(const std::string& model, std::size_t elements, const EffectContext& c,
+                    const std::vector<double>& u, std::vector<double>& shape,
+                    std::vector<GridElement>& els) {
+  const ModelInfo& info = model_info(model);
+  const Parameterization par(info, elements, c);
+  if (u.size() != par.size()) throw InputError("internal: warm start of the wrong size");
+  const auto m = par.unit_model(u);  // k = kappa x level, level = alpha or W
+  const auto a = info.column_index("alpha"), kc = info.column_index("k"),
+             W = info.column_index("W");
+  const auto lev = static_cast<std::size_t>(a >= 0 ? a : W);
+  shape.clear(), els.clear();
+  for (std::size_t i = 0; i < par.size(); ++i)
+    if (par.params()[i].scalar >= 0) shape.push_back(u[i]);
+  for (const auto& row : m.elements)
+    els.push_back({row[static_cast<std::size_t>(kc)] / row[lev], row[lev]});
+}
+
 // Stage 3 from a start (shape coordinates + element kappas); returns the FitResult in the
 // standard parameterization. `evals0` evaluations were spent before (progress), t0 the fit's start.
 FitResult polish(const FitSpec& spec, const Dataset& train, const EffectContext& c,
@@ -614,22 +659,7 @@ FitResult polish(const FitSpec& spec, const Dataset& train, const EffectContext&
   // The standard parameterization with the element count found.
   FitSpec out = spec;
   out.elements = found.size();
-  const ModelInfo& info = model_info(spec.model);
-  const Parameterization par(info, out.elements, c);
-  const auto a = info.column_index("alpha"), kc = info.column_index("k"), W = info.column_index("W");
-  std::vector<double> u(par.size(), 0.5);
-  std::size_t si = 0;
-  for (std::size_t i = 0; i < par.size(); ++i) {
-    const auto& p = par.params()[i];
-    if (p.scalar >= 0) {
-      u[i] = shape[si++];
-      continue;
-    }
-    const auto& e = found[static_cast<std::size_t>(p.row)];
-    if (p.column == kc) u[i] = par.box(i, e.kappa);
-    else if (p.column == a || p.column == W) u[i] = par.box(i, e.weight / found.front().weight);
-  }
-  FitResult r = refit_linear(out, train, c, u);
+  FitResult r = refit_linear(out, train, c, standard_shape(spec.model, c, shape, found));
   r.evaluations = search.evals;
   r.time_limited = search.time_limited;
   if (o.progress) o.progress({o.stage + ", done", r.evaluations, r.rms_train, budget});
@@ -667,18 +697,9 @@ FitResult regrid_elements(const FitSpec& spec, const Dataset& train, const Effec
 
 FitResult polish_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                           const FitOptions& o, const std::vector<double>& warm) {
-  const ModelInfo& info = model_info(spec.model);
-  const Parameterization par(info, spec.elements, c);
-  if (warm.size() != par.size()) throw InputError("internal: warm start of the wrong size");
-  const auto m = par.unit_model(warm);  // k = kappa x level, level = alpha or W
-  const auto a = info.column_index("alpha"), kc = info.column_index("k"), W = info.column_index("W");
-  const auto lev = static_cast<std::size_t>(a >= 0 ? a : W);
   std::vector<double> shape;
   std::vector<GridElement> els;
-  for (std::size_t i = 0; i < par.size(); ++i)
-    if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
-  for (const auto& row : m.elements)
-    els.push_back({row[static_cast<std::size_t>(kc)] / row[lev], row[lev]});
+  split_standard(spec.model, spec.elements, c, warm, shape, els);
   const int budget = 4 * (o.max_evaluations + 1) + 1;
   return polish(spec, train, c, o, shape, els, 0, std::chrono::steady_clock::now(), budget);
 }
@@ -692,6 +713,71 @@ double grid_cost_at(const FitSpec& spec, const Dataset& train, const EffectConte
     if (par.params()[i].scalar >= 0) shape.push_back(warm[i]);
   ElementEvaluator ev(spec, train, c, kGridRows);
   return ev.cost(shape, element_grid(c));
+}
+
+std::vector<double> shape_with_element(const FitResult& f, const FitSpec& spec,
+                                       const Dataset& train, const EffectContext& c) {
+  if (!has_linear_elements(f.spec.model) || f.spec.elements < 1 ||
+      f.u.size() != Parameterization(model_info(f.spec.model), f.spec.elements, c).size())
+    return {};
+  std::vector<double> shape;
+  std::vector<GridElement> els;
+  split_standard(f.spec.model, f.spec.elements, c, f.u, shape, els);
+  std::vector<double> kappa;
+  for (const auto& e : els) kappa.push_back(e.kappa);
+  std::sort(kappa.begin(), kappa.end());
+  const auto [x_lo, x_hi] = element_x_range(c);
+  const double k_lo = 1.0 / x_hi, k_hi = 1.0 / x_lo;
+  auto inside = [&](double k) { return std::clamp(k, k_lo, k_hi); };
+  // The candidate tables of one element more: each element split in two (1.6x or 3x either side in
+  // stiffness), one inserted between neighbours (at their geometric mean), or beyond either end
+  // (4x softer, 4x stiffer).
+  std::vector<std::vector<double>> tables;
+  for (std::size_t j = 0; j < kappa.size(); ++j)
+    for (double fac : {1.6, 3.0}) {
+      auto t = kappa;
+      t[j] = inside(kappa[j] / fac);
+      t.push_back(inside(kappa[j] * fac));
+      tables.push_back(std::move(t));
+    }
+  for (std::size_t j = 0; j + 1 < kappa.size(); ++j) {
+    auto t = kappa;
+    t.push_back(std::sqrt(kappa[j] * kappa[j + 1]));
+    tables.push_back(std::move(t));
+  }
+  for (double k : {kappa.front() / 4.0, kappa.back() * 4.0}) {
+    auto t = kappa;
+    t.push_back(inside(k));
+    tables.push_back(std::move(t));
+  }
+  // Scored with spec's effects at f's shape, the weights by NNLS; effects that multiply the
+  // friction take f's unit output as their g (as the frozen-g polish does).
+  bool uses_g = false;
+  for (Effect e : spec.effects)
+    for (const auto& col : effect_columns(e)) uses_g |= col.uses_g;
+  EffectContext cg = c;
+  if (uses_g) cg.g_frozen = unit_friction(f, train, c);
+  FitSpec scored = spec;
+  scored.model = f.spec.model;
+  ElementEvaluator ev(scored, train, cg, kPolishRows);
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<GridElement> best_els;
+  for (const auto& t : tables) {
+    Eigen::VectorXd w;
+    const double cost = ev.cost(shape, t, &w);
+    if (!(cost < best) || static_cast<std::size_t>(w.size()) < t.size()) continue;
+    best = cost;
+    best_els.clear();
+    for (std::size_t i = 0; i < t.size(); ++i)
+      best_els.push_back({t[i], std::max(w(static_cast<Eigen::Index>(i)), 0.0)});
+  }
+  if (best_els.empty()) return {};
+  std::stable_sort(best_els.begin(), best_els.end(),
+                   [](const GridElement& a, const GridElement& b) { return a.weight > b.weight; });
+  if (!(best_els.front().weight > 0)) return {};
+  // An element NNLS left empty keeps a small share, so the polish can move it.
+  for (auto& e : best_els) e.weight = std::max(e.weight, 1e-3 * best_els.front().weight);
+  return standard_shape(f.spec.model, c, shape, best_els);
 }
 
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,

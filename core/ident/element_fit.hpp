@@ -82,6 +82,15 @@ int element_fit_budget(const FitSpec& spec, const EffectContext& c, const FitOpt
 double grid_cost_at(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                     const std::vector<double>& warm);
 
+// The shape of f with one element more, as unit-box coordinates of the model with
+// f.spec.elements + 1 elements (the warm start of "one more element in place of an effect",
+// ablation.hpp): f's scalar shape, its elements, and one more where it lowers the training cost
+// most at f's shape (weights by NNLS, with spec's effects): an element split in two (1.6x or 3x
+// either side in stiffness), one between two neighbours, or one beyond either end (4x). Empty
+// for a model without linear element weights.
+std::vector<double> shape_with_element(const FitResult& f, const FitSpec& spec,
+                                       const Dataset& train, const EffectContext& c);
+
 FitResult fit_elements(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const FitOptions& o);
 

@@ -53,6 +53,8 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
 std::string nothing_added(const IdentReport& r) {
   if (!r.effects_added.empty()) return {};
   if (!r.rounds_skipped.empty()) return "nothing added: " + r.rounds_skipped;
+  if (const std::string more = more_elements_summary(r.ablation); !more.empty())
+    return "nothing added: " + more;
   return "nothing added: no catalog effect is credited by the data";
 }
 
@@ -204,16 +206,25 @@ nlohmann::json to_json(const Ablation& a, const std::vector<Effect>& named) {
   auto row = [](const AblationRow& r) {
     nlohmann::json alike = nlohmann::json::array();
     for (Effect e : r.alike) alike.push_back(std::string(effect_name(e)));
-    return nlohmann::json{{"effect", std::string(effect_name(r.effect))},
-                          {"validation_rms_without_N", r.rms_validation_without},
-                          {"mse_difference_N2", r.test.mse_difference},
-                          {"std_error_N2", r.test.std_error},
-                          {"z", std::isfinite(r.test.z) ? nlohmann::json(r.test.z) : nlohmann::json("inf")},
-                          {"blocks", r.test.blocks},
-                          {"contribution_N", r.contribution},
-                          {"credited", r.credited},
-                          {"alike", alike},
-                          {"verdict", r.verdict}};
+    nlohmann::json more;  // null: not tested
+    if (r.more_elements > 0)
+      more = {{"elements", r.more_elements},
+              {"validation_rms_N", r.rms_validation_more_elements},
+              {"z", std::isfinite(r.more_elements_test.z) ? nlohmann::json(r.more_elements_test.z)
+                                                          : nlohmann::json("inf")},
+              {"explains_it_as_well", r.explained_by_element}};
+    return nlohmann::json{
+        {"effect", std::string(effect_name(r.effect))},
+        {"validation_rms_without_N", r.rms_validation_without},
+        {"mse_difference_N2", r.test.mse_difference},
+        {"std_error_N2", r.test.std_error},
+        {"z", std::isfinite(r.test.z) ? nlohmann::json(r.test.z) : nlohmann::json("inf")},
+        {"blocks", r.test.blocks},
+        {"contribution_N", r.contribution},
+        {"credited", r.credited},
+        {"alike", alike},
+        {"more_elements", more},
+        {"verdict", r.verdict}};
   };
   nlohmann::json rows = nlohmann::json::array(), dropped = nlohmann::json::array();
   for (const auto& r : a.rows) rows.push_back(row(r));
@@ -228,6 +239,16 @@ nlohmann::json to_json(const Ablation& a, const std::vector<Effect>& named) {
                    {"dropped", e.dropped},
                    {"verdict", e.verdict}});
   j["element_count"] = {{"before", a.elements_before}, {"tests", els}};
+  const std::string more = more_elements_summary(a);
+  j["more_elements"] = {
+      {"test",
+       "each effect that passes is refitted out with one element more, from the final shape plus "
+       "the element that helps most; not credited when the data do not resolve that model from "
+       "the one with the effect (the same test)"},
+      {"called_for",
+       a.elements_called_for > 0 ? nlohmann::json(a.elements_called_for) : nlohmann::json()},
+      {"count_raised", a.count_raised},
+      {"summary", more.empty() ? nlohmann::json() : nlohmann::json(more)}};
   return j;
 }
 

@@ -215,7 +215,9 @@ FitResult fit_base(const FitSpec& base, const Dataset& train, const Dataset& val
                    const EffectContext& c, const FitOptions& o);
 
 // "nothing added: no catalog effect is credited by the data", or with the rounds skipped by the
-// credit bound, why no effect could be credited; empty when effects were named.
+// credit bound, why no effect could be credited, or where one more element explained what the
+// effects took up, that the data call for more elements (ablation.hpp: more_elements_summary);
+// empty when effects were named.
 std::string nothing_added(const IdentReport& r);
 
 // "the loop screened every 12th training sample; the final fit used all" (empty when it used all).

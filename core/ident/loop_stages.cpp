@@ -272,8 +272,9 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
 // block test. A dropped effect's gain goes to the refit: the model without it is the final one
 // (polished on all samples when the loop screened), and the stages and effects are those named.
 void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const Dataset& train,
-                        const Dataset& full, const Dataset& val, const EffectContext& c, double floor,
-                        std::size_t every, const LoopOptions& o) {
+                        const Dataset& full, const Dataset& val, const EffectContext& c,
+                        double floor, std::size_t every, const LoopOptions& o,
+                        bool count_may_grow) {
   if (cur.spec.effects.empty() && cur.spec.elements < 2) return;
   std::vector<std::pair<Effect, Effect>> alternatives;
   for (const auto& rd : rep.rounds)
@@ -284,11 +285,12 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
   ao.refit = o.refit;
   ao.refit.stage = "ablation";
   ao.min_size = o.min_size;
+  ao.count_may_grow = count_may_grow;
   AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao);
   rep.ablation = ab.table;
   const bool fewer_elements = std::any_of(ab.table.elements.begin(), ab.table.elements.end(),
                                           [](const ElementAblation& e) { return e.dropped; });
-  if (ab.table.dropped.empty() && !fewer_elements) {
+  if (ab.table.dropped.empty() && !fewer_elements && !ab.table.count_raised) {
     if (ab.model.rms_train < cur.rms_train && every == 1) cur = ab.model, cur_val = ab.rms_validation;
     rep.stages.back() = cur;
     return;
@@ -607,7 +609,7 @@ void credit(LoopState& s) {
   s.add_model_shares(at_final, s.cur, s.full());
   s.credit_floor = at_final.floor();
   credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor,
-                     s.every, s.o);
+                     s.every, s.o, s.base.elements == 0);
 }
 
 // The final shape to a minimum the optimum test can verify. A derivative-free search stops where

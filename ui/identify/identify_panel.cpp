@@ -246,10 +246,17 @@ void ablation_table(const ident::IdentReport& r) {
   const auto& a = r.ablation;
   if (!a.ran) return;
   ImGui::Text("Ablation: validation RMS %.4g N with all named effects (floor %.3g N)", a.rms_validation_all, a.floor);
-  tooltip("Each effect the rounds added is refitted out from the final shape with the same budget. It is named "
-          "only when the validation error without it is worse by more than the data resolve (block test over "
-          "time, z >= 3, or a rise of the MSE above the floor's variance), its contribution is at least half "
-          "the floor and the model without it stays above 1.15x the floor.");
+  tooltip(
+      "Each effect the rounds added is refitted out from the final shape with the same budget. It "
+      "is named "
+      "only when the validation error without it is worse by more than the data resolve (block "
+      "test over "
+      "time, z >= 3, or a rise of the MSE above the floor's variance), its contribution is at "
+      "least half "
+      "the floor and the model without it stays above 1.15x the floor. It is also refitted out "
+      "with one "
+      "element more: when that model does as well by the same test, one more element explains the "
+      "effect (alike: N+1 elements) and the data call for more elements.");
   const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
   if (!ImGui::BeginTable("ablation", 5, flags)) return;
   ImGui::TableSetupColumn("left out");
@@ -263,6 +270,8 @@ void ablation_table(const ident::IdentReport& r) {
     ImGui::TableNextColumn();
     std::string name(ident::effect_name(x.effect));
     for (auto e : x.alike) name += " (or " + std::string(ident::effect_name(e)) + ")";
+    if (x.explained_by_element)
+      name += " (alike: " + std::to_string(x.more_elements) + " elements)";
     if (x.credited) ImGui::TextUnformatted(name.c_str());
     else ImGui::TextDisabled("%s", name.c_str());
     ImGui::TableNextColumn();
@@ -516,8 +525,10 @@ void draw_identify_panel(IdentifyState& st, std::optional<Scenario>& plant_reque
                   r.rms_before_validation, r.rms_after_validation, r.rms_before_train,
                   r.rms_after_train);
     // Wrapped: the reason nothing was added can be longer than the column.
-    TextWrappedAtSpaces(rms +
-                        (added.empty() ? ident::nothing_added(r) : "effects added: " + added));
+    const std::string more = ident::more_elements_summary(r.ablation);
+    TextWrappedAtSpaces(
+        rms + (added.empty() ? ident::nothing_added(r)
+                             : "effects added: " + added + (more.empty() ? "" : "; " + more)));
     if (!r.optimum.verified) {
       ImGui::PushStyleColor(ImGuiCol_Text, red);
       TextWrappedAtSpaces("Not converged: " + r.optimum.reason + "; no standard errors");
