@@ -15,6 +15,7 @@
 #include "core/ident/loop_stages.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/sim/assembly.hpp"
+#include "tests/ident/own_trace.hpp"
 
 using namespace gmslab;
 using namespace gmslab::ident;
@@ -36,20 +37,7 @@ Record gms_record(unsigned seed) {
   sc.friction.set_scalar("Vs", 1e-3 * std::pow(2.0, U(rng)));
   sc.friction.set_scalar("C", 200.0 * Fc * std::pow(3.0, U(rng)));
   sc.friction.set_scalar("sigma2", 0.4 * Fc * std::pow(3.0, U(rng)));
-  AssemblySimulation sim = one_body_simulation(sc);
-  sim.run_to_end();
-  const Trace& tr = sim.one_body_trace();
-  double fmax = 0;
-  for (double f : tr.friction) fmax = std::max(fmax, std::abs(f));
-  std::normal_distribution<double> N(0.0, 1.0);
-  MeasuredRecord rec;
-  rec.source = "descend_test";
-  for (std::size_t i = 0; i < tr.size(); i += 20) {
-    rec.t.push_back(tr.t[i]);
-    rec.x.push_back(tr.x[i]);
-    rec.F.push_back(tr.friction[i] + 0.003 * fmax * N(rng));
-  }
-  auto [train, val] = split_holdout(prepare_dataset(rec));
+  auto [train, val] = own::own_records(sc, rng, "descend_test");
   Record r{std::move(train), std::move(val), {}};
   r.spec.model = sc.friction.model;
   r.spec.elements = sc.friction.elements.size();

@@ -17,9 +17,9 @@ struct OwnTraceFit {
 };
 
 // Simulates sc, keeps every 20th sample with noise of 0.3 % of the largest friction force (drawn
-// from rng), holds out a quarter for validation and identifies it with the scenario's model and
-// element count, base fit only (max_rounds 0).
-inline OwnTraceFit identify_own_trace(const Scenario& sc, std::mt19937& rng, const char* source) {
+// from rng), and holds out a quarter for validation: (training, validation).
+inline std::pair<Dataset, Dataset> own_records(const Scenario& sc, std::mt19937& rng,
+                                               const char* source) {
   AssemblySimulation sim = one_body_simulation(sc);
   sim.run_to_end();
   const Trace& tr = sim.one_body_trace();
@@ -33,7 +33,13 @@ inline OwnTraceFit identify_own_trace(const Scenario& sc, std::mt19937& rng, con
     rec.x.push_back(tr.x[i]);
     rec.F.push_back(tr.friction[i] + 0.003 * fmax * N(rng));
   }
-  auto [train, val] = split_holdout(prepare_dataset(rec));
+  return split_holdout(prepare_dataset(rec));
+}
+
+// The records of own_records identified with the scenario's model and element count, base fit
+// only (max_rounds 0).
+inline OwnTraceFit identify_own_trace(const Scenario& sc, std::mt19937& rng, const char* source) {
+  auto [train, val] = own_records(sc, rng, source);
   FitSpec spec;
   spec.model = sc.friction.model;
   spec.elements = sc.friction.elements.size();
