@@ -152,8 +152,8 @@ inline constexpr double kStribeckReachLimit = 0.01;
 struct OptimumCheck {
   bool verified = true;
   std::string reason;  // why not (empty when verified)
-  bool pinned =
-      false;  // a shape parameter ends at an end of its search range (the reason says which)
+  // A shape parameter ends at an end of its search range (the reason says which).
+  bool pinned = false;
 };
 
 struct ModelComparison {

@@ -617,14 +617,14 @@ void credit(LoopState& s) {
 // the sampled path that can be short of a minimum by a fraction of a percent, and the optimum test
 // (check_optimum: coordinate steps of 1e-3 of the unit box, the linear terms re-solved) then
 // withholds every standard error. A pattern search (Hooke and Jeeves) continues from there: each
-// coordinate stepped up, else down, a step kept when it lowers the training RMS; after a sweep
-// that moved, the same move is repeated from the new point while it keeps lowering the RMS (so a
-// ridge is followed in strides, not steps); a sweep that does not move halves the step, from
-// 8e-3 down to the optimum test's own 1e-3. Within a bounded budget; the model, its validation
-// RMS and the last stage follow when it moved. A fit with a shape parameter pinned at an end of
-// its range is left as it is, and the search stops where a coordinate reaches the upper end
-// (check_optimum then says the range binds). The effects and the element count are those the
-// credit decided.
+// coordinate stepped up, else down, a step kept when it lowers the training RMS by 1e-6
+// relative at least; after a sweep that moved, the same move is repeated from the new point while
+// it keeps lowering the RMS (so a ridge is followed in strides, not steps); a sweep that does not
+// move halves the step, from 8e-3 down to the optimum test's own 1e-3. Within a bounded budget; the
+// model, its validation RMS and the last stage follow when it moved. A fit with a shape parameter
+// pinned at an end of its range is left as it is, and the search stops where a coordinate reaches
+// the upper end (check_optimum then says the range binds). The effects and the element count are
+// those the credit decided.
 namespace {
 struct PatternSearch {
   std::function<double(const std::vector<double>&)> cost;
@@ -684,13 +684,14 @@ void descend_to_minimum(LoopState& s) {
   // Only a fit short of a minimum: at a pinned end the range binds, and sliding along the end
   // would only find a point the range shaped as much as the data.
   const OptimumCheck at = check_optimum(cur, full, s.c);
+  s.optimum = at;  // the test of cur, kept for the report while cur does not move
   if (at.verified || at.pinned) return;
   PatternSearch ps;
   ps.cost = [&](const std::vector<double>& u) {
     return refit_linear(cur.spec, full, s.c, u).rms_train;
   };
-  ps.budget = 100 * static_cast<int>(
-                        cur.u.size());  // about 50 sweeps; each evaluation one run along the record
+  // About 50 sweeps; each evaluation is one run along the record.
+  ps.budget = 100 * static_cast<int>(cur.u.size());
   std::vector<double> u = cur.u;
   double best = ps.cost(u);
   const double start = best;
@@ -698,6 +699,7 @@ void descend_to_minimum(LoopState& s) {
   if (!(best < start) || !(best < cur.rms_train)) return;
   FitResult f = refit_linear(cur.spec, full, s.c, u);
   f.evaluations = cur.evaluations + ps.evaluations + 1;
+  s.optimum.reset();
   cur = std::move(f);
   s.cur_val = rms_on(cur, s.val(), s.c);
   if (!s.rep.stages.empty()) s.rep.stages.back() = cur;
@@ -760,7 +762,7 @@ void finish_report(LoopState& s) {
     rep.rms_after_validation = rep.discovery.rms_validation_after;
   }
   rep.parameters = parameter_estimates(cur, full, c);
-  rep.optimum = check_optimum(cur, full, c);
+  rep.optimum = s.optimum ? *s.optimum : check_optimum(cur, full, c);
   withhold_errors(rep, cur, full);
   auto rv = residual(cur, val, c);
   if (found) {

@@ -11,6 +11,8 @@
 //   run_round          one round: screen the catalog, refit the best candidates, keep one
 //   final_refit        the final model refitted on all samples
 //   credit             credit by ablation (ablation.hpp): the effects and elements named
+//   descend_to_minimum a pattern search from a final shape the optimum test finds short of a
+//                      minimum (not from one pinned at an end of its range)
 //   discover_terms     terms beyond the catalog (discovery.hpp) when structure remains
 //   finish_report      parameter errors at a verified optimum, what the residual still holds
 //
@@ -50,6 +52,9 @@ struct LoopState {
   // Round 1's control refit (the base model with the refit budget), made ahead by the credit
   // bound (no_effect_creditable) when it did not skip the rounds.
   std::optional<FitResult> control;
+  // The optimum test of cur made by descend_to_minimum (cur has not moved since); finish_report
+  // uses it instead of testing again.
+  std::optional<OptimumCheck> optimum;
 
   // All training samples, on the path the loop decided on.
   const Dataset& full() const { return rep.fine_path ? train_fine : train_in; }
