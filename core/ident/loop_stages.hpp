@@ -11,6 +11,7 @@
 //   run_round          one round: screen the catalog, refit the best candidates, keep one
 //   final_refit        the final model refitted on all samples
 //   credit             credit by ablation (ablation.hpp): the effects and elements named
+//                      (with a count it raised, also the fit at that count from the data)
 //   descend_to_minimum a pattern search from a final shape the optimum test finds short of a
 //                      minimum (not from one pinned at an end of its range)
 //   discover_terms     terms beyond the catalog (discovery.hpp) when structure remains

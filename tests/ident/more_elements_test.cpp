@@ -5,16 +5,20 @@
 //   - TooFewElementsNameNoEffect: gmslab's own traces of GMS with K elements (K drawn in 2..5,
 //     the scalars drawn around the registry defaults, break-away displacements spread over the
 //     drive's reach), driven by three back-and-forth motions, noise-free and with 0.3 % noise,
-//     identified with N < K elements. No catalog effect may be named (5 of the 6 hold; the one
-//     that does not is named below); where an effect passed the
-//     other tests of the credit (what the credit named without this test), the report must say
-//     that more elements are called for (at least N + 1).
+//     identified with N < K elements. No catalog effect may be named (all but one of the six);
+//     where an effect passed the other tests of the credit (what the credit named without this
+//     test), the report must say that more elements are called for (at least N + 1).
 //   - RealEffectStillCredited: records of an independent GMS implementation
 //     (tests/ident/random_records.hpp) with one backlash, offset or velocity_extra of 1.5-50x the
 //     noise (log-uniform), identified with the generating element count: where the effect passes
 //     the other tests of the credit, one more element in its place must not explain it (>= 95 %
 //     of those), and no record may say the data call for more elements. How often the loop names
 //     the effect at all is printed (the rounds can miss a small one; that is not this test's).
+//   - ChosenCountTakesWhatTheDataCallFor: the records of the first test identified with the
+//     count left to the fit (--elements auto). No catalog effect may be named (all but one of
+//     the records); where one more element explained an effect, the model takes that count
+//     (count_raised) and the report says the count went up, never "identify with N elements". How
+//     often the final model's validation is within 1.5x the record's floor is printed.
 // Every case is counted and printed. The rule has no threshold of its own (it reuses the credit's
 // z >= 3, floor variance and 1.15x floor); the fig2c trace of the issue is where it was looked at.
 #include <gtest/gtest.h>
@@ -73,6 +77,9 @@ ModelParams draw_gms(std::size_t K, std::mt19937& rng) {
   const auto ia = static_cast<std::size_t>(model_info("gms").column_index("alpha"));
   const auto ik = static_cast<std::size_t>(model_info("gms").column_index("k"));
   std::vector<double> row = p.elements.front();
+  // No element micro-damping: the identified GMS has none (sigma_i fixed at 0,
+  // docs/identification.md), so the element count is the only thing the model lacks.
+  row[static_cast<std::size_t>(model_info("gms").column_index("sigma"))] = 0.0;
   p.elements.assign(K, row);
   for (std::size_t i = 0; i < K; ++i) {
     p.elements[i][ia] = a[i] / sum;
@@ -167,9 +174,8 @@ TEST(MoreElements, TooFewElementsNameNoEffect) {
       "the other tests on %d, more elements called for on %d (%.1f s)\n",
       cases, clean, rounds_added, passed_other, said, seconds_since(t0));
   EXPECT_EQ(cases, 6);
-  // One record of the six still names effects (drive 1, K 4, N 2, 0.3 % noise: position_dependent,
-  // velocity_extra and backlash after time_shift went to the third element; with four elements
-  // in their place the refits stay worse). docs/identification-credit.md says so.
+  // 6 of 6 on this seed; one record of six allowed: on tuning seed 9201 one names sensor_filter
+  // and backlash (docs/identification-credit.md, *Too few elements*).
   EXPECT_GE(clean, cases - 1);
   EXPECT_GE(said, 1) << "no record exercised the one-more-element test";
 }
@@ -226,4 +232,49 @@ TEST(MoreElements, RealEffectStillCredited) {
   EXPECT_EQ(cases, 6);
   EXPECT_GE(tested, 1) << "no real effect reached the one-more-element test";
   EXPECT_GE(kept, static_cast<int>(std::ceil(0.95 * tested)));
+}
+
+TEST(MoreElements, ChosenCountTakesWhatTheDataCallFor) {
+  std::mt19937 rng(9500);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int cases = 0, clean = 0, raised = 0, within = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 4; ++i) {
+    const std::size_t K = 2 + static_cast<std::size_t>(4 * U(rng) * 0.999999);
+    const double noise = i % 2 == 0 ? 0.0 : 0.003;
+    const Scenario sc = drive(i % 3, draw_gms(K, rng));
+    const auto [train, val] = own_records(sc, noise, rng);
+    FitSpec spec;
+    spec.elements = 0;  // --elements auto
+    const auto t1 = std::chrono::steady_clock::now();
+    const IdentReport r = identify(train, val, spec, LoopOptions{});
+    ++cases;
+    clean += r.effects_added.empty();
+    const std::string more = more_elements_summary(r.ablation);
+    const double ratio = r.remaining.rms_to_noise;  // validation RMS / the record's floor
+    const bool near = ratio <= 1.5;
+    within += near;
+    std::printf(
+        "drive %d, K %zu, noise %.1f %%: %zu elements, named %s; validation %.3g N = %.2fx the "
+        "floor; %s (%.1f s)\n",
+        i % 3, K, 100 * noise, r.elements, named(r).c_str(), r.rms_after_validation, ratio,
+        more.empty() ? nothing_added(r).c_str() : more.c_str(), seconds_since(t1));
+    for (const auto& nt : r.notes) std::printf("  note: %s\n", nt.c_str());
+    if (r.ablation.elements_called_for > 0) {
+      ++raised;
+      EXPECT_TRUE(r.ablation.count_raised) << "case " << i << ": the chosen count may grow";
+      EXPECT_NE(more.find("the element count went up to"), std::string::npos) << more;
+      EXPECT_EQ(more.find("--elements"), std::string::npos) << more;
+    }
+  }
+  std::printf(
+      "count chosen: %d records, nothing named on %d, the count went up on %d, validation within "
+      "1.5x the floor on %d (%.1f s)\n",
+      cases, clean, raised, within, seconds_since(t0));
+  EXPECT_EQ(cases, 4);
+  EXPECT_GE(clean, cases - 1);
+  EXPECT_GE(raised, 1) << "no record exercised the raised count";
+  // Not asserted: the validation within 1.5x the floor holds on 3 of 4 here but on 1 of 4 on each
+  // of seeds 9601 and 9602, where the chosen count stays below the generating one
+  // (docs/identification-credit.md, *Too few elements*).
 }
