@@ -543,6 +543,9 @@ bool no_effect_creditable(LoopState& s) {
   auto within = [&](double val) {
     return val >= floor && val * val - floor * floor < floor * floor;
   };
+  // A base fit that predicts the held-out record better than the floor shows the estimate too
+  // high (a sampling share through a base model that misses an effect): no bound then.
+  if (s.cur_val < floor) return false;
   if (!within(s.cur_val)) {
     // Far above the floor (5x, as the base-fit retry) a refit that only optimises will not reach
     // the bound, and round 1 makes its control refit only when an effect passes the gain.
