@@ -267,6 +267,20 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
   return out;
 }
 
+// A model fitted on the screened record, on all samples: one local search from its shape (the shape
+// is found; more samples move it a little), kept when it lowers the RMS on all samples; f's
+// training RMS is then the one on all samples.
+void polish_on_all_samples(FitResult& f, const Dataset& full, const EffectContext& c,
+                           const FitOptions& refit, const std::string& stage) {
+  FitOptions fo = refit;
+  fo.stage = stage;
+  fo.polish_only = true;
+  fo.rel_tol = 1e-5;
+  FitResult p = fit_model(f.spec, full, c, fo, &f.u);
+  f.rms_train = rms_on(f, full, c);
+  if (p.rms_train < f.rms_train) f = std::move(p);
+}
+
 // The named effects are those the ablation credits (ablation.hpp): refits without each, from the
 // final shape with the loop's refit budget, on the record the loop decided on; validation by the
 // block test. A dropped effect's gain goes to the refit: the model without it is the final one
@@ -296,15 +310,7 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
     return;
   }
   FitResult f = std::move(ab.model);
-  if (every > 1) {
-    FitOptions fo = o.refit;
-    fo.stage = "final refit of the credited model";
-    fo.polish_only = true;
-    fo.rel_tol = 1e-5;
-    FitResult p = fit_model(f.spec, full, c, fo, &f.u);
-    f.rms_train = rms_on(f, full, c);
-    if (p.rms_train < f.rms_train) f = std::move(p);
-  }
+  if (every > 1) polish_on_all_samples(f, full, c, o.refit, "final refit of the credited model");
   cur = std::move(f);
   cur_val = rms_on(cur, val, c);
   for (const auto& d : ab.table.dropped)
@@ -605,8 +611,6 @@ void final_refit(LoopState& s) {
   if (s.every == 1 && !rep.range_widened) widen_element_range(s, false);
 }
 
-// The floor the credit is judged against: noise, and the quantisation and sampling shares
-// through the final model (a base fit far from the data overstates the sampling share).
 // A count the credit raised (--elements auto: one more element explained an effect as well): the
 // ablation's refit at that count starts from the smaller model's shape with an element split off,
 // one local search, and can stay far from the data's minimum (gmslab's own two-element trace,
@@ -620,15 +624,8 @@ void refit_raised_count(LoopState& s) {
       "base fit with the raised count of " + std::to_string(s.cur.spec.elements) + " elements";
   FitResult f = fit_model(s.cur.spec, s.train(), s.c, fo);
   if (f.u.empty()) return;
-  if (s.every > 1) {
-    FitOptions po = s.o.refit;
-    po.stage = fo.stage + ", on all samples";
-    po.polish_only = true;
-    po.rel_tol = 1e-5;
-    f.rms_train = rms_on(f, s.full(), s.c);
-    FitResult p = fit_model(f.spec, s.full(), s.c, po, &f.u);
-    if (p.rms_train < f.rms_train) f = std::move(p);
-  }
+  if (s.every > 1)
+    polish_on_all_samples(f, s.full(), s.c, s.o.refit, fo.stage + ", on all samples");
   if (!(f.rms_train < s.cur.rms_train)) return;
   s.rep.notes.push_back("the fit with " + std::to_string(f.spec.elements) +
                         " elements from the data explains the training record better (RMS " +
@@ -639,6 +636,8 @@ void refit_raised_count(LoopState& s) {
   s.rep.stages.back() = s.cur;
 }
 
+// The floor the credit is judged against: noise, and the quantisation and sampling shares
+// through the final model (a base fit far from the data overstates the sampling share).
 void credit(LoopState& s) {
   NoiseEstimate at_final = s.noise_data;
   s.add_model_shares(at_final, s.cur, s.full());
