@@ -112,8 +112,10 @@ class AblationRun {
         c_(c),
         o_(o),
         warm_(final_fit.u),
-        fo_(serialised_progress(o.refit)) {
+        fo_(serialised_progress(o.refit)),
+        fd_(o.from_data) {
     fo_.data_start = false;
+    fd_.progress = fo_.progress;  // one lock for both
   }
 
   // Every refit starts from the final shape with the same options: a pure function of its inputs,
@@ -131,6 +133,17 @@ class AblationRun {
                       });
   }
 
+  // spec fitted from the data (the element grid, as a base fit with spec's count and effects).
+  std::future<Scored> from_data(FitSpec spec, std::string stage) const {
+    FitOptions f = fd_;
+    f.stage = std::move(stage);
+    return std::async(std::launch::async, [this, spec = std::move(spec), f = std::move(f)] {
+      FitResult fit = fit_model(spec, train_, c_, f);
+      if (fit.u.empty()) return Scored{};
+      return scored(std::move(fit));
+    });
+  }
+
   Scored scored(FitResult fit) const {
     Scored s;
     s.fit = std::move(fit);
@@ -142,10 +155,22 @@ class AblationRun {
   // The model every test is against: the refit with all effects, or the final fit where that is
   // better (same spec, the budget's own optimisation). The floor is an estimate: a model that
   // predicts the held-out record better shows it lower (as the loop's own guards take it).
+  // Where the final fit leaves more than from_data_above x the floor on validation, the model is
+  // also fitted from the data; the lowest training RMS of the three is the model, and its shape
+  // the warm start of every refit after.
   Scored start(const FitResult& final_fit, double floor_estimate) {
-    Scored cur = refit(final_fit.spec, "ablation: refit with all effects").get();
+    std::future<Scored> again = refit(final_fit.spec, "ablation: refit with all effects");
     Scored kept = scored(final_fit);
+    std::future<Scored> fresh;
+    if (kept.rms > o_.from_data_above * floor_estimate)
+      fresh = from_data(final_fit.spec, "ablation: the model with all effects from the data");
+    Scored cur = again.get();
     if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
+    if (fresh.valid()) {
+      Scored f = fresh.get();
+      if (!f.res.empty() && f.fit.rms_train < cur.fit.rms_train) cur = std::move(f);
+    }
+    warm_ = cur.fit.u;
     full_ = cur;
     floor_ = std::min(floor_estimate, full_.rms);
     return cur;
@@ -334,18 +359,26 @@ class AblationRun {
       if (u.empty()) break;
       FitSpec spec = cur.fit.spec;
       spec.elements -= 1;
-      FitOptions f = fo_;
-      f.stage = "ablation: " + std::to_string(spec.elements) + " elements";
-      Scored s = scored(fit_model(spec, train_, c_, f, &u));
+      const std::string n = std::to_string(spec.elements) + " elements";
+      std::future<Scored> fresh = from_data(spec, "ablation: " + n + " from the data");
+      Scored s = refit(spec, "ablation: " + n, &u).get();
+      Scored d = fresh.get();
+      if (!d.res.empty() && d.fit.spec.elements == spec.elements &&
+          (s.res.empty() || d.fit.rms_train < s.fit.rms_train))
+        s = std::move(d);
       ElementAblation e;
       e.elements = spec.elements;
       e.rms_validation_without = s.rms;
       e.test = block_test(val_, s.res, full_.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
-      e.dropped = !(resolvable(e.test, s.rms) && needed) && s.fit.spec.elements == spec.elements;
+      const bool unneeded = e.test.z < o_.z_drop && s.rms * s.rms - full_.rms * full_.rms < floor_ * floor_;
+      e.dropped = (unneeded || !needed) && s.fit.spec.elements == spec.elements;
+      const bool barely = !e.dropped && !(resolvable(e.test, s.rms) && needed);
       e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
                   std::to_string(spec.elements) + " elements validation " + fmt(s.rms) +
-                  " N against " + fmt(full_.rms) + " N, z = " + fmt(e.test.z);
+                  " N against " + fmt(full_.rms) + " N, z = " + fmt(e.test.z) +
+                  (barely ? " (the data barely resolve it: " + fmt(o_.z_drop) + " <= z < " + fmt(o_.z_crit) + ")"
+                          : std::string());
       table.elements.push_back(e);
       if (!e.dropped) return;
       cur = std::move(s);
@@ -381,8 +414,8 @@ class AblationRun {
   const Dataset& val_;
   const EffectContext& c_;
   const AblationOptions& o_;
-  const std::vector<double> warm_;
-  FitOptions fo_;
+  std::vector<double> warm_;
+  FitOptions fo_, fd_;
   Scored full_;
   double floor_ = 0;
 };

@@ -3,7 +3,11 @@
 //
 //   1. The final model (all effects E) and, for each e in E, the model without e are refitted from
 //      the same warm start (the final shape) with the same options and budget, so what a refit
-//      gains by optimisation alone counts for both.
+//      gains by optimisation alone counts for both. Where the final model leaves more than
+//      from_data_above x the floor on validation, it is also fitted from the data (as a base fit
+//      with its effects); the lower training RMS is the model every test is against. A shape
+//      short of the data's minimum makes every test against it weaker, by an amount that moves
+//      with the last bits of the data (which local minimum the loop's refits ended in).
 //   2. Block test on the validation record: the used samples are cut into B contiguous blocks
 //      (B = 20, fewer on short records: at least 20 samples a block); per block the mean of
 //      r_without^2 - r_all^2. With D the mean over the blocks and s their standard deviation,
@@ -38,9 +42,17 @@
 //      (the credited effects refitted with it from the final shape; the count is not changed
 //      silently), while with count_may_grow (--elements auto) the larger count is kept.
 //   6. The element count the same way: the lightest element is left out (the others keep their
-//      stiffness and share; fit.hpp: shape_without_element) and the model refitted; while the
-//      data do not resolve it (the test of 2), the count goes down. An element count found by
-//      thresholds on weights (the grid, the polish) then does not flip on the last bits.
+//      stiffness and share; fit.hpp: shape_without_element) and the model refitted, and the
+//      model with one element less is also fitted from the data (the element grid); the lower
+//      training RMS of the two is tested. While the data clearly do not need the element, the
+//      count goes down: the test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an
+//      MSE rise below the floor's variance, or a validation within near_floor x the floor. An
+//      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
+//      and a drop at the credit's own threshold follows which local minimum the refits ended in
+//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). An element count found by thresholds on weights (the grid, the
+//      polish) then does not flip on the last bits, nor does one found by a single refit ending in
+//      a local minimum (the warm start of one element less can end 2x the floor above the fit
+//      from the data).
 #pragma once
 
 #include <string>
@@ -103,7 +115,14 @@ struct Ablation {
 
 struct AblationOptions {
   FitOptions refit;           // the refits (warm start only: data_start is turned off)
+  // The fits from the data (the element grid, as a base fit with the spec given) that 1 and 6 run
+  // beside the warm-started refit, keeping the one with the lower training RMS.
+  FitOptions from_data;
+  // 1 runs the fit from the data when the refit with all effects leaves more than this x the
+  // floor on validation (a shape short of the data's minimum) [-].
+  double from_data_above = 1.2;
   double z_crit = 3.0;        // block-test threshold [-]
+  double z_drop = 2.0;        // an element is dropped only below this z (6 above) [-]
   double min_size = 0.5;      // contribution / floor below which an effect is not credited [-]
   double near_floor = 1.15;   // validation RMS without the effect / floor at or below which the
                               // effect is not needed [-]

@@ -298,6 +298,7 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
   AblationOptions ao;
   ao.refit = o.refit;
   ao.refit.stage = "ablation";
+  ao.from_data = o.base;
   ao.min_size = o.min_size;
   ao.count_may_grow = count_may_grow;
   AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao);
