@@ -344,6 +344,10 @@ class AblationRun {
 
   // The element count: the lightest element left out while the data do not resolve it.
   void drop_elements(Scored& cur, Ablation& table) const {
+    // Against the model with the credited effects and all elements: an effect not credited must
+    // not keep an element by the gain it was refused for, and drops each below the resolution
+    // must not add up to one the data resolve.
+    const Scored ref = cur;
     const ModelInfo& info = model_info(cur.fit.spec.model);
     const auto alpha = info.column_index("alpha");
     while (alpha >= 0 && cur.fit.spec.elements >= 2) {
@@ -369,15 +373,17 @@ class AblationRun {
       ElementAblation e;
       e.elements = spec.elements;
       e.rms_validation_without = s.rms;
-      e.test = block_test(val_, s.res, full_.res, o_.blocks);
+      e.test = block_test(val_, s.res, ref.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
-      const bool unneeded = e.test.z < o_.z_drop && s.rms * s.rms - full_.rms * full_.rms < floor_ * floor_;
+      const bool unneeded =
+          e.test.z < o_.z_drop && s.rms * s.rms - ref.rms * ref.rms < floor_ * floor_;
       e.dropped = (unneeded || !needed) && s.fit.spec.elements == spec.elements;
-      const bool barely = !e.dropped && !(resolvable(e.test, s.rms) && needed);
+      const bool barely = !e.dropped && !(resolvable(e.test, s.rms, ref.rms) && needed);
       e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
                   std::to_string(spec.elements) + " elements validation " + fmt(s.rms) +
-                  " N against " + fmt(full_.rms) + " N, z = " + fmt(e.test.z) +
-                  (barely ? " (the data barely resolve it: " + fmt(o_.z_drop) + " <= z < " + fmt(o_.z_crit) + ")"
+                  " N against " + fmt(ref.rms) + " N, z = " + fmt(e.test.z) +
+                  (barely ? " (the data barely resolve it: " + fmt(o_.z_drop) + " <= z < " +
+                                fmt(o_.z_crit) + ")"
                           : std::string());
       table.elements.push_back(e);
       if (!e.dropped) return;

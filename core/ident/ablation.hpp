@@ -44,15 +44,17 @@
 //   6. The element count the same way: the lightest element is left out (the others keep their
 //      stiffness and share; fit.hpp: shape_without_element) and the model refitted, and the
 //      model with one element less is also fitted from the data (the element grid); the lower
-//      training RMS of the two is tested. While the data clearly do not need the element, the
-//      count goes down: the test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an
+//      training RMS of the two is tested, against the model with the credited effects and all
+//      elements (not one with effects that were not credited: their refused gain must not keep
+//      an element). While the data clearly do not need the element, the count goes down: the
+//      test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an
 //      MSE rise below the floor's variance, or a validation within near_floor x the floor. An
 //      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
 //      and a drop at the credit's own threshold follows which local minimum the refits ended in
-//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). An element count found by thresholds on weights (the grid, the
-//      polish) then does not flip on the last bits, nor does one found by a single refit ending in
-//      a local minimum (the warm start of one element less can end 2x the floor above the fit
-//      from the data).
+//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). An element
+//      count found by thresholds on weights (the grid, the polish) then does not flip on the last
+//      bits, nor does one found by a single refit ending in a local minimum (the warm start of one
+//      element less can end 2x the floor above the fit from the data).
 #pragma once
 
 #include <string>
