@@ -368,7 +368,7 @@ class AblationRun {
       Scored s = refit(spec, "ablation: " + n, &u).get();
       Scored d = fresh.get();
       if (!d.res.empty() && d.fit.spec.elements == spec.elements &&
-          (s.res.empty() || d.fit.rms_train < s.fit.rms_train))
+          d.fit.rms_train < s.fit.rms_train)
         s = std::move(d);
       ElementAblation e;
       e.elements = spec.elements;

@@ -51,10 +51,10 @@
 //      MSE rise below the floor's variance, or a validation within near_floor x the floor. An
 //      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
 //      and a drop at the credit's own threshold follows which local minimum the refits ended in
-//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). An element
-//      count found by thresholds on weights (the grid, the polish) then does not flip on the last
-//      bits, nor does one found by a single refit ending in a local minimum (the warm start of one
-//      element less can end 2x the floor above the fit from the data).
+//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). The count then
+//      follows neither thresholds on weights (the grid, the polish) nor a single refit ending in
+//      a local minimum (the warm start of one element less can end 2x the floor above the fit
+//      from the data); an element at z near z_drop can still move with the last bits.
 #pragma once
 
 #include <string>
@@ -120,8 +120,8 @@ struct AblationOptions {
   // The fits from the data (the element grid, as a base fit with the spec given) that 1 and 6 run
   // beside the warm-started refit, keeping the one with the lower training RMS.
   FitOptions from_data;
-  // 1 runs the fit from the data when the refit with all effects leaves more than this x the
-  // floor on validation (a shape short of the data's minimum) [-].
+  // 1 runs the fit from the data when the final fit leaves more than this x the floor on
+  // validation (a shape short of the data's minimum) [-].
   double from_data_above = 1.2;
   double z_crit = 3.0;        // block-test threshold [-]
   double z_drop = 2.0;        // an element is dropped only below this z (6 above) [-]
