@@ -4,7 +4,11 @@
 //   - with the baseline (SSE2) variants of the vectorised loops instead of AVX2 and the vector
 //     element loop instead of the scalar one (the element step and the ripple periodogram sum in
 //     another order: what a machine without AVX2 computes, and the other element path),
-// as on the record as it is. Each record is its own test (CTest runs them side by side).
+// as on the record as it is. Each record is its own test (CTest runs them side by side). Four of
+// the eleven records run here (three identifications each): an effect-free one and the three
+// whose answer sat closest to a threshold of the credit (docs/identification-credit.md: a
+// position ripple's fourth element near z = 3; two two-effect records whose element drop was
+// decided near the line). IdentStudy runs all eleven once.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -67,6 +71,7 @@ class LoopStability : public ::testing::TestWithParam<std::size_t> {};
 TEST_P(LoopStability, AnswerStaysUnderLastBitChanges) {
   static const std::vector<study::Case> cases = study::ci_cases();
   ASSERT_LT(GetParam(), cases.size());
+  std::printf("record %zu of the CI study records\n", GetParam());
   const study::Record rec = study::make_record(cases[GetParam()]);
   const Answer as_is = identify_record(rec, false);
   const Answer perturbed = identify_record(rec, true);
@@ -89,8 +94,10 @@ TEST_P(LoopStability, AnswerStaysUnderLastBitChanges) {
   EXPECT_EQ(baseline.elements, as_is.elements) << "seed " << cases[GetParam()].seed;
 }
 
-// 3 effect-free, 5 one-effect and 3 two-effect records (study_cases.hpp: ci_cases).
-INSTANTIATE_TEST_SUITE_P(CiStudyRecords, LoopStability, ::testing::Range<std::size_t>(0, 11));
+// Of the 3 effect-free (0-2), 5 one-effect (3-7) and 3 two-effect (8-10) records of
+// study_cases.hpp (ci_cases): 1 (seed 1001), 7 (2006, position ripple), 8 (3001, offset and
+// time shift) and 9 (3002, inertia and direction asymmetry).
+INSTANTIATE_TEST_SUITE_P(CiStudyRecords, LoopStability, ::testing::Values<std::size_t>(1, 7, 8, 9));
 
 TEST(LoopStability, CiCasesAreElevenRecords) {
   const auto cases = study::ci_cases();
