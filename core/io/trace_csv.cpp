@@ -106,14 +106,13 @@ struct CsvChunk {
   std::size_t room = 0, used = 0, formatted = 0;
   RowTexts texts{0};  // of the rows formatted so far (by whichever thread)
 
-  // Takes the samples of `tr` (its memory reused chunk after chunk), none formatted yet.
-  void take(const Trace& tr, std::size_t ne) {
-    samples.t = tr.t, samples.x = tr.x, samples.v = tr.v, samples.friction = tr.friction;
-    samples.applied = tr.applied, samples.element_force = tr.element_force;
-    samples.element_slip = tr.element_slip;
+  // Takes the samples `sim` recorded (exchanged with this chunk's former ones, whose memory the
+  // simulation records into next: nothing is copied), none formatted yet.
+  void take(AssemblySimulation& sim, std::size_t ne) {
+    sim.hand_over_one_body_trace(samples);
     used = formatted = 0;
     texts = RowTexts(ne);
-    const std::size_t need = tr.size() * row_room(ne);
+    const std::size_t need = samples.size() * row_room(ne);
     if (room < need) {  // uninitialised: only the pages written are ever touched
       text.reset(new char[need]);
       room = need;
@@ -148,8 +147,7 @@ std::size_t stream_trace_csv(const Scenario& scenario, const std::function<void(
   std::size_t written = 0;
   CsvChunk next;
   auto hand_over = [&] {
-    next.take(sim.one_body_trace(), ne);
-    sim.clear_trace();
+    next.take(sim, ne);
     written += next.samples.size();
     const auto fill = [&](CsvChunk& slot) { std::swap(slot, next); };
     constexpr std::size_t kRowsPerTry = 256;  // rows formatted here between looks at the slot

@@ -202,6 +202,22 @@ class AssemblySimulation {
     trace_.clear();
     body_trace_.clear();
   }
+  // The one-body samples recorded so far go to `out` (its sample columns and theirs are
+  // exchanged, n_elements set) and the trace records on into out's former columns, emptied:
+  // clear_trace() for a streaming consumer that reuses its chunks' memory instead of copying.
+  void hand_over_one_body_trace(Trace& out) {
+    out.clear();
+    out.t.reserve(body_trace_.t.capacity());  // the room reserved at reset, kept chunk after chunk
+    out.x.reserve(body_trace_.x.capacity());
+    out.v.reserve(body_trace_.v.capacity());
+    out.friction.reserve(body_trace_.friction.capacity());
+    out.applied.reserve(body_trace_.applied.capacity());
+    out.element_force.reserve(body_trace_.element_force.capacity());
+    out.element_slip.reserve(body_trace_.element_slip.capacity());
+    body_trace_.swap_samples(out);
+    out.n_elements = body_trace_.n_elements;
+    clear_trace();
+  }
   // Integration steps per bucket of a compacted trace; 0 while every recorded sample is kept.
   std::uint64_t trace_bucket_steps() const { return bucket_steps_; }
   std::size_t trace_max_samples() const { return max_samples_; }

@@ -42,6 +42,16 @@ void Trace::clear() {
   ++revision;
 }
 
+void Trace::swap_samples(Trace& o) noexcept {
+  t.swap(o.t);
+  x.swap(o.x);
+  v.swap(o.v);
+  friction.swap(o.friction);
+  applied.swap(o.applied);
+  element_force.swap(o.element_force);
+  element_slip.swap(o.element_slip);
+}
+
 void check_scenario(const Scenario& s) {
   std::vector<std::string> bad = validate(s.friction, "friction");
   auto need = [&](bool ok, const std::string& what) {

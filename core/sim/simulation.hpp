@@ -36,6 +36,8 @@ struct Trace {
 
   std::size_t size() const { return t.size(); }
   void clear();
+  // Exchanges the sample columns (t .. element_slip) with o's; n_elements and revision stay.
+  void swap_samples(Trace& o) noexcept;
 };
 
 // How a simulation keeps its trace.

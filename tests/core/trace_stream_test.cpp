@@ -83,6 +83,36 @@ TEST(TraceStream, StreamedCsvHasTheSameBytesAsTheWholeTraceInPrintfFormat) {
   }
 }
 
+// hand_over_one_body_trace: the chunks a streaming consumer takes, put together, are the samples
+// of the whole run, and the run records on into the memory the consumer handed back.
+TEST(TraceStream, HandedOverChunksMakeTheWholeTrace) {
+  const Scenario sc = load_scenario(test_util::preset_path("fig4_stick_slip.json"));
+  const Trace whole = simulate(sc);
+  AssemblySimulation sim =
+      one_body_simulation(sc, TraceOptions{.max_bytes = 0, .reserve_samples = 1002});
+  Trace joined, chunk;
+  std::size_t chunks = 0;
+  while (!sim.finished()) {
+    sim.advance(1000 * static_cast<std::size_t>(sc.run.record_every));
+    sim.hand_over_one_body_trace(chunk);
+    EXPECT_EQ(sim.one_body_trace().size(), 0u);
+    EXPECT_EQ(chunk.n_elements, whole.n_elements);
+    ++chunks;
+    auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    add(joined.t, chunk.t), add(joined.x, chunk.x), add(joined.v, chunk.v);
+    add(joined.friction, chunk.friction), add(joined.applied, chunk.applied);
+    add(joined.element_force, chunk.element_force), add(joined.element_slip, chunk.element_slip);
+  }
+  EXPECT_GT(chunks, 100u);  // 250001 samples in chunks of 1000
+  EXPECT_EQ(joined.t, whole.t);
+  EXPECT_EQ(joined.x, whole.x);
+  EXPECT_EQ(joined.v, whole.v);
+  EXPECT_EQ(joined.friction, whole.friction);
+  EXPECT_EQ(joined.applied, whole.applied);
+  EXPECT_EQ(joined.element_force, whole.element_force);
+  EXPECT_EQ(joined.element_slip, whole.element_slip);
+}
+
 // A sink slower than the simulation: the calling thread then formats rows of the chunks waiting
 // for the writer (the split between the threads differs from chunk to chunk), and the text is still
 // printf's, every row once and in order.
