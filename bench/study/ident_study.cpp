@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -119,8 +120,11 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 }
 
 // The residual loop on records with no effect, one catalog effect (2..10 x the noise) or two.
+// With `only` set, every record has that one effect instead, its size log-uniform over 1.5..50 x
+// the noise, and the generator's parameter for that size is printed (param / Fs for dwell
+// stiction: the break-away rise per unit ln(1 + T_rest / 0.1 s)).
 int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const std::string& report_dir,
-             std::size_t screen) {
+             std::size_t screen, std::optional<GenEffect> only) {
   const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
                            GenEffect::PositionRipple, GenEffect::PositionDependent,
                            GenEffect::TimeDrift, GenEffect::VelocityExtra, GenEffect::NormalLoad};
@@ -132,11 +136,17 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
     Truth tr = draw_truth(seed);
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    const int kind = i % 3;  // 0: none, 1: one effect, 2: two effects
+    const int kind = only ? 1 : i % 3;  // 0: none, 1: one effect, 2: two effects
     const std::size_t ne = sizeof one / sizeof one[0];
-    if (kind >= 1) tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
+    if (only) tr.effects.push_back({*only, 1.5 * std::pow(50.0 / 1.5, U(rng))});
+    else if (kind >= 1) tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
     if (kind == 2) tr.effects.push_back({one[(i / 3 + 3) % ne], 2.0 + 8.0 * U(rng)});
     auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
+    if (only) {
+      const auto& e = tr.effects.front();
+      std::printf("%-4u %s of %.1fx the noise: generator parameter %.4g (%.3g Fs)\n", seed, gen_effect_name(e.kind),
+                  e.size, e.param, e.param / tr.Fs);
+    }
     const Dataset train = prepare_dataset(g_train.record), val = prepare_dataset(g_val.record);
     const double floor = floor_rms(tr, g_val);
     const auto t0 = std::chrono::steady_clock::now();
@@ -470,12 +480,26 @@ int main(int argc, char** argv) {
                  "loop, coverage: write each record's report JSON into this folder");
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
+  std::string effect;
+  app.add_option("--effect", effect,
+                 "loop: every record has this one generated effect (its catalog name, e.g. dwell_stiction), "
+                 "1.5-50x the noise");
   CLI11_PARSE(app, argc, argv);
+  std::optional<GenEffect> only;
+  if (!effect.empty()) {
+    for (int k = 0; k <= static_cast<int>(GenEffect::Backlash); ++k)
+      if (effect == gen_effect_name(static_cast<GenEffect>(k))) only = static_cast<GenEffect>(k);
+    if (!only) {
+      std::fprintf(stderr, "--effect %s: not a generated effect (e.g. dwell_stiction, backlash, inertia)\n",
+                   effect.c_str());
+      return 2;
+    }
+  }
   if (mode == "coverage") return run_coverage(records, seed, samples, report_dir);
   if (mode == "cycles") return run_cycles(records, seed);
   if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "registry")
     return run_registry(records, seed, samples, GMSLAB_SOURCE_DIR "/presets", detail, preset);
   if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
-  return run_loop(records, seed, samples, skip, report_dir, screen);
+  return run_loop(records, seed, samples, skip, report_dir, screen, only);
 }
