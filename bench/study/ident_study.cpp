@@ -4,6 +4,7 @@
 //
 //   gmslab_study base    [--records 50] [--seed 1] [--samples 6000]   base fit, no effect
 //   gmslab_study loop    [--records 50] ...   the residual loop on records with 0, 1 or 2 effects
+//                        (--effect NAME: each record with that one generated effect, 1.5-50x)
 //   gmslab_study coverage [--records 100]   the standard errors: random records with an offset
 //                        (even seeds) or an inertia (odd seeds), 2-10x the noise; how often the
 //                        truth lies within +-2 sigma of the estimate (Fc, and the effect's F0 or
