@@ -122,8 +122,9 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 
 // The residual loop on records with no effect, one catalog effect (2..10 x the noise) or two.
 // With `only` set, every record has that one effect instead, its size log-uniform over 1.5..50 x
-// the noise, and the generator's parameter for that size is printed (param / Fs for dwell
-// stiction: the break-away rise per unit ln(1 + T_rest / 0.1 s)).
+// the noise, and the generator's parameter for that size is printed (random_records.hpp: a
+// backlash in m, a time shift in s, ...; for dwell stiction also over Fs: the break-away rise per
+// unit ln(1 + T_rest / 0.1 s)).
 int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const std::string& report_dir,
              std::size_t screen, std::optional<GenEffect> only) {
   const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
@@ -145,8 +146,10 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
     auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
     if (only) {
       const auto& e = tr.effects.front();
-      std::printf("%-4u %s of %.1fx the noise: generator parameter %.4g (%.3g Fs)\n", seed, gen_effect_name(e.kind),
-                  e.size, e.param, e.param / tr.Fs);
+      std::printf("%-4u %s of %.1fx the noise: generator parameter %.4g", seed, gen_effect_name(e.kind), e.size,
+                  e.param);
+      if (e.kind == GenEffect::DwellStiction) std::printf(" (%.3g Fs)", e.param / tr.Fs);
+      std::printf("\n");
     }
     const Dataset train = prepare_dataset(g_train.record), val = prepare_dataset(g_val.record);
     const double floor = floor_rms(tr, g_val);
