@@ -125,8 +125,8 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 // the noise, and the generator's parameter for that size is printed (random_records.hpp: a
 // backlash in m, a time shift in s, ...; for dwell stiction also over Fs: the break-away rise per
 // unit ln(1 + T_rest / 0.1 s)).
-int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const std::string& report_dir,
-             std::size_t screen, std::optional<GenEffect> only) {
+int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
+             const std::string& report_dir, std::size_t screen, std::optional<GenEffect> only) {
   const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
                            GenEffect::PositionRipple, GenEffect::PositionDependent,
                            GenEffect::TimeDrift, GenEffect::VelocityExtra, GenEffect::NormalLoad};
@@ -140,14 +140,16 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
     std::uniform_real_distribution<double> U(0.0, 1.0);
     const int kind = only ? 1 : i % 3;  // 0: none, 1: one effect, 2: two effects
     const std::size_t ne = sizeof one / sizeof one[0];
-    if (only) tr.effects.push_back({*only, 1.5 * std::pow(50.0 / 1.5, U(rng))});
-    else if (kind >= 1) tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
+    if (only)
+      tr.effects.push_back({*only, 1.5 * std::pow(50.0 / 1.5, U(rng))});
+    else if (kind >= 1)
+      tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
     if (kind == 2) tr.effects.push_back({one[(i / 3 + 3) % ne], 2.0 + 8.0 * U(rng)});
     auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
     if (only) {
       const auto& e = tr.effects.front();
-      std::printf("%-4u %s of %.1fx the noise: generator parameter %.4g", seed, gen_effect_name(e.kind), e.size,
-                  e.param);
+      std::printf("%-4u %s of %.1fx the noise: generator parameter %.4g", seed,
+                  gen_effect_name(e.kind), e.size, e.param);
       if (e.kind == GenEffect::DwellStiction) std::printf(" (%.3g Fs)", e.param / tr.Fs);
       std::printf("\n");
     }
@@ -189,7 +191,6 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip, const s
               ok0, n0, ok1, n1, ok2, n2, floor_ok, records, total_s / records);
   return 0;
 }
-
 
 // Coverage of the standard errors: is the truth within +-2 sigma of the estimate?
 int run_coverage(int records, unsigned seed0, std::size_t samples, const std::string& report_dir) {
@@ -485,16 +486,18 @@ int main(int argc, char** argv) {
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
   std::string effect;
-  app.add_option("--effect", effect,
-                 "loop: every record has this one generated effect (its catalog name, e.g. dwell_stiction), "
-                 "1.5-50x the noise");
+  app.add_option(
+      "--effect", effect,
+      "loop: every record has this one generated effect (its catalog name, e.g. dwell_stiction), "
+      "1.5-50x the noise");
   CLI11_PARSE(app, argc, argv);
   std::optional<GenEffect> only;
   if (!effect.empty()) {
     for (int k = 0; k <= static_cast<int>(GenEffect::Backlash); ++k)
       if (effect == gen_effect_name(static_cast<GenEffect>(k))) only = static_cast<GenEffect>(k);
     if (!only) {
-      std::fprintf(stderr, "--effect %s: not a generated effect (e.g. dwell_stiction, backlash, inertia)\n",
+      std::fprintf(stderr,
+                   "--effect %s: not a generated effect (e.g. dwell_stiction, backlash, inertia)\n",
                    effect.c_str());
       return 2;
     }
