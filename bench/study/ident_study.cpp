@@ -493,12 +493,19 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   std::optional<GenEffect> only;
   if (!effect.empty()) {
-    for (int k = 0; k <= static_cast<int>(GenEffect::Backlash); ++k)
-      if (effect == gen_effect_name(static_cast<GenEffect>(k))) only = static_cast<GenEffect>(k);
+    std::string names;
+    for (int k = 0; k <= static_cast<int>(GenEffect::Backlash); ++k) {
+      const char* name = gen_effect_name(static_cast<GenEffect>(k));
+      names += std::string(names.empty() ? "" : ", ") + name;
+      if (effect == name) only = static_cast<GenEffect>(k);
+    }
     if (!only) {
-      std::fprintf(stderr,
-                   "--effect %s: not a generated effect (e.g. dwell_stiction, backlash, inertia)\n",
-                   effect.c_str());
+      std::fprintf(stderr, "--effect %s: not a generated effect; one of: %s\n", effect.c_str(),
+                   names.c_str());
+      return 2;
+    }
+    if (mode != "loop") {
+      std::fprintf(stderr, "--effect is for the loop mode only (mode %s)\n", mode.c_str());
       return 2;
     }
   }

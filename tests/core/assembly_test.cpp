@@ -20,6 +20,7 @@
 #include "core/io/atomic_file.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/sim/simulation.hpp"
+#include "test_util.hpp"
 
 namespace gmslab {
 namespace {
@@ -151,13 +152,7 @@ TEST(Assembly, OneStepAtATimeGivesTheSameTraceForEveryElementCount) {
       const Trace& a = blocks.one_body_trace();
       const Trace& b = steps.one_body_trace();
       ASSERT_EQ(a.size(), b.size());
-      EXPECT_EQ(a.t, b.t);
-      EXPECT_EQ(a.x, b.x);
-      EXPECT_EQ(a.v, b.v);
-      EXPECT_EQ(a.friction, b.friction);
-      EXPECT_EQ(a.applied, b.applied);
-      EXPECT_EQ(a.element_force, b.element_force);
-      EXPECT_EQ(a.element_slip, b.element_slip);
+      test_util::expect_same_samples(a, b);
       EXPECT_EQ(blocks.state_vector(), steps.state_vector());
       // The run slides as well as sticks: both branches of the element update are in it.
       EXPECT_NE(std::find(a.element_slip.begin(), a.element_slip.end(), 1), a.element_slip.end());

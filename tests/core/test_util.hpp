@@ -1,11 +1,13 @@
 // Helpers shared by the core tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <string>
 
-#include "core/io/scenario_io.hpp"
 #include "core/friction/gms.hpp"
+#include "core/io/scenario_io.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace gmslab::test_util {
@@ -37,6 +39,17 @@ inline double at_time(const Trace& tr, const std::vector<double>& col, double t)
   for (std::size_t k = 0; k < tr.size(); ++k)
     if (std::abs(tr.t[k] - t) < std::abs(tr.t[best] - t)) best = k;
   return col[best];
+}
+
+// Every sample column of a equals b's, value for value (element columns included).
+inline void expect_same_samples(const Trace& a, const Trace& b) {
+  EXPECT_EQ(a.t, b.t);
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.v, b.v);
+  EXPECT_EQ(a.friction, b.friction);
+  EXPECT_EQ(a.applied, b.applied);
+  EXPECT_EQ(a.element_force, b.element_force);
+  EXPECT_EQ(a.element_slip, b.element_slip);
 }
 
 }  // namespace gmslab::test_util

@@ -104,13 +104,7 @@ TEST(TraceStream, HandedOverChunksMakeTheWholeTrace) {
     add(joined.element_force, chunk.element_force), add(joined.element_slip, chunk.element_slip);
   }
   EXPECT_GT(chunks, 100u);  // 250001 samples in chunks of 1000
-  EXPECT_EQ(joined.t, whole.t);
-  EXPECT_EQ(joined.x, whole.x);
-  EXPECT_EQ(joined.v, whole.v);
-  EXPECT_EQ(joined.friction, whole.friction);
-  EXPECT_EQ(joined.applied, whole.applied);
-  EXPECT_EQ(joined.element_force, whole.element_force);
-  EXPECT_EQ(joined.element_slip, whole.element_slip);
+  test_util::expect_same_samples(joined, whole);
 }
 
 // A sink slower than the simulation: the calling thread then formats rows of the chunks waiting
