@@ -43,6 +43,7 @@
 #include "core/sim/simulation.hpp"
 #include "tests/control/random_loops.hpp"
 #include "tests/ident/random_records.hpp"
+#include "tests/ident/study_cases.hpp"
 
 using namespace gmslab;
 using namespace gmslab::ident;
@@ -201,13 +202,11 @@ int run_coverage(int records, unsigned seed0, std::size_t samples, const std::st
               "std err", "|d|/se", "s");
   for (int i = 0; i < records; ++i) {
     const unsigned seed = seed0 + static_cast<unsigned>(i);
-    Truth tr = draw_truth(seed);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(0.0, 1.0);
-    const GenEffect kind = seed % 2 == 0 ? GenEffect::Offset : GenEffect::Inertia;
-    tr.effects.push_back({kind, 2.0 + 8.0 * U(rng)});
-    auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
-    const Dataset train = prepare_dataset(g_train.record), val = prepare_dataset(g_val.record);
+    const study::CoverageRecord cr = study::coverage_record(seed, samples);
+    const Truth& tr = cr.truth;
+    const GenEffect kind = cr.kind;
+    const Dataset train = prepare_dataset(cr.train.record),
+                  val = prepare_dataset(cr.validation.record);
     FitSpec spec;
     spec.elements = tr.elements();
     const auto t0 = std::chrono::steady_clock::now();
@@ -244,8 +243,9 @@ int run_coverage(int records, unsigned seed0, std::size_t samples, const std::st
       }
       const double z = std::abs(pe->value - w.truth) / pe->std_error;
       c.covered += z <= 2.0;
-      std::printf("%-6u %-8s %-10s %12.4g %12.4g %10.3g %8.2f %6.2f%s\n", seed, effect.substr(0, 8).c_str(),
-                  w.name.c_str(), w.truth, pe->value, pe->std_error, z, s, z <= 2.0 ? "" : "  <-- outside 2 sigma");
+      std::printf("%-6u %-8s %-10s %12.4g %12.4g %10.3g %8.2f %6.2f  (path share %.3g)%s\n", seed,
+                  effect.substr(0, 8).c_str(), w.name.c_str(), w.truth, pe->value, pe->std_error, z,
+                  s, pe->path_error, z <= 2.0 ? "" : "  <-- outside 2 sigma");
     }
     std::fflush(stdout);
   }

@@ -117,6 +117,32 @@ std::vector<double> local_derivative(const std::vector<double>& t, const std::ve
   return s;
 }
 
+std::vector<double> local_second_derivative(const std::vector<double>& t,
+                                            const std::vector<double>& y, int w) {
+  const auto n = static_cast<std::ptrdiff_t>(t.size());
+  const std::ptrdiff_t half = std::max(w, 2);
+  if (n < 2 * half + 1) return local_slope(t, local_derivative(t, y, w), w);
+  std::vector<double> s(t.size(), 0.0);
+  using Vec5 = Eigen::Matrix<double, 5, 1>;
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const std::ptrdiff_t lo = std::clamp<std::ptrdiff_t>(k - half, 0, n - 1 - 2 * half);
+    const std::ptrdiff_t hi = lo + 2 * half;
+    const double scale = std::max(std::abs(t[hi] - t[k]), std::abs(t[lo] - t[k]));
+    if (!(scale > 0)) continue;
+    Eigen::Matrix<double, 5, 5> G = Eigen::Matrix<double, 5, 5>::Zero();
+    Vec5 b = Vec5::Zero();
+    for (auto j = lo; j <= hi; ++j) {
+      const double u = (t[j] - t[k]) / scale, u2 = u * u;
+      const Vec5 p(1.0, u, u2, u2 * u, u2 * u2);
+      G.noalias() += p * p.transpose();
+      b.noalias() += p * (y[j] - y[k]);
+    }
+    const Vec5 c = G.ldlt().solve(b);
+    s[k] = std::isfinite(c(2)) ? 2.0 * c(2) / (scale * scale) : 0.0;
+  }
+  return s;
+}
+
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w) {
   const auto n = static_cast<std::ptrdiff_t>(t.size());
   std::vector<double> s(t.size(), 0.0);
@@ -218,7 +244,7 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
   d.has_v = !r.v.empty();
   const std::size_t n = r.size();
   d.v = d.has_v ? r.v : local_derivative(d.t, d.x, 3);
-  d.a = local_slope(d.t, d.v, 3);
+  d.a = d.has_v ? local_slope(d.t, d.v, 3) : local_second_derivative(d.t, d.x, 4);
   d.h.assign(n, 0.0);
   d.vstep.assign(n, 0.0);
   for (std::size_t k = 1; k < n; ++k) {

@@ -4,7 +4,8 @@
 // needs, all on the record's own (possibly non-uniform) time grid:
 //   v[k]      velocity [m/s]: the file's v, or the derivative of a local least-squares cubic in x
 //             over +-3 samples
-//   a[k]      acceleration [m/s^2]: local least-squares slope of v over +-3 samples
+//   a[k]      acceleration [m/s^2]: second derivative of a local least-squares quartic in x over
+//             +-4 samples (local_second_derivative); with a file's v, the local slope of v over +-3
 //   h[k]      step t[k] - t[k-1] [s] (h[0] = 0)
 //   vstep[k]  velocity frozen over the step k-1 -> k [m/s]: (x[k] - x[k-1]) / h[k], with or without
 //             a velocity column (the prescribed motion of FrictionModel::step moves by the
@@ -136,5 +137,12 @@ std::vector<double> local_slope(const std::vector<double>& t, const std::vector<
 // (shifted inwards at the ends; non-uniform t). Exact for cubics: unlike the local slope it has no
 // bias from the curvature of a sine or a reversal.
 std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y, int w);
+// Second derivative of y(t) from a local least-squares quartic over 2w+1 samples (w >= 2) centred
+// on each sample (shifted inwards at the ends; non-uniform t); with fewer than 2w+1 samples, the
+// local slope of local_derivative. Exact for quartics, so an acceleration pulse a dozen samples
+// long keeps its peak, where the slope of a smoothed velocity flattens it (and least squares then
+// reads more mass from the same force: docs/identification-credit.md, "Coverage").
+std::vector<double> local_second_derivative(const std::vector<double>& t,
+                                            const std::vector<double>& y, int w);
 
 }  // namespace gmslab::ident

@@ -117,14 +117,14 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   for (const auto& t : f.terms)
     if (t.effect == "base") {
       cols.push_back(t.name == "Fc" ? g : d.v);
-      out.push_back({t.effect, t.name, t.unit, t.value, 0, ""});
+      out.push_back({t.effect, t.name, t.unit, t.value, 0, 0, ""});
     }
   for (Effect e : f.spec.effects) {
     auto m = effect_matrix(e, d, c, g);
     const auto ts = terms_of(f, e);
     for (std::size_t j = 0; j < m.size() && j < ts.size(); ++j) {
       cols.push_back(std::move(m[j]));
-      out.push_back({ts[j].effect, ts[j].name, ts[j].unit, ts[j].value, 0, ""});
+      out.push_back({ts[j].effect, ts[j].name, ts[j].unit, ts[j].value, 0, 0, ""});
     }
   }
   // The scalars: derivative of the effect's contribution sum_j theta_j c_j with respect to them.
@@ -153,7 +153,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
         for (std::size_t k = 0; k < d.size(); ++k) der[k] += sign * ts[j].value * m[j][k] / (2 * step);
     }
     cols.push_back(std::move(der));
-    out.push_back({std::string(effect_name(s.e)), s.name, s.unit, s.value, 0, ""});
+    out.push_back({std::string(effect_name(s.e)), s.name, s.unit, s.value, 0, 0, ""});
   }
   // The shape (the nonlinear parameters, in the unit box): nuisance columns, so that the errors
   // of the terms above carry their correlation with it (Gauss-Newton covariance of all).
@@ -166,7 +166,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
     std::vector<double> der(d.size());
     for (std::size_t k = 0; k < d.size(); ++k) der[k] = (ph[k] - pl[k]) / (hi.u[i] - lo.u[i]);
     cols.push_back(std::move(der));
-    out.push_back({"shape", "u" + std::to_string(i), "-", f.u[i], 0, ""});
+    out.push_back({"shape", "u" + std::to_string(i), "-", f.u[i], 0, 0, ""});
   }
   std::vector<std::size_t> rows;
   for (std::size_t k = 0; k < d.size(); ++k)
@@ -203,10 +203,25 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   }
   const double dof = nb > 1 ? static_cast<double>(nb) / static_cast<double>(nb - 1) : 1.0;
   const Eigen::MatrixXd robust = dof * Ginv * meat * Ginv;
+  // The path between samples is not measured. Where the model runs along the cubic through the
+  // samples, the same fit along straight steps predicts differently (the sampling share of the
+  // floor); that difference is systematic (at reversals, where |a| peaks in a sine, it reads as
+  // inertia) and no count of samples averages it out. Its image in the parameters, the
+  // least-squares shift it would cause, is added in quadrature as the path share.
+  Eigen::VectorXd shift = Eigen::VectorXd::Zero(As.cols());
+  if (!d.sub.empty()) {
+    const auto ps = predict(f, with_straight_steps(d), c);
+    Eigen::VectorXd diff(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      diff(static_cast<Eigen::Index>(i)) = ps[rows[i]] - pr[rows[i]];
+    shift = Ginv * (As.transpose() * diff);
+  }
   for (std::size_t j = 0; j < live.size(); ++j) {
     const auto jj = static_cast<Eigen::Index>(j);
     const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
-    out[static_cast<std::size_t>(live[j])].std_error = std::sqrt(std::max(0.0, var)) * sc_(jj);
+    auto& e = out[static_cast<std::size_t>(live[j])];
+    e.path_error = std::abs(shift(jj)) * sc_(jj);
+    e.std_error = std::sqrt(std::max(0.0, var) * sc_(jj) * sc_(jj) + e.path_error * e.path_error);
   }
   // Leave out the unused ripple slots.
   std::vector<ParameterEstimate> kept;

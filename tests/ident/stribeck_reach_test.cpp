@@ -140,7 +140,9 @@ TEST(StribeckReach, ACoulombLevelTheRecordDoesNotReachHasNoStandardError) {
     const bool says = fc->no_error.rfind("extrapolated", 0) == 0;
     withheld += says;
     EXPECT_TRUE(says) << "seed " << seed << ": " << fc->no_error;
-    if (const auto* s2 = find(d.report, "sigma2")) EXPECT_FALSE(std::isfinite(s2->std_error));
+    if (const auto* s2 = find(d.report, "sigma2")) {
+      EXPECT_FALSE(std::isfinite(s2->std_error));
+    }
   }
   std::printf("Coulomb level out of reach: %d records, %d verified minima, %d said extrapolated\n",
               n, verified, withheld);

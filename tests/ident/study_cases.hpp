@@ -3,6 +3,7 @@
 // exactly as the study chooses them, records whose floor exceeds twice the noise drawn again.
 #pragma once
 
+#include <random>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,27 @@ inline ident::LoopOptions study_options() {
 
 // One effect at 2..10 x the noise (size from the seed); the first five kinds in CI.
 inline double one_effect_size(unsigned seed) { return 2.0 + 8.0 * ((seed * 37u) % 100) / 100.0; }
+
+// A record of the coverage study (`gmslab_study coverage`, coverage_test.cpp): the random truth of
+// `seed` over the full draw ranges with an offset (even seeds) or an inertia (odd seeds) of
+// 2..10 x the noise.
+struct CoverageRecord {
+  records::Truth truth;
+  records::GenEffect kind;
+  records::Generated train, validation;
+};
+inline CoverageRecord coverage_record(unsigned seed, std::size_t samples) {
+  using records::GenEffect;
+  CoverageRecord r;
+  r.truth = records::draw_truth(seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  r.kind = seed % 2 == 0 ? GenEffect::Offset : GenEffect::Inertia;
+  r.truth.effects.push_back({r.kind, 2.0 + 8.0 * U(rng)});
+  auto [tg, vg] = records::synthesize_pair(r.truth, seed, samples);
+  r.train = std::move(tg), r.validation = std::move(vg);
+  return r;
+}
 
 // The CI subset: three effect-free records, five with one effect, three with two.
 inline std::vector<Case> ci_cases() {
