@@ -127,7 +127,8 @@ struct ParameterEstimate {
   std::string effect, name, unit;
   double value = 0, std_error = 0;
   // The part of std_error (added in quadrature) from the unmeasured path between samples: the
-  // shift of the estimate when the model runs along straight steps instead of the cubic [unit].
+  // shift of the estimate when the model runs along straight steps instead of the cubic, over
+  // sqrt(3) [unit].
   double path_error = 0;
   std::string no_error;  // why std_error is NaN (empty when it is given)
 };

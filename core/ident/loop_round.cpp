@@ -326,8 +326,9 @@ class RoundRun {
 
   // The verdict on an attempt that lowered the validation RMS enough; returns whether a guard
   // refused it (the effect cannot be what the refit found).
-  bool judge(Attempt& a, const Candidate& k) {
-    const NoiseEstimate& noise = s_.rep.noise;
+  // `sampling`: the sampling share through the refit model (at most the floor's, which comes
+  // through a base fit that may have bent to the missing effect and so overstates it).
+  bool judge(Attempt& a, const Candidate& k, double sampling) {
     // BIC on the validation record: n ln(SSR / n) + p ln n with the effect's columns.
     a.bic_change = n_val_ * std::log(std::pow(a.rms_validation / std::max(s_.cur_val, 1e-300), 2)) +
                    static_cast<double>(k.columns) * std::log(n_val_);
@@ -357,14 +358,18 @@ class RoundRun {
           a.kept = false, guarded = true, a.verdict = "negative mass M = " + std::to_string(t.value) +
                                       " kg: not an inertia (the model lags along the sampled path)";
     }
-    if (a.kept && (k.effect == Effect::Inertia || k.effect == Effect::TimeShift || k.effect == Effect::SensorFilter) &&
-        a.size < 1.5 * noise.sampling) {
+    if (a.kept &&
+        (k.effect == Effect::Inertia || k.effect == Effect::TimeShift ||
+         k.effect == Effect::SensorFilter) &&
+        a.size < 1.5 * sampling) {
       // Lag-like effects (a force leading or lagging the motion) are what the unmeasured path
       // between samples also changes: below 1.5 x that share of the floor they cannot be told
       // from it, and the loop says so instead of naming one.
       a.kept = false, guarded = true;
-      a.verdict = "contribution " + std::to_string(a.size) + " N is within 1.5 x what the path between samples "
-                  "changes (" + std::to_string(noise.sampling) + " N): cannot be told from the sampling";
+      a.verdict = "contribution " + std::to_string(a.size) +
+                  " N is within 1.5 x what the path between samples "
+                  "changes (" +
+                  std::to_string(sampling) + " N): cannot be told from the sampling";
     }
     if (a.kept && (k.effect == Effect::TimeShift || k.effect == Effect::SensorFilter)) {
       // A lagging force channel or filter, and the model lagging along the sampled path (which a
@@ -378,6 +383,15 @@ class RoundRun {
     }
     if (a.kept) a.verdict = "kept: signature p " + std::to_string(k.p_value) + ", validation and BIC lowered";
     return guarded;
+  }
+
+  // The sampling share (structure.hpp, add_sampling) through f on the whole training record (as
+  // the floor's), at most the floor's.
+  double sampling_through(const FitResult& f) const {
+    NoiseEstimate e;
+    const Dataset& d = s_.full();
+    add_sampling(e, d, s_.friction_force(f, d), s_.friction_force(f, d, true));
+    return std::min(e.sampling, s_.rep.noise.sampling);
   }
 
   // Refits one candidate with its effect and judges it; returns false when a guard said the
@@ -398,7 +412,7 @@ class RoundRun {
       control_refit(fo);
       a.kept = a.rms_validation <= (1.0 - o_.min_gain) * s_.cur_val;
     }
-    const bool guarded = judge(a, k);
+    const bool guarded = judge(a, k, sampling_through(f));
     rd_.attempts.push_back(a);
     if (a.kept && (!best_ || a.rms_validation < best_->second.rms_validation)) best_.emplace(std::move(f), a);
     return !guarded;

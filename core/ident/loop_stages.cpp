@@ -207,7 +207,9 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   // samples, the same fit along straight steps predicts differently (the sampling share of the
   // floor); that difference is systematic (at reversals, where |a| peaks in a sine, it reads as
   // inertia) and no count of samples averages it out. Its image in the parameters, the
-  // least-squares shift it would cause, is added in quadrature as the path share.
+  // least-squares shift it would cause, over sqrt(3) (the true path anywhere between the two,
+  // as in the sampling share of the floor, structure.hpp), is added in quadrature as the path
+  // share.
   Eigen::VectorXd shift = Eigen::VectorXd::Zero(As.cols());
   if (!d.sub.empty()) {
     const auto ps = predict(f, with_straight_steps(d), c);
@@ -220,7 +222,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
     const auto jj = static_cast<Eigen::Index>(j);
     const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
     auto& e = out[static_cast<std::size_t>(live[j])];
-    e.path_error = std::abs(shift(jj)) * sc_(jj);
+    e.path_error = std::abs(shift(jj)) * sc_(jj) / std::sqrt(3.0);
     e.std_error = std::sqrt(std::max(0.0, var) * sc_(jj) * sc_(jj) + e.path_error * e.path_error);
   }
   // Leave out the unused ripple slots.

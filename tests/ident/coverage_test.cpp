@@ -19,12 +19,15 @@ TEST(Coverage, TruthLiesWithinTwoStandardErrors) {
     const study::CoverageRecord cr = study::coverage_record(seed, 3000);
     FitSpec spec;
     spec.elements = cr.truth.elements();
-    const auto rep = identify(prepare_dataset(cr.train.record), prepare_dataset(cr.validation.record), spec,
-                              LoopOptions{});
+    const auto rep = identify(prepare_dataset(cr.train.record),
+                              prepare_dataset(cr.validation.record), spec, LoopOptions{});
     const bool offset = cr.kind == records::GenEffect::Offset;
-    const struct { const char* effect; const char* name; double truth; } wanted[] = {
-        {"base", "Fc", cr.truth.Fc},
-        {offset ? "offset" : "inertia", offset ? "F0" : "M", cr.truth.effects[0].param}};
+    const struct {
+      const char* effect;
+      const char* name;
+      double truth;
+    } wanted[] = {{"base", "Fc", cr.truth.Fc},
+                  {offset ? "offset" : "inertia", offset ? "F0" : "M", cr.truth.effects[0].param}};
     for (const auto& w : wanted) {
       ++params;
       const ParameterEstimate* pe = nullptr;
@@ -46,8 +49,8 @@ TEST(Coverage, TruthLiesWithinTwoStandardErrors) {
       const double z = std::abs(pe->value - w.truth) / pe->std_error;
       covered += z <= 2.0;
       if (!offset && std::string(w.name) == "M") ++masses, masses_covered += z <= 2.0;
-      std::printf("seed %u %s.%s: truth %.4g, estimate %.4g +- %.3g (path share %.3g): %.2f se\n", seed,
-                  w.effect, w.name, w.truth, pe->value, pe->std_error, pe->path_error, z);
+      std::printf("seed %u %s.%s: truth %.4g, estimate %.4g +- %.3g (path share %.3g): %.2f se\n",
+                  seed, w.effect, w.name, w.truth, pe->value, pe->std_error, pe->path_error, z);
     }
   }
   EXPECT_EQ(params, 24);

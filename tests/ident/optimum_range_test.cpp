@@ -53,12 +53,15 @@ TEST(OptimumRange, ABreakAwayRatioBeyondTheSearchRangeIsNotAVerifiedMinimum) {
     said += end && names;
     EXPECT_FALSE(r.optimum.verified)
         << "seed " << seed << " Fs/Fc " << ratio << " fitted " << fitted;
-    if (end)
+    if (end) {
       EXPECT_TRUE(names) << "seed " << seed << " fitted Fs/Fc " << fitted << ": "
                          << r.optimum.reason;
-    if (!r.optimum.verified)
-      for (const auto& p : r.parameters)
+    }
+    if (!r.optimum.verified) {
+      for (const auto& p : r.parameters) {
         EXPECT_FALSE(std::isfinite(p.std_error)) << p.effect << "." << p.name;
+      }
+    }
   }
   std::printf(
       "Fs/Fc beyond the range: %d / %d fits end at the range's end, the pinned parameter named in "

@@ -117,7 +117,9 @@ TEST(PlotExport, CsvOfAPlotHoldsEverySampleOfItsSeriesAndNothingIsReplaced) {
       ASSERT_FALSE(text.empty());
       EXPECT_TRUE(std::all_of(text.begin(), text.end(), [](char c) { return static_cast<unsigned char>(c) < 128; }))
           << "non-ASCII byte in the CSV";
-      if (std::string(preset) == "fig2a_presliding.json") EXPECT_NE(text.find("[um]"), std::string::npos) << text.substr(0, 300);
+      if (std::string(preset) == "fig2a_presliding.json") {
+        EXPECT_NE(text.find("[um]"), std::string::npos) << text.substr(0, 300);
+      }
     }
     // SVG and PNG of the same plot.
     ui::RequestPlotExport("Forces against time", ui::ExportFormat::Svg);
