@@ -153,24 +153,43 @@ TEST(IdentDataset, EveryStepMovesByTheMeasuredDisplacementWithOrWithoutAVelocity
   }
 }
 
+namespace {
+
+// 200 samples of a polynomial of `degree` in u = t rate / 50 (a few units over the record) with
+// random coefficients of a random scale, on a jittered non-uniform grid at a random rate.
+struct PolynomialRecord {
+  std::vector<double> t, y, c;
+  double scale = 0, rate = 0;
+};
+PolynomialRecord random_polynomial_record(std::mt19937& rng, int degree) {
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  PolynomialRecord p;
+  p.scale = std::pow(10.0, -6 + 4 * U(rng)), p.rate = 200 * std::pow(50.0, U(rng));
+  p.c.resize(static_cast<std::size_t>(degree) + 1);
+  for (auto& x : p.c) x = p.scale * (2 * U(rng) - 1);
+  double tt = 0;
+  for (int k = 0; k < 200; ++k) {
+    p.t.push_back(tt);
+    const double u = tt * p.rate / 50;
+    double y = 0;
+    for (auto j = p.c.size(); j-- > 0;) y = y * u + p.c[j];
+    p.y.push_back(y);
+    tt += (0.5 + U(rng)) / p.rate;
+  }
+  return p;
+}
+
+}  // namespace
+
 // The velocity estimate: a local least-squares cubic is exact for cubic motions on any time grid
 // (random coefficients, jittered non-uniform samples), and on a sine its error is far below the
 // local straight line's (which is biased by the curvature).
 TEST(IdentDataset, LocalCubicDerivativeIsExactForCubicsAndUnbiasedOnSines) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
   for (int trial = 0; trial < 5; ++trial) {
-    const double scale = std::pow(10.0, -6 + 4 * U(rng)), rate = 200 * std::pow(50.0, U(rng));
-    std::vector<double> c(4);
-    for (auto& x : c) x = scale * (2 * U(rng) - 1);
-    std::vector<double> t, y;
-    double tt = 0;
-    for (int k = 0; k < 200; ++k) {
-      t.push_back(tt);
-      const double u = tt * rate / 50;  // a few units over the record
-      y.push_back(c[0] + c[1] * u + c[2] * u * u + c[3] * u * u * u);
-      tt += (0.5 + U(rng)) / rate;
-    }
+    const PolynomialRecord p = random_polynomial_record(rng, 3);
+    const auto &t = p.t, &y = p.y, &c = p.c;
+    const double scale = p.scale, rate = p.rate;
     const auto d = local_derivative(t, y, 3);
     for (std::size_t k = 0; k < t.size(); ++k) {
       const double u = t[k] * rate / 50;
@@ -194,19 +213,10 @@ TEST(IdentDataset, LocalCubicDerivativeIsExactForCubicsAndUnbiasedOnSines) {
 
 TEST(IdentDataset, LocalQuarticSecondDerivativeIsExactForQuartics) {
   std::mt19937 rng(913);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
   for (int trial = 0; trial < 6; ++trial) {
-    const double scale = std::pow(10.0, -6 + 4 * U(rng)), rate = 200 * std::pow(50.0, U(rng));
-    std::vector<double> c(5);
-    for (auto& x : c) x = scale * (2 * U(rng) - 1);
-    std::vector<double> t, y;
-    double tt = 0;
-    for (int k = 0; k < 200; ++k) {
-      t.push_back(tt);
-      const double u = tt * rate / 50;
-      y.push_back(c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * c[4]))));
-      tt += (0.5 + U(rng)) / rate;  // non-uniform
-    }
+    const PolynomialRecord p = random_polynomial_record(rng, 4);
+    const auto &t = p.t, &y = p.y, &c = p.c;
+    const double rate = p.rate;
     const auto a = local_second_derivative(t, y, 4);
     const double r = rate / 50;
     for (std::size_t k = 0; k < t.size(); ++k) {
