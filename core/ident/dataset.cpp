@@ -93,28 +93,47 @@ Dataset load_dataset(const RecordSpec& spec, std::string* note) {
   return prepare_dataset(rec, windows);
 }
 
-std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y, int w) {
+namespace {
+
+// The derivative of order `order` at each sample of a least-squares polynomial of degree
+// `Degree` over 2 half + 1 samples centred on it (shifted inwards at the ends).
+template <int Degree>
+std::vector<double> local_polynomial_derivative(const std::vector<double>& t,
+                                                const std::vector<double>& y, std::ptrdiff_t half,
+                                                int order) {
+  using Vec = Eigen::Matrix<double, Degree + 1, 1>;
   const auto n = static_cast<std::ptrdiff_t>(t.size());
   std::vector<double> s(t.size(), 0.0);
-  if (n < 5) return local_slope(t, y, w);
-  const std::ptrdiff_t half = std::min<std::ptrdiff_t>(std::max(w, 2), (n - 1) / 2);
+  const double factorial = order == 2 ? 2.0 : 1.0;
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const std::ptrdiff_t lo = std::clamp<std::ptrdiff_t>(k - half, 0, n - 1 - 2 * half);
     const std::ptrdiff_t hi = lo + 2 * half;
     const double scale = std::max(std::abs(t[hi] - t[k]), std::abs(t[lo] - t[k]));
     if (!(scale > 0)) continue;
-    Eigen::Matrix4d G = Eigen::Matrix4d::Zero();
-    Eigen::Vector4d b = Eigen::Vector4d::Zero();
+    Eigen::Matrix<double, Degree + 1, Degree + 1> G = decltype(G)::Zero();
+    Vec b = Vec::Zero();
     for (auto j = lo; j <= hi; ++j) {
       const double u = (t[j] - t[k]) / scale;
-      const Eigen::Vector4d p(1.0, u, u * u, u * u * u);
+      Vec p;
+      p(0) = 1.0;
+      for (int i = 1; i <= Degree; ++i) p(i) = p(i - 1) * u;
       G.noalias() += p * p.transpose();
       b.noalias() += p * (y[j] - y[k]);
     }
-    const Eigen::Vector4d c = G.ldlt().solve(b);
-    s[k] = std::isfinite(c(1)) ? c(1) / scale : 0.0;
+    const Vec c = G.ldlt().solve(b);
+    s[k] = std::isfinite(c(order)) ? factorial * c(order) / std::pow(scale, order) : 0.0;
   }
   return s;
+}
+
+}  // namespace
+
+std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y,
+                                     int w) {
+  const auto n = static_cast<std::ptrdiff_t>(t.size());
+  if (n < 5) return local_slope(t, y, w);
+  const std::ptrdiff_t half = std::min<std::ptrdiff_t>(std::max(w, 2), (n - 1) / 2);
+  return local_polynomial_derivative<3>(t, y, half, 1);
 }
 
 std::vector<double> local_second_derivative(const std::vector<double>& t,
@@ -122,25 +141,7 @@ std::vector<double> local_second_derivative(const std::vector<double>& t,
   const auto n = static_cast<std::ptrdiff_t>(t.size());
   const std::ptrdiff_t half = std::max(w, 2);
   if (n < 2 * half + 1) return local_slope(t, local_derivative(t, y, w), w);
-  std::vector<double> s(t.size(), 0.0);
-  using Vec5 = Eigen::Matrix<double, 5, 1>;
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const std::ptrdiff_t lo = std::clamp<std::ptrdiff_t>(k - half, 0, n - 1 - 2 * half);
-    const std::ptrdiff_t hi = lo + 2 * half;
-    const double scale = std::max(std::abs(t[hi] - t[k]), std::abs(t[lo] - t[k]));
-    if (!(scale > 0)) continue;
-    Eigen::Matrix<double, 5, 5> G = Eigen::Matrix<double, 5, 5>::Zero();
-    Vec5 b = Vec5::Zero();
-    for (auto j = lo; j <= hi; ++j) {
-      const double u = (t[j] - t[k]) / scale, u2 = u * u;
-      const Vec5 p(1.0, u, u2, u2 * u, u2 * u2);
-      G.noalias() += p * p.transpose();
-      b.noalias() += p * (y[j] - y[k]);
-    }
-    const Vec5 c = G.ldlt().solve(b);
-    s[k] = std::isfinite(c(2)) ? 2.0 * c(2) / (scale * scale) : 0.0;
-  }
-  return s;
+  return local_polynomial_derivative<4>(t, y, half, 2);
 }
 
 std::vector<double> local_slope(const std::vector<double>& t, const std::vector<double>& y, int w) {

@@ -326,9 +326,8 @@ class RoundRun {
 
   // The verdict on an attempt that lowered the validation RMS enough; returns whether a guard
   // refused it (the effect cannot be what the refit found).
-  // `sampling`: the sampling share through the refit model (at most the floor's, which comes
-  // through a base fit that may have bent to the missing effect and so overstates it).
-  bool judge(Attempt& a, const Candidate& k, double sampling) {
+  // `f`: the refit with the effect (its sampling share is what the lag guard compares with).
+  bool judge(Attempt& a, const Candidate& k, const FitResult& f) {
     // BIC on the validation record: n ln(SSR / n) + p ln n with the effect's columns.
     a.bic_change = n_val_ * std::log(std::pow(a.rms_validation / std::max(s_.cur_val, 1e-300), 2)) +
                    static_cast<double>(k.columns) * std::log(n_val_);
@@ -358,9 +357,9 @@ class RoundRun {
           a.kept = false, guarded = true, a.verdict = "negative mass M = " + std::to_string(t.value) +
                                       " kg: not an inertia (the model lags along the sampled path)";
     }
-    if (a.kept &&
-        (k.effect == Effect::Inertia || k.effect == Effect::TimeShift ||
-         k.effect == Effect::SensorFilter) &&
+    const bool lag_like = k.effect == Effect::Inertia || k.effect == Effect::TimeShift ||
+                          k.effect == Effect::SensorFilter;
+    if (const double sampling = a.kept && lag_like ? sampling_through(f) : 0.0;
         a.size < 1.5 * sampling) {
       // Lag-like effects (a force leading or lagging the motion) are what the unmeasured path
       // between samples also changes: below 1.5 x that share of the floor they cannot be told
@@ -386,7 +385,8 @@ class RoundRun {
   }
 
   // The sampling share (structure.hpp, add_sampling) through f on the whole training record (as
-  // the floor's), at most the floor's.
+  // the floor's), at most the floor's: that comes through a base fit that may have bent to the
+  // missing effect, and then overstates what the path between samples changes.
   double sampling_through(const FitResult& f) const {
     NoiseEstimate e;
     const Dataset& d = s_.full();
@@ -412,7 +412,7 @@ class RoundRun {
       control_refit(fo);
       a.kept = a.rms_validation <= (1.0 - o_.min_gain) * s_.cur_val;
     }
-    const bool guarded = judge(a, k, sampling_through(f));
+    const bool guarded = judge(a, k, f);
     rd_.attempts.push_back(a);
     if (a.kept && (!best_ || a.rms_validation < best_->second.rms_validation)) best_.emplace(std::move(f), a);
     return !guarded;
