@@ -396,8 +396,8 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
       else if (key == "Vs") levels.push_back({0.005 * c.v_ref, 0.03 * c.v_ref, 0.15 * c.v_ref, 0.6 * c.v_ref});
       else if (key == "delta") levels.push_back({0.8, 2.0});
       // C/Fc: factor-16 steps; a retry (first_start > 0, after a fit that stayed above the floor)
-      // takes factor-6 steps: record 28 of the base study sits between 300 and 5000 (truth 1020)
-      // and was fitted at 3.2x the floor from the coarse design, 1.29x from the fine one.
+      // takes factor-6 steps, so an attraction between the first design's levels has a start
+      // in its own basin.
       else if (key == "C/Fc") levels.push_back(o.first_start > 0 ? std::vector<double>{20.0, 120.0, 800.0, 5000.0}
                                                                   : std::vector<double>{20.0, 300.0, 5000.0});
       else levels.push_back({p.init});

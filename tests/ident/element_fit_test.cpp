@@ -6,6 +6,7 @@
 // Stribeck tail and viscosity trade off within the noise; the floor is what the data determine.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "core/error.hpp"
@@ -114,33 +115,45 @@ TEST(ElementGridFit, ReachesTheNoiseFloorOnRandomRecordsAcrossScales) {
   EXPECT_GE(within, total - 1);
 }
 
-// A base fit that stays above the floor is fitted again from other basins (LoopOptions' retry),
-// whose design samples the attraction C / Fc more finely than the first one. Record 28 of the base
-// study (5 elements 31-200 um, 5 kHz) has C / Fs = 800 1/s between the first design's levels: its
-// first fit sits in a basin at a third of the truth's C and 26 % too high an Fs (3.2x the floor).
-// Expected from the truth at three force scales (Fs, Fc, C, sigma2, k and the noise scaled
-// together, the motion kept): the retry runs and finds the truth's C and Fs, and the validation
-// RMS is within 1.5x the floor (the truth itself through gmslab's GMS is at 1.36x on this record:
-// the generator integrates the fast relaxation differently).
-TEST(ElementGridFit, RetrySamplesTheAttractionBetweenTheFirstDesignLevels) {
-  for (double scale : {0.01, 1.0, 30.0}) {
-    Truth tr = draw_truth(28);
-    tr.Fs *= scale, tr.Fc *= scale, tr.C *= scale, tr.sigma2 *= scale, tr.noise *= scale;
-    for (auto& k : tr.k) k *= scale;
-    auto [gt, gv] = synthesize_pair(tr, 28, 4000);
-    const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
-    FitSpec spec;
-    spec.elements = tr.elements();
-    LoopOptions lo;
-    lo.max_rounds = 0;  // the base fit (and its retry) only, as gmslab_study base
-    const IdentReport rep = identify(train, val, spec, lo);
-    SCOPED_TRACE("force scale " + std::to_string(scale));
-    EXPECT_TRUE(rep.base_retried);
-    const ModelParams& f = rep.final_fit().friction;
-    EXPECT_NEAR(f.scalar("C"), tr.C, 0.25 * tr.C);
-    EXPECT_NEAR(f.scalar("Fs"), tr.Fs, 0.05 * tr.Fs);
-    EXPECT_LE(rep.rms_after_validation, 1.5 * floor_rms(tr, gv));
+// A base fit that stays above the floor is fitted again from other basins (retry_base_fit), from
+// design points that sample the attraction C / Fs at 20, 120, 800 and 5000 1/s, between the first
+// design's levels (20, 300, 5000). Expected from the truth on random records whose C / Fs is set
+// to 120 or 800 1/s, over three force scales (Fs, Fc, C, sigma2, k and the noise scaled together):
+// the base fit (first fit and retry, as identify runs them) within 1.5x the floor on validation,
+// and C within 25 % where the record shows the attraction - a slipping element relaxes by 0.1 to 1
+// of the way within a sample step (C / Fs h; beyond, C has only a lower bound) and the floor is
+// the noise (within 1.2x; a larger floor is a path the data cannot resolve, e.g. the slip that goes
+// on below one encoder step at every stop). Tolerances chosen on records 8, 21, 29, 39 and 53,
+// where the worst were C 0.83x and 1.32x the floor.
+TEST(ElementGridFit, BaseFitFindsAnAttractionBetweenTheFirstDesignLevels) {
+  const double scales[] = {0.01, 1.0, 30.0};
+  int case_no = 0, observable = 0;
+  for (unsigned seed : {61u, 62u, 63u}) {
+    for (double c_over_fs : {120.0, 800.0}) {
+      const double scale = scales[case_no++ % 3];
+      Truth tr = draw_truth(seed);
+      tr.Fs *= scale, tr.Fc *= scale, tr.sigma2 *= scale, tr.noise *= scale;
+      for (auto& k : tr.k) k *= scale;
+      tr.C = c_over_fs * tr.Fs;
+      auto [gt, gv] = synthesize_pair(tr, seed, 4000);
+      const Dataset train = prepare_dataset(gt.record), val = prepare_dataset(gv.record);
+      FitSpec spec;
+      spec.elements = tr.elements();
+      LoopOptions lo;
+      lo.max_rounds = 0;  // the base fit (and its retry) only, as gmslab_study base
+      const IdentReport rep = identify(train, val, spec, lo);
+      const double floor = floor_rms(tr, gv), relax = c_over_fs / tr.rate;
+      SCOPED_TRACE("seed " + std::to_string(seed) + ", C/Fs " + std::to_string(c_over_fs) + " 1/s, force scale " +
+                   std::to_string(scale) + ", C/Fs h " + std::to_string(relax) + ", floor " +
+                   std::to_string(floor / tr.noise) + " x noise, retried " + std::to_string(rep.base_retried));
+      EXPECT_LE(rep.rms_after_validation, 1.5 * floor);
+      if (relax >= 0.1 && relax <= 1.0 && floor <= 1.2 * tr.noise) {
+        ++observable;
+        EXPECT_NEAR(rep.final_fit().friction.scalar("C"), tr.C, 0.25 * tr.C);
+      }
+    }
   }
+  EXPECT_GE(observable, 2);  // the C check is not vacuous
 }
 
 TEST(ElementGridFit, MaxwellSlipRecoversItsBreakAwayDisplacements) {

@@ -322,7 +322,7 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
   const double xmax = tr.x_max();
   auto friction_at_sample = [&](double t) {
     // integrate from t_prev to t
-    double total = 0.0, vlast = 0.0, alast = 0.0, xlast = 0.0;
+    double total = 0.0, visc_last = 0.0, vlast = 0.0, alast = 0.0, xlast = 0.0;
     const double h = have_prev ? (t - t_prev) / sub : 0.0;
     for (int s = 1; s <= (have_prev ? sub : 0); ++s) {
       const double tt = t_prev + s * h;
@@ -370,7 +370,12 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
         }
         sum += F[i];
       }
-      total = sum + tr.sigma2 * vc;
+      // The viscous force at the contact's speed at the sub-step's end: the motor's speed, or
+      // zero while the contact rests in the backlash gap (not the secant dx / h, which is h / 2
+      // old and would add -sigma2 h / 2 a to every record).
+      const double v_contact = backlash && dx == 0.0 ? 0.0 : vm;
+      visc_last = tr.sigma2 * v_contact;
+      total = sum + visc_last;
       vlast = vm, alast = am, xlast = xm;
       (void)x_prev_c;
     }
@@ -382,17 +387,16 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
     }
     have_prev = true;
     t_prev = t;
-    return std::array<double, 4>{total, vlast, alast, xlast};
+    return std::array<double, 5>{total, vlast, alast, xlast, visc_last};
   };
   const double tmid = 0.5 * sc.t_end, thalf = std::max(0.5 * sc.t_end, 1e-12);
   const double xmid = 0.5 * (sc.x_lo + sc.x_hi), xhalf = std::max(0.5 * (sc.x_hi - sc.x_lo), 1e-12);
   for (std::size_t k = 0; k < ts.size(); ++k) {
     const double t_meas = ts[k];
     const double t_force = t_meas - (shift ? shift->param : 0.0);  // the force channel lags
-    auto [ff, v, a, x] = friction_at_sample(t_force);
-    double fr = ff - tr.sigma2 * v;  // the hysteretic part (effects scale friction)
-    double visc = tr.sigma2 * v;
-    double total = fr + visc;
+    auto [ff, v, a, x, visc] = friction_at_sample(t_force);
+    const double fr = ff - visc;  // the hysteretic part (effects scale friction)
+    double total = ff;
     double Fn = 1.0;
     for (const auto& e : tr.effects) {
       switch (e.kind) {
@@ -424,6 +428,50 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
     (void)xm_prev;
   }
   return out;
+}
+
+// Slope at sample k of the least-squares cubic in t through samples k - half .. k + half (fewer
+// at the ends, down to a line through two), solved by normal equations in the scaled offset
+// u = (t_j - t_k) / (t_hi - t_lo): u = 0 at sample k, so the slope there is the linear coefficient.
+inline double least_squares_cubic_slope(const std::vector<double>& t, const std::vector<double>& x,
+                                        std::size_t k, std::size_t half) {
+  const std::size_t n = t.size();
+  if (n < 2) return 0.0;
+  const std::size_t lo = k > half ? k - half : 0, hi = std::min(n - 1, k + half);
+  const std::size_t m = hi - lo + 1;
+  const std::size_t deg = std::min<std::size_t>(3, m - 1);
+  const double span = t[hi] - t[lo];
+  if (!(span > 0)) return 0.0;
+  double A[4][4] = {}, b[4] = {};
+  for (std::size_t j = lo; j <= hi; ++j) {
+    const double u = (t[j] - t[k]) / span;
+    double p[4] = {1.0, u, u * u, u * u * u};
+    for (std::size_t r = 0; r <= deg; ++r) {
+      b[r] += p[r] * x[j];
+      for (std::size_t c = 0; c <= deg; ++c) A[r][c] += p[r] * p[c];
+    }
+  }
+  // Gaussian elimination with partial pivoting on the (deg + 1)-square system.
+  const std::size_t d = deg + 1;
+  for (std::size_t c = 0; c < d; ++c) {
+    std::size_t piv = c;
+    for (std::size_t r = c + 1; r < d; ++r)
+      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
+    for (std::size_t q = 0; q < d; ++q) std::swap(A[c][q], A[piv][q]);
+    std::swap(b[c], b[piv]);
+    for (std::size_t r = c + 1; r < d; ++r) {
+      const double f = A[r][c] / A[c][c];
+      for (std::size_t q = c; q < d; ++q) A[r][q] -= f * A[c][q];
+      b[r] -= f * b[c];
+    }
+  }
+  double coef[4] = {};
+  for (std::size_t c = d; c-- > 0;) {
+    double acc = b[c];
+    for (std::size_t q = c + 1; q < d; ++q) acc -= A[c][q] * coef[q];
+    coef[c] = acc / A[c][c];
+  }
+  return coef[1] / span;
 }
 
 inline double rms_diff(const std::vector<double>& a, const std::vector<double>& b) {
@@ -498,16 +546,14 @@ inline std::vector<double> truth_along_record(const Truth& tr, const MeasuredRec
   double xlo = 1e9, xhi = -1e9;
   for (double x : r.x) xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   const detail::Scales sc{xlo, xhi, r.t.back()};
-  // The path between samples: the cubic through them with central-difference slopes (the
-  // velocity, and so the viscous force, at a sample is then the data's best estimate, not the
-  // secant of the step before it). As many substeps as the record was made with: the floor is
-  // noise and quantisation, not the truth's own integration error at one step per sample.
+  // The path between samples: the cubic Hermite through them, with the slope at each sample
+  // from a least-squares cubic over the 7 samples around it (the velocity, and so the viscous
+  // force, at a sample is then the data's best estimate: a central difference would be off by
+  // h^2 x''' / 6 on the strokes' ramps). As many substeps as the record was made with: the floor
+  // is noise and quantisation, not the truth's own integration error at one step per sample.
   const std::size_t n = r.t.size();
   std::vector<double> slope(n, 0.0);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t a = k > 0 ? k - 1 : 0, b = std::min(n - 1, k + 1);
-    slope[k] = b > a ? (r.x[b] - r.x[a]) / (r.t[b] - r.t[a]) : 0.0;
-  }
+  for (std::size_t k = 0; k < n; ++k) slope[k] = detail::least_squares_cubic_slope(r.t, r.x, k, 3);
   auto pos = [&](double t, double& x, double& v, double& a) {
     std::size_t i = static_cast<std::size_t>(std::upper_bound(r.t.begin(), r.t.end(), t) - r.t.begin());
     i = std::clamp<std::size_t>(i, 1, n - 1);
