@@ -4,13 +4,14 @@
 // force scales, break-away displacements, sampling rates and element counts; expectations come
 // from the generating truth only. (Individual parameters are not asserted: on coarse sampling Fc, the
 // Stribeck tail and viscosity trade off within the noise; the floor is what the data determine.)
+#include "core/ident/element_fit.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 
 #include "core/error.hpp"
-#include "core/ident/element_fit.hpp"
 #include "core/ident/job.hpp"
 #include "core/ident/loop.hpp"
 #include "core/io/session_io.hpp"
@@ -143,9 +144,10 @@ TEST(ElementGridFit, BaseFitFindsAnAttractionBetweenTheFirstDesignLevels) {
       lo.max_rounds = 0;  // the base fit (and its retry) only, as gmslab_study base
       const IdentReport rep = identify(train, val, spec, lo);
       const double floor = floor_rms(tr, gv), relax = c_over_fs / tr.rate;
-      SCOPED_TRACE("seed " + std::to_string(seed) + ", C/Fs " + std::to_string(c_over_fs) + " 1/s, force scale " +
-                   std::to_string(scale) + ", C/Fs h " + std::to_string(relax) + ", floor " +
-                   std::to_string(floor / tr.noise) + " x noise, retried " + std::to_string(rep.base_retried));
+      SCOPED_TRACE("seed " + std::to_string(seed) + ", C/Fs " + std::to_string(c_over_fs) +
+                   " 1/s, force scale " + std::to_string(scale) + ", C/Fs h " +
+                   std::to_string(relax) + ", floor " + std::to_string(floor / tr.noise) +
+                   " x noise, retried " + std::to_string(rep.base_retried));
       EXPECT_LE(rep.rms_after_validation, 1.5 * floor);
       if (relax >= 0.1 && relax <= 1.0 && floor <= 1.2 * tr.noise) {
         ++observable;
