@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "core/ident/dataset.hpp"
 #include "core/io/csv.hpp"
 
 namespace gmslab::records {
@@ -430,50 +431,6 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
   return out;
 }
 
-// Slope at sample k of the least-squares cubic in t through samples k - half .. k + half (fewer
-// at the ends, down to a line through two), solved by normal equations in the scaled offset
-// u = (t_j - t_k) / (t_hi - t_lo): u = 0 at sample k, so the slope there is the linear coefficient.
-inline double least_squares_cubic_slope(const std::vector<double>& t, const std::vector<double>& x,
-                                        std::size_t k, std::size_t half) {
-  const std::size_t n = t.size();
-  if (n < 2) return 0.0;
-  const std::size_t lo = k > half ? k - half : 0, hi = std::min(n - 1, k + half);
-  const std::size_t m = hi - lo + 1;
-  const std::size_t deg = std::min<std::size_t>(3, m - 1);
-  const double span = t[hi] - t[lo];
-  if (!(span > 0)) return 0.0;
-  double A[4][4] = {}, b[4] = {};
-  for (std::size_t j = lo; j <= hi; ++j) {
-    const double u = (t[j] - t[k]) / span;
-    double p[4] = {1.0, u, u * u, u * u * u};
-    for (std::size_t r = 0; r <= deg; ++r) {
-      b[r] += p[r] * x[j];
-      for (std::size_t c = 0; c <= deg; ++c) A[r][c] += p[r] * p[c];
-    }
-  }
-  // Gaussian elimination with partial pivoting on the (deg + 1)-square system.
-  const std::size_t d = deg + 1;
-  for (std::size_t c = 0; c < d; ++c) {
-    std::size_t piv = c;
-    for (std::size_t r = c + 1; r < d; ++r)
-      if (std::abs(A[r][c]) > std::abs(A[piv][c])) piv = r;
-    for (std::size_t q = 0; q < d; ++q) std::swap(A[c][q], A[piv][q]);
-    std::swap(b[c], b[piv]);
-    for (std::size_t r = c + 1; r < d; ++r) {
-      const double f = A[r][c] / A[c][c];
-      for (std::size_t q = c; q < d; ++q) A[r][q] -= f * A[c][q];
-      b[r] -= f * b[c];
-    }
-  }
-  double coef[4] = {};
-  for (std::size_t c = d; c-- > 0;) {
-    double acc = b[c];
-    for (std::size_t q = c + 1; q < d; ++q) acc -= A[c][q] * coef[q];
-    coef[c] = acc / A[c][c];
-  }
-  return coef[1] / span;
-}
-
 inline double rms_diff(const std::vector<double>& a, const std::vector<double>& b) {
   double s = 0;
   for (std::size_t i = 0; i < a.size(); ++i) s += (a[i] - b[i]) * (a[i] - b[i]);
@@ -547,13 +504,12 @@ inline std::vector<double> truth_along_record(const Truth& tr, const MeasuredRec
   for (double x : r.x) xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   const detail::Scales sc{xlo, xhi, r.t.back()};
   // The path between samples: the cubic Hermite through them, with the slope at each sample
-  // from a least-squares cubic over the 7 samples around it (the velocity, and so the viscous
-  // force, at a sample is then the data's best estimate: a central difference would be off by
+  // from a least-squares cubic over the 7 samples around it, as the fit takes the velocity
+  // (ident::local_derivative: the data's best estimate; a central difference would be off by
   // h^2 x''' / 6 on the strokes' ramps). As many substeps as the record was made with: the floor
   // is noise and quantisation, not the truth's own integration error at one step per sample.
   const std::size_t n = r.t.size();
-  std::vector<double> slope(n, 0.0);
-  for (std::size_t k = 0; k < n; ++k) slope[k] = detail::least_squares_cubic_slope(r.t, r.x, k, 3);
+  const std::vector<double> slope = ident::local_derivative(r.t, r.x, 3);
   auto pos = [&](double t, double& x, double& v, double& a) {
     std::size_t i = static_cast<std::size_t>(std::upper_bound(r.t.begin(), r.t.end(), t) - r.t.begin());
     i = std::clamp<std::size_t>(i, 1, n - 1);
