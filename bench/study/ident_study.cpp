@@ -127,7 +127,8 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 // backlash in m, a time shift in s, ...; for dwell stiction also over Fs: the break-away rise per
 // unit ln(1 + T_rest / 0.1 s)).
 int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
-             const std::string& report_dir, std::size_t screen, std::optional<GenEffect> only) {
+             const std::string& report_dir, std::size_t screen, std::optional<GenEffect> only,
+             bool credit_bound) {
   const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
                            GenEffect::PositionRipple, GenEffect::PositionDependent,
                            GenEffect::TimeDrift, GenEffect::VelocityExtra, GenEffect::NormalLoad};
@@ -161,6 +162,7 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
     spec.elements = tr.elements();
     LoopOptions lo;
     lo.screen_samples = screen;
+    lo.credit_bound = credit_bound;
     const auto rep = identify(train, val, spec, lo);
     const double s = seconds_since(t0);
     total_s += s;
@@ -485,6 +487,10 @@ int main(int argc, char** argv) {
                  "loop, coverage: write each record's report JSON into this folder");
   app.add_option("--screen-samples", screen,
                  "screen records of at least twice this many samples on every k-th (LoopOptions::screen_samples; 0: never)");
+  bool no_bound = false;
+  app.add_flag("--no-credit-bound", no_bound,
+               "loop: run the rounds even where the credit bound would skip them "
+               "(LoopOptions::credit_bound)");
   std::string effect;
   app.add_option(
       "--effect", effect,
@@ -515,5 +521,5 @@ int main(int argc, char** argv) {
   if (mode == "registry")
     return run_registry(records, seed, samples, GMSLAB_SOURCE_DIR "/presets", detail, preset);
   if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
-  return run_loop(records, seed, samples, skip, report_dir, screen, only);
+  return run_loop(records, seed, samples, skip, report_dir, screen, only, !no_bound);
 }

@@ -284,11 +284,15 @@ nlohmann::json to_json(const IdentReport& r) {
     }
     nlohmann::json cands = nlohmann::json::array();
     for (const auto& k : rd.candidates)
-      cands.push_back({{"effect", std::string(effect_name(k.effect))},
-                       {"explained_fraction", k.explained},
-                       {"signature_p_value", k.p_value},
-                       {"screen_rms", rms_json(k.screen_rms_train, k.screen_rms_validation)},
-                       {"evidence", k.evidence}});
+      cands.push_back(
+          {{"effect", std::string(effect_name(k.effect))},
+           {"explained_fraction", k.explained},
+           {"signature_p_value", k.p_value},
+           {"screen_rms", rms_json(k.screen_rms_train, k.screen_rms_validation)},
+           {"screen_validation_z", std::isnan(k.screen_z)   ? nlohmann::json()
+                                   : std::isinf(k.screen_z) ? nlohmann::json("infinite")
+                                                            : nlohmann::json(k.screen_z)},
+           {"evidence", k.evidence}});
     o["candidates"] = cands;
     nlohmann::json atts = nlohmann::json::array();
     for (const auto& a : rd.attempts)

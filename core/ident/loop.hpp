@@ -39,6 +39,7 @@
 // Validation: a second record, or the hold-out of the training record (dataset.hpp).
 #pragma once
 
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -78,7 +79,9 @@ struct LoopOptions {
   // The rounds are not run when the base fit's validation MSE above the floor is below the
   // floor's variance (base within sqrt(2) x the floor): an effect could lower the validation MSE
   // by no more than that, less than the rise the credit test needs to name it by size
-  // (ablation.hpp). IdentReport::rounds_skipped says so. false: the rounds always run.
+  // (ablation.hpp), and no candidate's screening (round 1's linear refits at the current shape)
+  // predicts the held-out record better by the credit's block test (z >= z_crit), the clause
+  // the size does not bound. IdentReport::rounds_skipped says so. false: the rounds always run.
   bool credit_bound = true;
   std::vector<Effect> candidates;  // empty = the whole catalog
   LoopOptions();
@@ -99,6 +102,9 @@ struct Candidate {
   double explained = 0;           // fraction of training residual variance explained (screen)
   double screen_rms_train = 0;    // [N]
   double screen_rms_validation = 0;
+  // Block test (ablation.hpp) of the screening fit against the current model on the validation
+  // record: z of the drop in squared residual over time blocks [-]; NaN when not computed.
+  double screen_z = std::numeric_limits<double>::quiet_NaN();
   double p_value = 1;             // training F-test of the columns at the current shape [-]
   std::size_t columns = 0;        // columns the effect adds
   nlohmann::json evidence;

@@ -27,14 +27,21 @@ double chi2_tail_large(double x, double dof) {
 }  // namespace
 
 Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dataset& val,
-                 const EffectContext& c, const std::vector<double>* shape) {
+                 const EffectContext& c, const std::vector<double>* shape,
+                 const std::vector<double>* r_val) {
   Candidate k;
   k.effect = e;
   if (shape && shape->size() != cur.u.size()) shape = nullptr;  // not a shape of cur's parameterization
   const auto lin = refit_linear(with(cur.spec, e), train, c, shape ? *shape : cur.u);
   k.screen_rms_train = lin.rms_train;
   k.explained = cur.rms_train > 0 ? 1.0 - std::pow(lin.rms_train / cur.rms_train, 2) : 0.0;
-  k.screen_rms_validation = rms_on(lin, val, c);
+  const std::vector<double> r = residual(lin, val, c);
+  double sum = 0;
+  std::size_t n_used = 0;
+  for (std::size_t i = 0; i < val.size(); ++i)
+    if (val.use[i]) sum += r[i] * r[i], ++n_used;
+  k.screen_rms_validation = n_used ? std::sqrt(sum / static_cast<double>(n_used)) : 0.0;
+  if (r_val) k.screen_z = block_test(val, *r_val, r).z;
   std::size_t q = 0;
   for (const auto& t : terms_of(lin, e)) q += t.value != 0.0;
   k.columns = q;
@@ -168,6 +175,14 @@ class RoundRun {
         refit_o_(serialised_progress(s.o.refit)), stage_("round " + std::to_string(round) + ": "),
         n_val_(static_cast<double>(std::max<std::size_t>(1, s.val().used()))) {}
 
+  std::optional<Candidate> screening_only(double z_crit) {
+    tune_context();
+    screen_candidates(false);
+    for (const auto& k : rd_.candidates)  // sorted by their screening validation RMS
+      if (k.screen_z >= z_crit && k.screen_rms_validation < s_.cur_val) return k;
+    return std::nullopt;
+  }
+
   bool run() {
     rd_.rms_train_before = s_.cur.rms_train;
     rd_.rms_validation_before = s_.cur_val;
@@ -192,6 +207,7 @@ class RoundRun {
     FitResult& cur = s_.cur;
     EffectContext& c = s_.c;
     r_ = residual(cur, train_, c);
+    r_val_ = residual(cur, val_, c);
     g_ = unit_friction(cur, train_, c);
     // The ripple search on all samples: the shortest wavelength it can resolve is 3 position steps.
     rs_ = s_.every > 1 ? ripple_search(s_.full(), c, residual(cur, s_.full(), c), unit_friction(cur, s_.full(), c))
@@ -215,14 +231,16 @@ class RoundRun {
     return it == shapes_.end() ? &s_.cur.u : &it->second;
   }
 
-  void screen_candidates() {
+  // deep: where no screening comes near the floor, the channel effects' scalars are searched
+  // again with shape refits and those effects screened at their own shapes.
+  void screen_candidates(bool deep = true) {
     const FitResult& cur = s_.cur;
     EffectContext& c = s_.c;
     double best_val = s_.cur_val;
     for (Effect e : o_.candidates) {
       if (contains(cur.spec.effects, e) || !effect_applicable(e, train_, c)) continue;
       if (o_.base.cancel && o_.base.cancel->load()) throw Cancelled();
-      Candidate k = screen(e, cur, train_, val_, c, shape_of(e));
+      Candidate k = screen(e, cur, train_, val_, c, shape_of(e), &r_val_);
       k.evidence = effect_evidence(e, train_, c, r_, g_, rs_);
       best_val = std::min(best_val, k.screen_rms_validation);
       rd_.candidates.push_back(std::move(k));
@@ -231,11 +249,11 @@ class RoundRun {
     // No screened effect brings the validation error near the noise: the channel effects, which
     // the current shape partly mimics, get shape refits in their scalar search and are screened
     // again at their own shapes.
-    if (s_.floor > 0 && best_val > 1.15 * s_.floor) {
+    if (deep && s_.floor > 0 && best_val > 1.15 * s_.floor) {
       shapes_ = tune_measurement_effects(cur, train_, c, o_.candidates, true, o_.refit, &s_.deep_done);
       for (auto& k : rd_.candidates)
         if (shapes_.count(k.effect)) {
-          Candidate k2 = screen(k.effect, cur, train_, val_, c, shape_of(k.effect));
+          Candidate k2 = screen(k.effect, cur, train_, val_, c, shape_of(k.effect), &r_val_);
           k2.evidence = effect_evidence(k.effect, train_, c, r_, g_, rs_);
           k = std::move(k2);
         }
@@ -501,6 +519,7 @@ class RoundRun {
   const double n_val_;
   Round rd_;
   std::vector<double> r_, g_;  // the training residual and unit friction at the current model
+  std::vector<double> r_val_;  // the validation residual at the current model
   RippleSearch rs_;
   std::map<Effect, std::vector<double>> shapes_;  // the channel effects' warm starts
   std::size_t screened_ = 0;
@@ -515,5 +534,16 @@ class RoundRun {
 }  // namespace
 
 bool run_round(LoopState& s, int round) { return RoundRun(s, round).run(); }
+
+std::optional<Candidate> screening_resolves(LoopState& s, double z_crit) {
+  const EffectContext c = s.c;
+  const std::set<Effect> deep = s.deep_done;
+  const RippleSearch ripples = s.rep.ripples;
+  std::optional<Candidate> k = RoundRun(s, 1).screening_only(z_crit);
+  s.c = c;
+  s.deep_done = deep;
+  s.rep.ripples = ripples;
+  return k;
+}
 
 }  // namespace gmslab::ident::detail

@@ -551,9 +551,13 @@ void widen_element_range(LoopState& s, bool before_rounds) {
 // only where it was measured at rests: without rests it is an upper bound) and is not used where
 // the model already predicts the held-out record better than that floor (the estimate is then
 // shown too high). The block test's other clause (z >= 3: a small but consistent gain) is not
-// bounded by size. That the rounds credit nothing where this bound skips them is checked on
-// random records with effects of 1.5-50x the noise (IdentCreditBound): an effect of 34x the noise
-// beside a floor estimate above the base fit's validation RMS was credited by the full rounds.
+// bounded by size, so round 1's screening runs first and the rounds are skipped only when no
+// candidate's screening fit passes that clause on the validation record: where the sampling
+// share makes the floor several times the noise, effects of 2-10x the noise lie within the size
+// bound and are still resolved by the block test. That the rounds credit nothing where this
+// bound skips them is checked on random records with effects of 1.5-50x the noise
+// (IdentCreditBound): an effect of 34x the noise beside a floor estimate above the base fit's
+// validation RMS was credited by the full rounds.
 // A base fit above the bound is first refitted with the rounds' budget (round 1's control refit:
 // what it gains is optimisation); when that is within the bound it becomes the model, else it is
 // kept for round 1, which would make the same fit (a pure function of the same inputs: the base
@@ -587,6 +591,17 @@ bool no_effect_creditable(LoopState& s) {
     s.rep.stages.back() = s.cur;
     s.rep.rms_before_train = s.cur.rms_train;
     s.rep.rms_before_validation = s.cur_val;
+  }
+  // The bound holds for the credit's size clause only. Its block-test clause (z >= z_crit) is not
+  // bounded by size: where a candidate's screening (its columns re-solved at the current shape)
+  // already predicts the held-out record better by that test, the rounds run.
+  if (const auto k = screening_resolves(s, AblationOptions{}.z_crit)) {
+    s.rep.notes.push_back("the base fit is within " + fmt(s.cur_val / floor) + "x the floor of " +
+                          fmt(floor) + " N, but the screening of " +
+                          std::string(effect_name(k->effect)) +
+                          " predicts the validation record better by the credit's block test (z " +
+                          fmt(k->screen_z) + "): the rounds were run");
+    return false;
   }
   s.rep.rounds_skipped =
       "no effect can pass the credit test (base within " + fmt(s.cur_val / floor) +

@@ -79,6 +79,11 @@ void widen_element_range(LoopState& s, bool before_rounds);
 bool no_effect_creditable(LoopState& s);
 // One round of the loop; whether it added an effect.
 bool run_round(LoopState& s, int round);
+// Round 1's screening alone (its context tuning and every candidate's linear refit at the current
+// shape), for the credit bound: the candidate whose screening fit predicts the held-out record
+// better than the current model by the credit's block test (z >= z_crit), the best such; none
+// when no screening does. s's context is left as it was (round 1 tunes it again).
+std::optional<Candidate> screening_resolves(LoopState& s, double z_crit);
 void final_refit(LoopState& s);
 void credit(LoopState& s);
 // A compass search from the final shape on the optimum test's steps (check_optimum).
@@ -99,7 +104,10 @@ bool multiplies_friction(Effect e);
 FitSpec with_additive_probes(FitSpec spec, bool inertia = true);
 FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectContext& c);
 // Effect e screened at the shape of cur (or at `shape`): its columns re-solved by least squares.
+// With r_val (cur's residual on val), also the block test of the screening fit against cur on
+// val (Candidate::screen_z).
 Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dataset& val,
-                 const EffectContext& c, const std::vector<double>* shape = nullptr);
+                 const EffectContext& c, const std::vector<double>* shape = nullptr,
+                 const std::vector<double>* r_val = nullptr);
 
 }  // namespace gmslab::ident::detail
