@@ -308,7 +308,7 @@ struct Search {
     opt.set_min_objective(
         [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
           auto& c = *static_cast<Ctx*>(p);
-          if (c.s->o.cancel && c.s->o.cancel->load()) throw nlopt::forced_stop();
+          if (c.s->o.stop_requested()) throw nlopt::forced_stop();
           const double v = (*c.f)(u);
           ++c.s->evals;
           if (v < *c.best) *c.best = v, *c.best_x = u;
@@ -327,7 +327,7 @@ struct Search {
       throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
     } catch (const std::runtime_error&) {  // roundoff-limited: keep the best seen
     }
-    if (o.cancel && o.cancel->load()) throw Cancelled();
+    if (o.stop_requested()) throw Cancelled();
     x = best_x;
     return best;
   }
@@ -426,7 +426,7 @@ GridSolution fit_grid(const FitSpec& spec, const Dataset& train, const EffectCon
   std::vector<std::pair<double, std::size_t>> scored(cands.size());
   auto score = [&](ElementEvaluator& e, std::size_t from, std::size_t stride) {
     for (std::size_t i = from; i < cands.size(); i += stride) {
-      if (o.cancel && o.cancel->load()) throw Cancelled();
+      if (o.stop_requested()) throw Cancelled();
       scored[i] = {e.cost(cands[i], g.kappa), i};
     }
   };

@@ -511,7 +511,7 @@ SearchRun local_search(const SearchSettings& ss, Evaluator& e, std::vector<doubl
   opt.set_min_objective(
       [](const std::vector<double>& u, std::vector<double>&, void* p) -> double {
         auto& cx = *static_cast<Ctx*>(p);
-        if (cx.o->cancel && cx.o->cancel->load()) throw nlopt::forced_stop();
+        if (cx.o->stop_requested()) throw nlopt::forced_stop();
         const double f = cx.ev->cost(u);
         ++cx.run->evals;
         if (f < cx.run->best) cx.run->best = f, cx.run->best_u = u;
@@ -530,7 +530,7 @@ SearchRun local_search(const SearchSettings& ss, Evaluator& e, std::vector<doubl
     throw InternalError(std::string("fit: NLopt rejected the search's settings: ") + e.what());
   } catch (const std::runtime_error&) {  // roundoff-limited etc.: keep the best seen
   }
-  if (ss.o->cancel && ss.o->cancel->load()) throw Cancelled();
+  if (ss.o->stop_requested()) throw Cancelled();
   return run;
 }
 

@@ -76,6 +76,11 @@ struct FitOptions {
   std::string stage = "fit";      // label shown in progress
   std::function<void(const FitProgress&)> progress;  // may be empty
   const std::atomic<bool>* cancel = nullptr;         // set -> Cancelled
+  // Set -> the fit stops as a cancelled one does (throws Cancelled): for a caller that no longer
+  // needs the fit's result (ablation.cpp: the fit from the data with one element less). `cancel`
+  // stays the user's.
+  const std::atomic<bool>* abandon = nullptr;
+  bool stop_requested() const { return (cancel && cancel->load()) || (abandon && abandon->load()); }
 };
 
 // One searched shape parameter.
