@@ -70,6 +70,34 @@ TEST(IdentReport, CancelFlagStopsTheFit) {
   EXPECT_THROW(fit_model(FitSpec{}, d, c, o), Cancelled);
 }
 
+// FitOptions::abandon (a fit whose result is no longer needed) stops the element grid fit and the
+// local search as the cancel flag does, at the first check after it is set: the fit throws
+// Cancelled after fewer evaluations than it makes otherwise.
+TEST(IdentReport, AbandonFlagStopsTheFit) {
+  synth::SynthOptions so;
+  so.moves = 4;
+  const auto d = prepare_dataset(synth::synthesize(so));
+  const auto c = make_context(d);
+  FitOptions full;
+  int full_evals = 0;
+  full.progress = [&](const FitProgress& p) { full_evals = std::max(full_evals, p.evaluations); };
+  const FitResult f = fit_model(FitSpec{}, d, c, full);
+  ASSERT_FALSE(f.u.empty());
+  for (int after : {0, 50}) {
+    std::atomic<bool> abandon{false};
+    FitOptions o;
+    o.abandon = &abandon;
+    int seen = 0;
+    o.progress = [&](const FitProgress& p) {
+      seen = std::max(seen, p.evaluations);
+      if (p.evaluations >= after) abandon = true;
+    };
+    if (after == 0) abandon = true;
+    EXPECT_THROW(fit_model(FitSpec{}, d, c, o), Cancelled) << "abandoned after " << after;
+    EXPECT_LT(seen, full_evals) << "abandoned after " << after;
+  }
+}
+
 // The progress the panel's bar shows: the evaluations so far against the fit's budget (for the
 // GMS grid fit: design points, grid starts, polish and restarts; element_fit_budget), never beyond
 // it, and a time limit that stops the fit and says so.
