@@ -102,6 +102,10 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
 
 namespace {
 
+bool same_spec(const FitSpec& a, const FitSpec& b) {
+  return a.model == b.model && a.elements == b.elements && a.effects == b.effects;
+}
+
 // The element-count test fits the model with one element less from the data only while the
 // warm-started refit leaves less than this x the reference's validation RMS [-].
 constexpr double kFromDataNeededBelow = 10.0;
@@ -173,16 +177,18 @@ class AblationRun {
   // Where the final fit leaves more than from_data_above x the floor on validation, the model is
   // also fitted from the data; the lowest training RMS of the three is the model, and its shape
   // the warm start of every refit after.
-  Scored start(const FitResult& final_fit, double floor_estimate) {
+  Scored start(const FitResult& final_fit, double floor_estimate, const FitResult* known) {
     std::future<Scored> again = refit(final_fit.spec, "ablation: refit with all effects");
     Scored kept = scored(final_fit);
     std::future<Scored> fresh;
-    if (kept.rms > o_.from_data_above * floor_estimate)
+    const bool fit_fresh = kept.rms > o_.from_data_above * floor_estimate;
+    const bool reuse = fit_fresh && known && same_spec(known->spec, final_fit.spec);
+    if (fit_fresh && !reuse)
       fresh = from_data(final_fit.spec, "ablation: the model with all effects from the data");
     Scored cur = again.get();
     if (kept.fit.rms_train <= cur.fit.rms_train) cur = std::move(kept);
-    if (fresh.valid()) {
-      Scored f = fresh.get();
+    if (fresh.valid() || reuse) {
+      Scored f = reuse ? (known->u.empty() ? Scored{} : scored(*known)) : fresh.get();
       if (!f.res.empty() && f.fit.rms_train < cur.fit.rms_train) cur = std::move(f);
     }
     warm_ = cur.fit.u;
@@ -455,13 +461,13 @@ class AblationRun {
 AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
                       const EffectContext& c, double floor_estimate,
                       const std::vector<std::pair<Effect, Effect>>& alternatives,
-                      const AblationOptions& o) {
+                      const AblationOptions& o, const FitResult* from_data) {
   AblationResult out;
   out.table.elements_before = final_fit.spec.elements;
   out.table.ran = true;
   out.table.z_crit = o.z_crit;
   AblationRun run(final_fit, train, val, c, o);
-  Scored cur = run.start(final_fit, floor_estimate);
+  Scored cur = run.start(final_fit, floor_estimate, from_data);
   out.table.floor = run.floor();
   run.drop_effects(cur, out.table);
   run.drop_elements(cur, out.table);

@@ -147,10 +147,13 @@ struct AblationResult {
 };
 
 // alternatives: for each effect of final_fit.spec.effects, the effects that also passed in its
-// round (may be empty).
+// round (may be empty). from_data: final_fit.spec already fitted from the data on `train` with
+// `c` and o.from_data (the loop's base fit, when no effect was added), used instead of fitting it
+// again in step 1 (a fit is a pure function of those inputs); null: none.
 AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Dataset& val,
                       const EffectContext& c, double floor,
-                      const std::vector<std::pair<Effect, Effect>>& alternatives, const AblationOptions& o);
+                      const std::vector<std::pair<Effect, Effect>>& alternatives,
+                      const AblationOptions& o, const FitResult* from_data = nullptr);
 
 // RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c);

@@ -304,8 +304,8 @@ void polish_on_all_samples(FitResult& f, const Dataset& full, const EffectContex
 // (polished on all samples when the loop screened), and the stages and effects are those named.
 void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const Dataset& train,
                         const Dataset& full, const Dataset& val, const EffectContext& c,
-                        double floor, std::size_t every, const LoopOptions& o,
-                        bool count_may_grow) {
+                        double floor, std::size_t every, const LoopOptions& o, bool count_may_grow,
+                        const FitResult* from_data) {
   if (cur.spec.effects.empty() && cur.spec.elements < 2) return;
   std::vector<std::pair<Effect, Effect>> alternatives;
   for (const auto& rd : rep.rounds)
@@ -318,7 +318,7 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
   ao.from_data = o.base;
   ao.min_size = o.min_size;
   ao.count_may_grow = count_may_grow;
-  AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao);
+  AblationResult ab = ablate(cur, train, val, c, floor, alternatives, ao, from_data);
   rep.ablation = ab.table;
   const bool fewer_elements = std::any_of(ab.table.elements.begin(), ab.table.elements.end(),
                                           [](const ElementAblation& e) { return e.dropped; });
@@ -367,6 +367,14 @@ void LoopState::add_model_shares(NoiseEstimate& e, const FitResult& f, const Dat
   add_sampling(e, d, ff, friction_force(f, d, true));
 }
 
+FitResult LoopState::fit_base_from_data(const Dataset& d, const Dataset& v) {
+  FitResult f = fit_base(base, d, v, c, o.base);
+  base_from_data.reset();
+  base_from_data_on = nullptr;
+  if (base.elements != 0) base_from_data = f, base_from_data_on = &d;
+  return f;
+}
+
 void LoopState::add_shares() {
   rep.noise = noise_data;
   add_model_shares(rep.noise, cur, full());
@@ -384,7 +392,7 @@ void screen_record(LoopState& s) {
   const std::size_t want = s.o.screen_samples;
   s.every = want > 0 && train_in.size() >= 2 * want ? train_in.size() / want : 1;
   if (s.every > 1) s.screen_rec = decimated(train_in, s.every, PathRule{});
-  s.cur = fit_base(s.base, s.every > 1 ? s.screen_rec : train_in, s.val_in, s.c, s.o.base);
+  s.cur = s.fit_base_from_data(s.every > 1 ? s.screen_rec : train_in, s.val_in);
   if (s.every == 1) return;
   const auto ff = s.friction_force(s.cur, train_in);
   auto difference = [&](std::size_t e, const Dataset& sc) {
@@ -409,7 +417,7 @@ void screen_record(LoopState& s) {
                         (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
   s.every = e;
   if (s.every == 1) s.screen_rec = Dataset{};
-  s.cur = fit_base(s.base, s.every > 1 ? s.screen_rec : train_in, s.val_in, s.c, s.o.base);
+  s.cur = s.fit_base_from_data(s.every > 1 ? s.screen_rec : train_in, s.val_in);
 }
 
 // The path between samples. The adaptive path steps straight where the speed hardly changes;
@@ -442,7 +450,7 @@ void choose_path(LoopState& s) {
       s.val_fine = s.val_in;
       set_path(s.val_fine, kFinePath);
       if (s.every > 1) s.screen_rec = decimated(s.train_fine, s.every, kFinePath);
-      s.cur = fit_base(s.base, s.every > 1 ? s.screen_rec : s.train_fine, s.val_fine, s.c, s.o.base);
+      s.cur = s.fit_base_from_data(s.every > 1 ? s.screen_rec : s.train_fine, s.val_fine);
     } else {
       s.train_fine = Dataset{};
     }
@@ -537,6 +545,7 @@ void widen_element_range(LoopState& s, bool before_rounds) {
                       " um (softer elements than the swing after most reversals shows): validation RMS " +
                       std::to_string(s.cur_val) + " -> " + std::to_string(again_val) + " N");
   cur = std::move(again), s.cur_val = again_val, s.c = wide, rep.range_widened = true;
+  s.base_from_data.reset();
   rep.elements = cur.spec.elements;
   if (!rep.stages.empty()) rep.stages.back() = cur;
   if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = s.cur_val;
@@ -675,8 +684,11 @@ void credit(LoopState& s) {
   NoiseEstimate at_final = s.noise_data;
   s.add_model_shares(at_final, s.cur, s.full());
   s.credit_floor = at_final.floor();
+  const bool same_record =
+      s.base_from_data && s.rep.rounds.empty() && s.base_from_data_on == &s.train();
   credit_by_ablation(s.rep, s.cur, s.cur_val, s.train(), s.full(), s.val(), s.c, s.credit_floor,
-                     s.every, s.o, s.base.elements == 0);
+                     s.every, s.o, s.base.elements == 0,
+                     same_record ? &*s.base_from_data : nullptr);
   refit_raised_count(s);
 }
 

@@ -53,6 +53,14 @@ struct LoopState {
   // Round 1's control refit (the base model with the refit budget), made ahead by the credit
   // bound (no_effect_creditable) when it did not skip the rounds.
   std::optional<FitResult> control;
+  // The base model as fit_base made it from the data with the base options (a fixed element
+  // count only) and the record it was fitted on, with the context as it was then: the credit's
+  // ablation fits that spec from the data on that record again where no round ran (credit()).
+  // Reset where the context changes (the element range widened).
+  std::optional<FitResult> base_from_data;
+  const Dataset* base_from_data_on = nullptr;
+  // fit_base(base, d, v, c, o.base), recorded as above.
+  FitResult fit_base_from_data(const Dataset& d, const Dataset& v);
   // The optimum test of cur made by descend_to_minimum (cur has not moved since); finish_report
   // uses it instead of testing again.
   std::optional<OptimumCheck> optimum;
