@@ -57,10 +57,17 @@ TEST(IdentReport, HoldOutRunWritesRequiredKeysAndALoadableScenario) {
   EXPECT_EQ(g.panels[0].series[0].y, f.panels[0].series[0].y);
 }
 
-TEST(IdentReport, CancelFlagStopsTheFit) {
+namespace {
+// A short synthetic record (four moves) for the tests of the fit's controls.
+Dataset four_moves() {
   synth::SynthOptions so;
   so.moves = 4;
-  const auto d = prepare_dataset(synth::synthesize(so));
+  return prepare_dataset(synth::synthesize(so));
+}
+}  // namespace
+
+TEST(IdentReport, CancelFlagStopsTheFit) {
+  const auto d = four_moves();
   const auto c = make_context(d);
   std::atomic<bool> cancel{true};
   FitOptions o;
@@ -74,9 +81,7 @@ TEST(IdentReport, CancelFlagStopsTheFit) {
 // local search as the cancel flag does, at the first check after it is set: the fit throws
 // Cancelled after fewer evaluations than it makes otherwise.
 TEST(IdentReport, AbandonFlagStopsTheFit) {
-  synth::SynthOptions so;
-  so.moves = 4;
-  const auto d = prepare_dataset(synth::synthesize(so));
+  const auto d = four_moves();
   const auto c = make_context(d);
   FitOptions full;
   int full_evals = 0;
@@ -102,9 +107,7 @@ TEST(IdentReport, AbandonFlagStopsTheFit) {
 // GMS grid fit: design points, grid starts, polish and restarts; element_fit_budget), never beyond
 // it, and a time limit that stops the fit and says so.
 TEST(IdentReport, ProgressReportsTheBudgetAndATimeLimitStopsTheFit) {
-  synth::SynthOptions so;
-  so.moves = 4;
-  const auto d = prepare_dataset(synth::synthesize(so));
+  const auto d = four_moves();
   const auto c = make_context(d);
   FitOptions o;
   o.starts = 2;
