@@ -20,13 +20,6 @@ std::vector<double> residual_on(const FitResult& f, const Dataset& d, const Effe
   return p;
 }
 
-double rms_of(const Dataset& d, const std::vector<double>& r) {
-  double s = 0, n = 0;
-  for (std::size_t k = 0; k < d.size(); ++k)
-    if (d.use[k]) s += r[k] * r[k], n += 1;
-  return n > 0 ? std::sqrt(s / n) : 0.0;
-}
-
 std::string fmt(double x) {
   char b[32];
   std::snprintf(b, sizeof b, "%.3g", x);
@@ -50,6 +43,13 @@ struct Scored {
 };
 
 }  // namespace
+
+double rms_of(const Dataset& d, const std::vector<double>& r) {
+  double s = 0, n = 0;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) s += r[k] * r[k], n += 1;
+  return n > 0 ? std::sqrt(s / n) : 0.0;
+}
 
 BlockTest block_test(const Dataset& d, const std::vector<double>& ra, const std::vector<double>& rb,
                      std::size_t blocks) {
@@ -389,9 +389,7 @@ class AblationRun {
       // reference's validation RMS (the MSE rise below the floor's variance, the floor at most
       // that RMS) or near the floor. Where the warm-started refit leaves more than
       // kFromDataNeededBelow x the reference, the fit from the data would have to predict the
-      // held-out record 7x better than the refit; it is stopped then and not used (the 40,000
-      // sample noise-free trace: 7.7e-3 N without the lightest element against 1.3e-6 N, the fit
-      // from the data alone 6.3 s on the half-speed VM).
+      // held-out record 7x better than the refit; it is stopped then and not used.
       std::atomic<bool> abandon{false};
       std::future<Scored> fresh = from_data(spec, "ablation: " + n + " from the data", &abandon);
       Scored s = refit(spec, "ablation: " + n, &u).get();

@@ -66,6 +66,9 @@
 
 namespace gmslab::ident {
 
+// RMS of r over d's used samples [N].
+double rms_of(const Dataset& d, const std::vector<double>& r);
+
 // Validation difference of two fits, in blocks of time.
 struct BlockTest {
   double mse_difference = 0;  // D: mean over blocks of mean(r_a^2 - r_b^2) [N^2]

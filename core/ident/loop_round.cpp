@@ -36,11 +36,7 @@ Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dat
   k.screen_rms_train = lin.rms_train;
   k.explained = cur.rms_train > 0 ? 1.0 - std::pow(lin.rms_train / cur.rms_train, 2) : 0.0;
   const std::vector<double> r = residual(lin, val, c);
-  double sum = 0;
-  std::size_t n_used = 0;
-  for (std::size_t i = 0; i < val.size(); ++i)
-    if (val.use[i]) sum += r[i] * r[i], ++n_used;
-  k.screen_rms_validation = n_used ? std::sqrt(sum / static_cast<double>(n_used)) : 0.0;
+  k.screen_rms_validation = rms_of(val, r);
   if (r_val) k.screen_z = block_test(val, *r_val, r).z;
   std::size_t q = 0;
   for (const auto& t : terms_of(lin, e)) q += t.value != 0.0;
