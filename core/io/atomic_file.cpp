@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "core/error.hpp"
 
@@ -38,6 +39,16 @@ bool writer_is_gone(const std::string& rest) {
   }
   if (pid <= 0 || pid == static_cast<long>(::getpid())) return false;
   return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+// Closes fd on a detached thread (the old file's last reference: its blocks are released there);
+// closes it here when no thread can be started.
+void release_in_background(int fd) noexcept {
+  try {
+    std::thread([fd] { ::close(fd); }).detach();
+  } catch (...) {
+    ::close(fd);
+  }
 }
 
 }  // namespace
@@ -138,11 +149,18 @@ void AtomicFileWriter::commit() {
     ::unlink(tmp_.c_str());
     throw IoError("cannot save '" + path_ + "' (close): " + err);
   }
+  // The file being replaced stays open across the rename, so that the rename only relinks and the
+  // release of the old file's blocks (tens of milliseconds for a file of 100 MB on ext4, mostly
+  // waiting for the journal) happens when that descriptor is closed, on a thread of its own: the
+  // new file is in place and durable without waiting for it.
+  const int old = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
   if (::rename(tmp_.c_str(), path_.c_str()) != 0) {
     const std::string err = std::strerror(errno);
+    if (old >= 0) ::close(old);
     ::unlink(tmp_.c_str());
     throw IoError("cannot save '" + path_ + "' (rename): " + err);
   }
+  if (old >= 0) release_in_background(old);
   // Make the rename itself durable.
   const fs::path target(path_);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -144,6 +146,54 @@ TEST(AtomicSave, UnreadableFileIsSetAsideNotOverwritten) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
   }
+}
+
+// Open descriptors of this process.
+std::size_t open_fds() {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) ++n;
+  return n;
+}
+
+// A save over an existing file: the target holds the new text at once; a reader that had the old
+// file open still reads it whole (the old file is released, not changed: its last link is gone and
+// its blocks go when the last descriptor closes); a symlink at the target is replaced, not
+// followed; and a hundred saves in a row leave no descriptor open.
+TEST(AtomicSave, ReplacingAFileReleasesTheOldOneWithoutTouchingIt) {
+  const std::string path = temp_file("replaced.csv");
+  const std::string first(3u << 20, 'a'), second(2u << 20, 'b');
+  write_file_atomic(path, first);
+  const int reader = ::open(path.c_str(), O_RDONLY);
+  ASSERT_GE(reader, 0);
+  write_file_atomic(path, second);
+  EXPECT_EQ(read_file(path), second);
+  struct stat st {};
+  ASSERT_EQ(::fstat(reader, &st), 0);
+  EXPECT_EQ(st.st_nlink, 0u);  // unlinked by the rename
+  EXPECT_EQ(static_cast<std::size_t>(st.st_size), first.size());
+  std::string back(first.size(), '\0');
+  EXPECT_EQ(::pread(reader, back.data(), back.size(), 0), static_cast<ssize_t>(back.size()));
+  EXPECT_EQ(back, first);
+  ::close(reader);
+  EXPECT_EQ(temp_files_beside(path), 0u);
+
+  const std::string target = temp_file("link_target.txt"), link = temp_file("link.txt");
+  write_file_atomic(target, "target");
+  std::filesystem::create_symlink(target, link);
+  write_file_atomic(link, "saved");
+  EXPECT_FALSE(std::filesystem::is_symlink(link));
+  EXPECT_EQ(read_file(link), "saved");
+  EXPECT_EQ(read_file(target), "target");
+
+  const std::size_t before = open_fds();
+  for (int i = 0; i < 100; ++i) write_file_atomic(path, i % 2 ? first : second);
+  std::size_t after = open_fds();
+  for (int wait = 0; wait < 200 && after > before; ++wait) {  // the releases run on their threads
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    after = open_fds();
+  }
+  EXPECT_EQ(after, before);
+  EXPECT_EQ(read_file(path), first);
 }
 
 }  // namespace
