@@ -2,10 +2,9 @@
 // turn); the parent kills it at random moments. The target must always hold one complete version,
 // never a mix or a truncated file; a killed writer leaves at most the one hidden temporary file it
 // was writing, and the next save removes it.
-#include <gtest/gtest.h>
-
-#include <signal.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
