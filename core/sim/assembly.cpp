@@ -861,6 +861,14 @@ struct SimpleVars {
 template <int K>
 [[gnu::always_inline]] inline void drive_values(const DrivePart* d, std::uint64_t step,
                                                 std::size_t chunk, double h, double* a, double* b) {
+  if constexpr (K == 2) {
+    if (d->signal.kind == Signal::Kind::Ramp) {  // Signal's ramp and rate, without the calls
+      const double value = d->signal.value, slope = d->signal.slope;
+      for (std::size_t i = 0; i < chunk; ++i)
+        a[i] = value + slope * (static_cast<double>(step + i) * h), b[i] = slope;
+      return;
+    }
+  }
   for (std::size_t i = 0; i < chunk; ++i) {
     const double t = static_cast<double>(step + i) * h;
     if constexpr (K == 1)
