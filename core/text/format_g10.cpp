@@ -134,7 +134,17 @@ char* format_g10_remember(double x, char* out, G10Last& last) {
   std::int64_t m = 0;
   int k = 0;
   char* end = nullptr;
-  if (decimal(std::fabs(x), m, k)) {
+  const double a = std::fabs(x);
+  bool known = false;
+  if (a >= last.dlo && a < last.dhi) {  // the decade of the column's last number, most likely
+    k = last.k;
+    m = scaled(a, 9 - k);
+    known = m >= 1000000000 && m < 10000000000;  // else another decade, or uncertain
+  }
+  if (known || decimal(a, m, k)) {
+    last.k = k;
+    last.dlo = kDecade[k - kDecadeLow];
+    last.dhi = kDecade[k + 1 - kDecadeLow];
     end = layout(x < 0, m, k, out);
     // |x| has this text while |x| * 10^s rounds to m: inside (m - 0.5, m + 0.5) * 10^-s, less a
     // margin of 1e-5 in units of the 10th digit, more than the error of computing the bounds:
@@ -149,6 +159,7 @@ char* format_g10_remember(double x, char* out, G10Last& last) {
   } else {
     end = exact(x, out);
     last.lo = last.hi = 0.0;  // empty: never taken for another value
+    last.dlo = last.dhi = 0.0;
   }
   last.text = out;
   last.len = static_cast<int>(end - out);

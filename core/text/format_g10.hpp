@@ -25,6 +25,10 @@ struct G10Last {
   double lo = 0.0, hi = 0.0;
   const char* text = nullptr;
   int len = 0;
+  // The decade of that number: [dlo, dhi) about [10^k, 10^(k+1)) (empty at first): the next
+  // number of the column in it is scaled by 10^(9-k) at once, the digits checking the guess.
+  int k = 0;
+  double dlo = 0.0, dhi = 0.0;
 };
 // format_g10(x, out), and `last` describes x afterwards.
 char* format_g10_remember(double x, char* out, G10Last& last);
