@@ -82,9 +82,7 @@ BlockTest block_test(const Dataset& d, const std::vector<double>& ra, const std:
 }
 
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
-  const auto g = unit_friction(f, d, c);
-  std::vector<double> g2 = g;
-  if (e == Effect::DwellStiction) g2.insert(g2.end(), g.begin(), g.end());  // sensitivity ~ g
+  const std::vector<double> g2 = unit_outputs(f, FitSpec{f.spec.model, f.spec.elements, {e}}, d, c);
   std::vector<const LinearTerm*> ts;
   for (const auto& t : f.terms)
     if (t.effect == effect_name(e)) ts.push_back(&t);

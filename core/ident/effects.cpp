@@ -71,6 +71,7 @@ Column col(std::string name, std::string unit, bool uses_g, Fill f) {
 void estimate_levels(const Dataset& d, EffectContext& c) {
   // Sliding samples: F ~ c0 + Fc sgn v + Fv v + M a (the static inverse model).
   double fv = 0.0, m = 0.0;  // its viscous and inertia terms, taken out of the swing below
+  bool estimated = false;    // the Coulomb level from the sliding samples (else the median |F|)
   std::vector<std::size_t> idx;
   for (std::size_t k = 0; k < d.size(); ++k)
     if (d.use[k] && std::abs(d.v[k]) > 0.2 * c.v_ref) idx.push_back(k);
@@ -95,14 +96,17 @@ void estimate_levels(const Dataset& d, EffectContext& c) {
       const Eigen::Vector3d t3 = B.colPivHouseholderQr().solve(y);
       return Eigen::VectorXd(Eigen::Vector4d(t3(0), t3(1), 0.0, t3(2)));
     }();
-    if (std::isfinite(th(1)) && th(1) > 0) c.f_level = th(1);
+    if (std::isfinite(th(1)) && th(1) > 0) c.f_level = th(1), estimated = true;
     if (th.allFinite()) fv = th(2) / c.v_ref, m = th(3);
   }
-  if (!(c.f_level > 0)) c.f_level = std::max(1e-6, percentile([&] {
-    std::vector<double> a;
-    for (double f : d.F) a.push_back(std::abs(f));
-    return a;
-  }(), 0.5));
+  if (!estimated)
+    c.f_level = std::max(1e-6, percentile(
+                                   [&] {
+                                     std::vector<double> a;
+                                     for (double f : d.F) a.push_back(std::abs(f));
+                                     return a;
+                                   }(),
+                                   0.5));
   // Break-away displacement: travel after a reversal until the friction has swung by 80 % of 2 Fc.
   std::vector<double> xs;
   double last_dir = 0.0;
@@ -178,62 +182,54 @@ Column channel_column(std::string name, Transform tf) {
           }};
 }
 
-BacklashMap backlash_map(const Dataset& d, const EffectContext& c, double b) {
+Dataset through_dead_band(const Dataset& d, double b) {
+  Dataset out = d;
   const std::size_t n = d.size();
-  BacklashMap m;
-  m.lo.resize(n), m.hi.resize(n), m.w.assign(n, 0.0);
-  std::vector<std::size_t> turn;
-  const auto travel = travel_since_reversal(d, c, &turn);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t seg = turn[k];  // the sample of the last reversal
-    m.lo[k] = m.hi[k] = seg;          // held at the reversal value (w = 0)
-    const double want = travel[k] - b;
-    if (want <= 0 || k <= seg) continue;
-    // The sample of this segment where the travel was `want` (travel grows within a segment).
-    std::size_t lo = seg, hi = k;
-    if (travel[hi] < want) continue;
-    while (hi - lo > 1) {
-      const std::size_t mid = (lo + hi) / 2;
-      (travel[mid] < want ? lo : hi) = mid;
+  if (n == 0) return out;
+  const double half = 0.5 * std::max(b, 0.0);
+  double xc = d.x[0];  // the contact, at the start in the middle of the band
+  out.v[0] = half > 0.0 ? 0.0 : d.v[0];
+  for (std::size_t k = 1; k < n; ++k) {
+    double xm = d.x[k - 1];  // the encoder, moving by the step's displacement
+    bool moved = false;      // whether the contact moved in the step's last part
+    auto part = [&](double& v, double h) {
+      xm += v * h;
+      const double xn = std::clamp(xc, xm - half, xm + half);
+      v = h > 0.0 ? (xn - xc) / h : 0.0;
+      moved = xn != xc;
+      xc = xn;
+    };
+    if (!d.sub.empty() && d.sub[k + 1] > d.sub[k]) {
+      for (std::uint32_t j = d.sub[k]; j < d.sub[k + 1]; ++j) part(out.sv[j], d.sh[j]);
+    } else {
+      part(out.vstep[k], d.h[k]);
     }
-    const double span = travel[hi] - travel[lo];
-    m.lo[k] = lo, m.hi[k] = hi;
-    m.w[k] = span > 0 ? std::clamp((want - travel[lo]) / span, 0.0, 1.0) : 1.0;
+    out.x[k] = xc;
+    out.v[k] = moved ? d.v[k] : 0.0;
   }
-  return m;
-}
-
-void apply_backlash(const BacklashMap& m, std::span<const double> g, std::span<double> out) {
-  for (std::size_t k = 0; k < m.w.size(); ++k)
-    out[k] = g[m.lo[k]] + m.w[k] * (g[m.hi[k]] - g[m.lo[k]]);
-}
-
-void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> g, double b,
-                      std::span<double> out) {
-  apply_backlash(backlash_map(d, c, b), g, out);
+  return out;
 }
 
 namespace {
 
-// The backlash column's map, kept while the record's motion, the rest threshold and b are those
-// it was made for (a fit evaluates the column thousands of times on one record): the map depends
-// on x, v, v_rest and b only, and applying it is the arithmetic of through_backlash.
-class BacklashCache {
+// The contact's velocity at the samples behind the dead band (through_dead_band's v), kept while
+// the record's motion and b are those it was made for (the backlash column is filled at every
+// evaluation of a fit on one record).
+class DeadBandCache {
  public:
-  std::shared_ptr<const BacklashMap> get(const Dataset& d, const EffectContext& c) {
+  std::vector<double> velocity(const Dataset& d, double b) {
     std::lock_guard<std::mutex> lock(m_);
-    if (!map_ || b_ != c.backlash || v_rest_ != c.v_rest || x_ != d.x || v_ != d.v) {
-      map_ = std::make_shared<const BacklashMap>(backlash_map(d, c, c.backlash));
-      b_ = c.backlash, v_rest_ = c.v_rest, x_ = d.x, v_ = d.v;
+    if (b_ != b || x_ != d.x || v_ != d.v) {
+      vb_ = through_dead_band(d, b).v;
+      b_ = b, x_ = d.x, v_ = d.v;
     }
-    return map_;
+    return vb_;
   }
 
  private:
   std::mutex m_;
-  std::shared_ptr<const BacklashMap> map_;
-  double b_ = 0, v_rest_ = 0;
-  std::vector<double> x_, v_;
+  double b_ = -1.0;
+  std::vector<double> x_, v_, vb_;
 };
 
 }  // namespace
@@ -466,10 +462,16 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::Backlash:
+      // The model along the contact's motion (the last n values of g) less the model, and the
+      // viscous share at the contact's velocity less that at the encoder's.
       v.push_back(col("backlash_level", "N", true,
-                      [cache = std::make_shared<BacklashCache>()](D d, C c, G g, O o) {
-                        apply_backlash(*cache->get(d, c), g, o);
-                        for (std::size_t k = 0; k < d.size(); ++k) o[k] -= g[k];
+                      [cache = std::make_shared<DeadBandCache>()](D d, C c, G g, O o) {
+                        const std::size_t n = d.size();
+                        const std::span<const double> gb =
+                            g.size() >= 2 * n ? g.last(n) : g.first(n);
+                        const std::vector<double> vb = cache->velocity(d, c.backlash);
+                        for (std::size_t k = 0; k < n; ++k)
+                          o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
                       }));
       break;
   }

@@ -119,22 +119,19 @@ bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c);
 std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext& c,
                                           std::vector<std::size_t>* turn = nullptr);
 
-// The channel transformations of the measurement effects, applied to a series y on d's grid:
-// y(t - tau) (linear interpolation, held at the ends); first-order low-pass with time constant T;
-// y seen through a lost motion b at reversals (held at the reversal value for the first b of
-// travel, then y at travel s - b of the same stroke).
+// The channel transformations of the force-channel effects, applied to a series y on d's grid:
+// y(t - tau) (linear interpolation, held at the ends); first-order low-pass with time constant T.
 void shifted(const Dataset& d, std::span<const double> y, double tau, std::span<double> out);
 void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<double> out);
-void through_backlash(const Dataset& d, const EffectContext& c, std::span<const double> y, double b,
-                      std::span<double> out);
-// through_backlash as a map made once per record and b: out[k] = y[lo[k]] + w[k] (y[hi[k]] -
-// y[lo[k]]) (lo = hi, w = 0 where y is held at the reversal value).
-struct BacklashMap {
-  std::vector<std::size_t> lo, hi;
-  std::vector<double> w;
-};
-BacklashMap backlash_map(const Dataset& d, const EffectContext& c, double b);
-void apply_backlash(const BacklashMap& m, std::span<const double> y, std::span<double> out);
+
+// The contact's motion behind a lost motion (a dead band of width b) between the encoder and the
+// contact: the contact stays where it is while the encoder is within b / 2 of it, and is dragged
+// along b / 2 behind it beyond; at the start it sits at the encoder's position (the middle of the
+// band). Returns d with every step's velocity (vstep, and sv along curved paths) the contact's,
+// x the contact's position and v its velocity at each sample (0 where it rests in the band): the
+// record the friction model sees through the play. The encoder moves by the measured displacement
+// over each step, as the steps of d do.
+Dataset through_dead_band(const Dataset& d, double b);
 
 // Motion starts after rests of at least c.dwell_min: index of the first moving sample, rest
 // duration [s], direction (+-1).

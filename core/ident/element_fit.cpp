@@ -129,7 +129,7 @@ class ElementEvaluator {
     }
     for (Effect e : spec.effects)
       for (auto& col : effect_columns(e)) {
-        if (col.uses_g && c.g_frozen.size() != d.size())
+        if (col.uses_g && c.g_frozen.size() < d.size())
           throw InputError("internal: the grid fit takes effects with g columns only at a frozen g");
         col.fill(d, c, col.uses_g ? std::span<const double>(c.g_frozen) : std::span<const double>{}, full);
         cols.push_back(full);
@@ -756,7 +756,7 @@ std::vector<double> shape_with_element(const FitResult& f, const FitSpec& spec,
   for (Effect e : spec.effects)
     for (const auto& col : effect_columns(e)) uses_g |= col.uses_g;
   EffectContext cg = c;
-  if (uses_g) cg.g_frozen = unit_friction(f, train, c);
+  if (uses_g) cg.g_frozen = unit_outputs(f, spec, train, c);
   FitSpec scored = spec;
   scored.model = f.spec.model;
   ElementEvaluator ev(scored, train, cg, kPolishRows);

@@ -126,7 +126,7 @@ Spectrum position_spectrum(const Dataset& d, const EffectContext& c, const std::
 
 nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& c,
                                const std::vector<double>& r, const std::vector<double>& g,
-                               const RippleSearch& ripples) {
+                               const RippleSearch& ripples, const std::vector<double>* g_contact) {
   nlohmann::json j = nlohmann::json::object();
   switch (e) {
     case Effect::Inertia:
@@ -231,11 +231,12 @@ nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& 
       break;
     }
     case Effect::Backlash: {
-      std::vector<double> z(d.size());
-      through_backlash(d, c, g, c.backlash, z);
-      for (std::size_t k = 0; k < d.size(); ++k) z[k] -= g[k];
       j["lost_motion_m"] = round3(c.backlash);
-      j["corr_model_through_backlash"] = round3(corr(d, r, z));
+      if (g_contact && g_contact->size() == d.size()) {
+        std::vector<double> z(d.size());
+        for (std::size_t k = 0; k < d.size(); ++k) z[k] = (*g_contact)[k] - g[k];
+        j["corr_model_through_backlash"] = round3(corr(d, r, z));
+      }
       // Mean residual along the new direction over the first 2 b after reversals.
       const auto travel = travel_since_reversal(d, c);
       double s = 0, n = 0;

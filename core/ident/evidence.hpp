@@ -38,8 +38,10 @@ struct RippleSearch;
 Spectrum position_spectrum(const Dataset& d, const EffectContext& c, const std::vector<double>& r);
 
 // Evidence for one effect (a JSON object of named numbers and small tables).
+// g_contact (backlash): the unit output along the contact's motion through the dead band.
 nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& c,
                                const std::vector<double>& r, const std::vector<double>& g,
-                               const RippleSearch& ripples);
+                               const RippleSearch& ripples,
+                               const std::vector<double>* g_contact = nullptr);
 
 }  // namespace gmslab::ident

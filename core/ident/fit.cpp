@@ -257,7 +257,10 @@ class Evaluator {
   Evaluator(const FitSpec& spec, const Parameterization& par, const Dataset& d,
             const EffectContext& c)
       : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
-    for (Effect e : spec.effects) needs_sensitivity_ |= e == Effect::DwellStiction;
+    for (Effect e : spec.effects) {
+      needs_sensitivity_ |= e == Effect::DwellStiction;
+      needs_contact_ |= e == Effect::Backlash;
+    }
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
     const auto nu = static_cast<Eigen::Index>(rows_.size());
@@ -280,25 +283,37 @@ class Evaluator {
   double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
 
   // Simulates g for shape u; false when the model cannot be built or diverges. With a
-  // dwell_stiction term, g also carries (second half) the sensitivity dg / d(Fs/Fc) by a 1 %
-  // forward difference (models without Fs: g itself).
+  // dwell_stiction term, g also carries (next n values) the sensitivity dg / d(Fs/Fc) by a 1 %
+  // forward difference (models without Fs: g itself); with a backlash term (last n values) the
+  // model along the contact's motion through the dead band (effects.hpp, Column::uses_g).
   bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
     const std::size_t n = d_.size();
     try {
       auto mp = par_.unit_model(u);
-      sim(mp, g);
+      sim(mp, d_, path_, runner_, g);
       if (needs_sensitivity_) {
         std::vector<double> g2;
         const auto fs = model_info(mp.model).scalar_index("Fs");
         if (fs >= 0) {
           const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
           mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
-          sim(mp, g2);
+          sim(mp, d_, path_, runner_, g2);
           for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
+          mp.scalars[static_cast<std::size_t>(fs)] = ratio;
         } else {
           g2 = g;
         }
         g.insert(g.end(), g2.begin(), g2.end());
+      }
+      if (needs_contact_) {
+        if (!(contact_b_ == c_.backlash) || contact_.size() != n) {
+          contact_ = through_dead_band(d_, c_.backlash);
+          contact_path_ = GmsPath{};
+          contact_b_ = c_.backlash;
+        }
+        std::vector<double> gb;
+        sim(mp, contact_, contact_path_, contact_runner_, gb);
+        g.insert(g.end(), gb.begin(), gb.end());
       }
     } catch (const InputError&) {  // a shape the model rejects (e.g. W sum below Fs): a bad point
       return false;
@@ -350,7 +365,7 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_)) g_.assign(needs_sensitivity_ ? 2 * d_.size() : d_.size(), 0.0);
+    if (!simulate(u, g_)) g_.assign((1 + needs_sensitivity_ + needs_contact_) * d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
       terms_[j].column.fill(d_, c_, g_, full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
@@ -360,13 +375,14 @@ class Evaluator {
 
  private:
   double bad() const { return 2.0 * null_rms() + 1.0; }
-  // The model along the record: GMS through the path runner (the record's path built at the
-  // first GMS simulation), other models step by step.
-  void sim(const ModelParams& mp, std::vector<double>& out) const {
+  // The model along record d: GMS through the path runner (d's path built at the first GMS
+  // simulation), other models step by step.
+  static void sim(const ModelParams& mp, const Dataset& d, GmsPath& path, GmsPathRunner& runner,
+                  std::vector<double>& out) {
     const auto model = build_model(mp);  // validates the parameters (throws on a bad shape)
-    if (mp.model != "gms") return simulate_along(*model, d_, out);
-    if (path_.samples != d_.size()) path_ = gms_path(d_);
-    simulate_gms_along(GmsParams::from(mp), path_, runner_, out);
+    if (mp.model != "gms") return simulate_along(*model, d, out);
+    if (path.samples != d.size()) path = gms_path(d);
+    simulate_gms_along(GmsParams::from(mp), path, runner, out);
   }
   void gather(const std::vector<double>& full, Eigen::Ref<Eigen::VectorXd> out) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) out(static_cast<Eigen::Index>(i)) = full[rows_[i]];
@@ -382,9 +398,14 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
-  bool needs_sensitivity_ = false;
+  bool needs_sensitivity_ = false, needs_contact_ = false;
   mutable GmsPath path_;
   mutable GmsPathRunner runner_;
+  // The record as the contact moves behind the backlash dead band, for b = contact_b_.
+  mutable Dataset contact_;
+  mutable double contact_b_ = std::numeric_limits<double>::quiet_NaN();
+  mutable GmsPath contact_path_;
+  mutable GmsPathRunner contact_runner_;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -578,7 +599,7 @@ FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectConte
       wr.spec = spec;
       wr.u = *warm;
       EffectContext cg = c;
-      cg.g_frozen = unit_friction(wr, train, c);
+      cg.g_frozen = unit_outputs(wr, spec, train, c);
       frozen = polish_elements(spec, train, cg, so, *warm);
       return;
     }
@@ -683,6 +704,23 @@ std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const Ef
     simulate_along(*model, d, g);
   }
   return g;  // the unit output only (no sensitivity)
+}
+
+std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const Dataset& d,
+                                 const EffectContext& c) {
+  std::vector<double> g = unit_friction(r, d, c);
+  const auto has = [&](Effect e) {
+    return std::find(spec.effects.begin(), spec.effects.end(), e) != spec.effects.end();
+  };
+  if (has(Effect::DwellStiction)) {
+    const std::vector<double> g1 = g;
+    g.insert(g.end(), g1.begin(), g1.end());
+  }
+  if (has(Effect::Backlash)) {
+    const auto gb = unit_friction(r, through_dead_band(d, c.backlash), c);
+    g.insert(g.end(), gb.begin(), gb.end());
+  }
+  return g;
 }
 
 double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c) {

@@ -167,6 +167,11 @@ std::vector<double> shape_without_element(const FitResult& f, std::size_t row, c
 std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectContext& c);
 // The friction model's unit-force-level output g along d for the fitted shape.
 std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c);
+// What the effect columns of `spec` take as g at r's shape (Column::uses_g): the unit output, then
+// a stand-in for the dwell sensitivity (the unit output again) with a dwell_stiction term, then
+// the unit output along the contact's motion through the dead band with a backlash term.
+std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const Dataset& d,
+                                 const EffectContext& c);
 // RMS of (F - predict) over d's used samples [N].
 double rms_on(const FitResult& r, const Dataset& d, const EffectContext& c);
 

@@ -94,6 +94,36 @@ void tune_scalar(const FitResult& cur, const Dataset& train, EffectContext& c, E
   c.*field = std::min(f1, f2) < best ? xr : grid[bi];
 }
 
+// A scalar that trades off against the shape (a softer presliding shape mimics a lost motion, so
+// a linear refit at the shape of one value prefers values near it): golden section on log v
+// between v0 / 5 and 5 v0 (the coarse grid's neighbours), each value scored by a short shape
+// refit warm-started from the best shape so far. Sets c.*field and `best` to the best value's fit.
+void refine_with_shape(const FitSpec& spec, const Dataset& train, EffectContext& c,
+                       double EffectContext::*field, double v0, const FitOptions& fo,
+                       std::optional<FitResult>& best) {
+  FitOptions so = fo;
+  so.max_evaluations = std::min(fo.max_evaluations, 80);
+  double best_v = v0;
+  auto cost = [&](double lv) {
+    EffectContext cv = c;
+    cv.*field = std::exp(lv);
+    FitResult f = fit_model(spec, train, cv, so, &best->u);
+    const double r = f.rms_train;
+    if (r < best->rms_train) best_v = cv.*field, best = std::move(f);
+    return r;
+  };
+  const double gr = 0.5 * (std::sqrt(5.0) - 1);
+  double a = std::log(v0 / 5), b = std::log(v0 * 5);
+  double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1 = cost(x1), f2 = cost(x2);
+  for (int i = 0; i < 8; ++i) {
+    if (f1 < f2)
+      b = x2, x2 = x1, f2 = f1, x1 = b - gr * (b - a), f1 = cost(x1);
+    else
+      a = x1, x1 = x2, f1 = f2, x2 = a + gr * (b - a), f2 = cost(x2);
+  }
+  c.*field = best_v;
+}
+
 // The measurement effects' scalars. A channel effect changes what shape fits best (a lagging
 // force looks like softer presliding), so with `deep` each coarse grid value gets a short refit of
 // the shape first; the scalar is then refined by linear refits at the best of those shapes, which
@@ -142,9 +172,13 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
       FitResult f = fits[i].get();
       if (f.rms_train < best) best = f.rms_train, bv = coarse[i], bf = std::move(f);
     }
-    std::vector<double> grid;  // fine grid within the neighbours of the best coarse value
-    for (double m : {0.4, 0.55, 0.75, 0.9, 1.0, 1.12, 1.3, 1.6, 2.0}) grid.push_back(bv * m);
-    tune_scalar(*bf, train, c, e, field, grid);
+    if (e == Effect::Backlash) {
+      refine_with_shape(spec, train, c, field, bv, fo, bf);
+    } else {
+      std::vector<double> grid;  // fine grid within the neighbours of the best coarse value
+      for (double m : {0.4, 0.55, 0.75, 0.9, 1.0, 1.12, 1.3, 1.6, 2.0}) grid.push_back(bv * m);
+      tune_scalar(*bf, train, c, e, field, grid);
+    }
     // A refit that kept fewer elements (light ones dropped) has a shape of another size: the
     // candidate is then screened at the current shape.
     if (bf->spec.elements == cur.spec.elements && bf->u.size() == cur.u.size()) shapes[e] = bf->u;
@@ -155,9 +189,18 @@ std::map<Effect, std::vector<double>> tune_measurement_effects(const FitResult& 
       {0.1 * h, 0.2 * h, 0.5 * h, h, 2 * h, 3 * h, 5 * h, 8 * h, 12 * h, 20 * h, 30 * h});
   run(Effect::SensorFilter, &EffectContext::filter_T, {h, 3 * h, 9 * h},
       {0.2 * h, 0.5 * h, h, 2 * h, 3 * h, 5 * h, 8 * h, 12 * h, 20 * h, 30 * h});
-  const double xb = c.x_ba;
-  run(Effect::Backlash, &EffectContext::backlash, {0.2 * xb, xb, 5 * xb},
-      {0.05 * xb, 0.1 * xb, 0.2 * xb, 0.4 * xb, 0.7 * xb, xb, 1.5 * xb, 2.5 * xb, 4 * xb, 6 * xb});
+  // The lost motion from a hundredth of the break-away displacement (x_ba, estimated after
+  // reversals, follows the softest elements; a play can be far below it) to five times it or a
+  // tenth of the stroke, whichever is longer (a play larger than the break-away widens the swing
+  // that x_ba is read from, and x_ba is a poor guide there): geometric grids, coarse by 5x for
+  // the shape refits, fine by 1.6x for the linear refits.
+  const double b_lo = 0.01 * c.x_ba, b_hi = std::max(5.0 * c.x_ba, 0.2 * c.x_half);
+  auto geometric = [&](double ratio) {
+    std::vector<double> g;
+    for (double b = b_lo; b < b_hi * ratio; b *= ratio) g.push_back(std::min(b, b_hi));
+    return g;
+  };
+  run(Effect::Backlash, &EffectContext::backlash, geometric(5.0), geometric(1.6));
   return shapes;
 }
 
@@ -237,7 +280,7 @@ class RoundRun {
       if (contains(cur.spec.effects, e) || !effect_applicable(e, train_, c)) continue;
       if (o_.base.cancel && o_.base.cancel->load()) throw Cancelled();
       Candidate k = screen(e, cur, train_, val_, c, shape_of(e), &r_val_);
-      k.evidence = effect_evidence(e, train_, c, r_, g_, rs_);
+      k.evidence = evidence(e, cur, c);
       best_val = std::min(best_val, k.screen_rms_validation);
       rd_.candidates.push_back(std::move(k));
       ++screened_;
@@ -250,7 +293,7 @@ class RoundRun {
       for (auto& k : rd_.candidates)
         if (shapes_.count(k.effect)) {
           Candidate k2 = screen(k.effect, cur, train_, val_, c, shape_of(k.effect), &r_val_);
-          k2.evidence = effect_evidence(k.effect, train_, c, r_, g_, rs_);
+          k2.evidence = evidence(k.effect, cur, c);
           k = std::move(k2);
         }
     }
@@ -259,6 +302,14 @@ class RoundRun {
     std::stable_sort(rd_.candidates.begin(), rd_.candidates.end(), [](const Candidate& a, const Candidate& b) {
       return a.screen_rms_validation < b.screen_rms_validation;
     });
+  }
+
+  // What the report shows of the candidate (evidence.hpp); backlash with the current model along
+  // the contact's motion through the dead band of the tuned lost motion.
+  nlohmann::json evidence(Effect e, const FitResult& cur, const EffectContext& c) const {
+    if (e != Effect::Backlash) return effect_evidence(e, train_, c, r_, g_, rs_);
+    const auto gb = unit_friction(cur, through_dead_band(train_, c.backlash), c);
+    return effect_evidence(e, train_, c, r_, g_, rs_, &gb);
   }
 
   // Worth a refit at all: explains something of the training residual and hints at a lower

@@ -94,11 +94,10 @@ FitSpec additive_probes_for(const FitResult& f, const Dataset& d, const EffectCo
 
 namespace {
 
-// Columns of an effect at the shape of f (g: unit friction along d).
+// Columns of an effect at the shape of f (the effect's unit outputs along d, fit.hpp).
 std::vector<std::vector<double>> effect_matrix(Effect e, const Dataset& d, const EffectContext& c,
-                                               const std::vector<double>& g) {
-  std::vector<double> g2 = g;
-  if (e == Effect::DwellStiction) g2.insert(g2.end(), g.begin(), g.end());  // sensitivity ~ g
+                                               const FitResult& f) {
+  const std::vector<double> g2 = unit_outputs(f, FitSpec{f.spec.model, f.spec.elements, {e}}, d, c);
   std::vector<std::vector<double>> out;
   for (const auto& col : effect_columns(e)) {
     std::vector<double> o(d.size(), 0.0);
@@ -120,7 +119,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
       out.push_back({t.effect, t.name, t.unit, t.value, 0, 0, ""});
     }
   for (Effect e : f.spec.effects) {
-    auto m = effect_matrix(e, d, c, g);
+    auto m = effect_matrix(e, d, c, f);
     const auto ts = terms_of(f, e);
     for (std::size_t j = 0; j < m.size() && j < ts.size(); ++j) {
       cols.push_back(std::move(m[j]));
@@ -148,7 +147,7 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
       if (s.e == Effect::SensorFilter) cc.filter_T += sign * step;
       if (s.e == Effect::Backlash) cc.backlash += sign * step;
       if (s.index >= 0) cc.wavelengths[static_cast<std::size_t>(s.index)] += sign * step;
-      const auto m = effect_matrix(s.e, d, cc, g);
+      const auto m = effect_matrix(s.e, d, cc, f);
       for (std::size_t j = 0; j < m.size() && j < ts.size(); ++j)
         for (std::size_t k = 0; k < d.size(); ++k) der[k] += sign * ts[j].value * m[j][k] / (2 * step);
     }
