@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <future>
 #include <limits>
+#include <optional>
 
 #include "core/ident/element_fit.hpp"
 #include "core/ident/parallel.hpp"
@@ -79,6 +80,26 @@ BlockTest block_test(const Dataset& d, const std::vector<double>& ra, const std:
   if (t.std_error > 0) t.z = mean / t.std_error;
   else t.z = mean > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   return t;
+}
+
+std::string unphysical(const std::vector<LinearTerm>& terms, Effect e) {
+  auto value = [&](std::string_view effect, std::string_view name) -> std::optional<double> {
+    for (const auto& t : terms)
+      if (t.effect == effect && t.name == name) return t.value;
+    return std::nullopt;
+  };
+  if (e == Effect::Inertia) {
+    if (const auto m = value(effect_name(e), "M"); m && !(*m > 0))
+      return "negative mass M = " + fmt(*m) +
+             " kg: not an inertia (the model lags along the sampled path)";
+  } else if (e == Effect::Backlash) {
+    const auto level = value(effect_name(e), "backlash_level"), fc = value("base", "Fc");
+    if (level && fc && *fc > 0 && !(*level >= 0.5 * *fc && *level <= 2.0 * *fc))
+      return "backlash level " + fmt(*level) + " N against the Coulomb level " + fmt(*fc) +
+             " N: the force does not pass through a play (its level would be the Coulomb level), "
+             "not a backlash";
+  }
+  return {};
 }
 
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
@@ -217,23 +238,17 @@ class AblationRun {
     const bool significant = resolvable(r.test, without_e.rms);
     const bool big = r.contribution >= o_.min_size * floor_;
     const bool needed = without_e.rms > o_.near_floor * floor_;
-    // A mass is positive: a negative one is the model lagging along the sampled path (a force
-    // that leads the modelled one by a fraction of a step looks like -M a), not an inertia.
-    double mass = 1.0;
-    if (e == Effect::Inertia)
-      for (const auto& t : cur.fit.terms)
-        if (t.effect == effect_name(Effect::Inertia) && t.name == "M") mass = t.value;
-    const bool physical = mass > 0;
-    r.credited = significant && big && needed && physical;
-    r.verdict = verdict(r, without_e.rms, significant, big, physical, mass);
+    // Terms that cannot be the effect (a negative mass, a backlash level far from Fc) are never
+    // credited (unphysical in ablation.hpp).
+    const std::string why = unphysical(cur.fit.terms, e);
+    r.credited = significant && big && needed && why.empty();
+    r.verdict = verdict(r, without_e.rms, significant, big, why);
     return r;
   }
 
-  std::string verdict(const AblationRow& r, double rms, bool significant, bool big, bool physical,
-                      double mass) const {
-    if (!physical)
-      return "not credited: negative mass M = " + fmt(mass) +
-             " kg: not an inertia (the model lags along the sampled path)";
+  std::string verdict(const AblationRow& r, double rms, bool significant, bool big,
+                      const std::string& why) const {
+    if (!why.empty()) return "not credited: " + why;
     if (r.credited)
       return "credited: without it validation " + fmt(rms) + " N against " + fmt(full_.rms) +
              " N, z = " + fmt(r.test.z) + " over " + std::to_string(r.test.blocks) + " blocks" +

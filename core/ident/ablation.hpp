@@ -158,6 +158,15 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
                       const std::vector<std::pair<Effect, Effect>>& alternatives,
                       const AblationOptions& o, const FitResult* from_data = nullptr);
 
+// Why the terms of effect e fitted in `terms` are not that effect, or empty when they may be: a
+// mass that is not positive (a force leading the modelled one by a fraction of a step looks like
+// -M a: the model lagging along the sampled path); a backlash level outside 0.5-2 x the Coulomb
+// level (a play passes the whole friction force through it, so its level is Fc: on the issue's
+// noise-free fig2c trace the column took up 1e-5 of it with the opposite sign, a small correction
+// it happens to span, not a play; on the per-kind study's records with a generated play the level
+// was 0.93-1.15 Fc).
+std::string unphysical(const std::vector<LinearTerm>& terms, Effect e);
+
 // RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c);
 

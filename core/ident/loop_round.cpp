@@ -414,13 +414,9 @@ class RoundRun {
                                     " x the floor) and explains less than " + std::to_string(o_.min_excess).substr(0, 4) +
                                     " of the validation error above the floor";
     }
-    if (a.kept && k.effect == Effect::Inertia) {
-      // A mass is positive. A negative one is the model lagging along the sampled path (a
-      // force that leads the modelled one by a fraction of a step looks like -M a), not inertia.
-      for (const auto& t : a.terms)
-        if (t.name == "M" && !(t.value > 0))
-          a.kept = false, guarded = true, a.verdict = "negative mass M = " + std::to_string(t.value) +
-                                      " kg: not an inertia (the model lags along the sampled path)";
+    if (a.kept) {  // terms that cannot be the effect: a negative mass, a backlash level far from Fc
+      if (const std::string why = unphysical(f.terms, k.effect); !why.empty())
+        a.kept = false, guarded = true, a.verdict = why;
     }
     const bool lag_like = k.effect == Effect::Inertia || k.effect == Effect::TimeShift ||
                           k.effect == Effect::SensorFilter;

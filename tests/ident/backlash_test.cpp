@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <random>
 
+#include "core/ident/ablation.hpp"
 #include "core/ident/fit.hpp"
 #include "core/ident/loop.hpp"
 #include "tests/ident/random_records.hpp"
@@ -106,6 +107,28 @@ TEST(DeadBand, ContactStaysInTheBandAndLosesTheLostMotionAtEveryReversal) {
   EXPECT_GE(travel_checked, 30);  // most motions have no stroke shorter than the play
 }
 
+// A play passes the whole friction force through it: a backlash level far from the Coulomb level
+// is refused, as a mass that is not positive is; levels near it and other effects pass.
+TEST(IdentBacklash, LevelFarFromTheCoulombLevelIsNotAPlay) {
+  std::mt19937_64 rng(4102);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int cases = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double fc = std::pow(10.0, -2.0 + 5.0 * U(rng));
+    const double ratio = std::pow(10.0, -6.0 + 7.0 * U(rng)) * (U(rng) < 0.2 ? -1.0 : 1.0);
+    const std::vector<LinearTerm> terms = {{"base", "Fc", "N", fc},
+                                           {"base", "sigma2", "N s/m", 3.0},
+                                           {"backlash", "backlash_level", "N", ratio * fc}};
+    const bool play = ratio >= 0.5 && ratio <= 2.0;
+    EXPECT_EQ(unphysical(terms, Effect::Backlash).empty(), play) << "level " << ratio << " Fc";
+    EXPECT_TRUE(unphysical(terms, Effect::Offset).empty());
+    const std::vector<LinearTerm> mass = {{"base", "Fc", "N", fc}, {"inertia", "M", "kg", ratio}};
+    EXPECT_EQ(unphysical(mass, Effect::Inertia).empty(), ratio > 0) << "M " << ratio;
+    ++cases;
+  }
+  EXPECT_EQ(cases, 200);
+}
+
 // The study's records with one generated backlash (1.5-50x the noise, the study's draw).
 study::Record backlash_record(unsigned seed) {
   study::Record r;
@@ -128,7 +151,8 @@ TEST(IdentBacklash, ColumnAtTheGeneratorsLostMotionReachesItsFloor) {
   int within = 0, cases = 0;
   for (unsigned seed = 33001; seed < 33007; ++seed) {
     const study::Record r = backlash_record(seed);
-    const Dataset train = prepare_dataset(r.train.record), val = prepare_dataset(r.validation.record);
+    const Dataset train = prepare_dataset(r.train.record),
+                  val = prepare_dataset(r.validation.record);
     EffectContext c = make_context(train);
     FitSpec spec;
     spec.elements = r.truth.elements();
