@@ -175,9 +175,9 @@ TEST(IdentBacklash, ColumnAtTheGeneratorsLostMotionReachesItsFloor) {
 }
 
 // The residual loop on records with a backlash and on the same truths without it (seeds 33101-
-// 33104): backlash named first on at least 3 of 4, its lost motion within a factor 2 of the
+// 33104): backlash named first on at least 3 of 4, its lost motion within 30 % of the
 // generator's where it is; nothing named on at least 3 of the 4 effect-free records. Measured on
-// the per-kind study's seeds 30001-30008: named first on 8 of 8.
+// the per-kind study's seeds 30001-30008: named first on 8 of 8, the lost motion within 0.3-15 %.
 TEST(IdentBacklash, LoopNamesABacklashAndNothingWithoutIt) {
   int named = 0, clean = 0, b_close = 0;
   for (unsigned seed = 33101; seed < 33105; ++seed) {
@@ -189,7 +189,7 @@ TEST(IdentBacklash, LoopNamesABacklashAndNothingWithoutIt) {
     const bool first = !rep.effects_added.empty() && rep.effects_added.front() == Effect::Backlash;
     const double b = r.truth.effects[0].param;
     named += first;
-    if (first && rep.context.backlash > 0.5 * b && rep.context.backlash < 2 * b) {
+    if (first && std::abs(rep.context.backlash - b) < 0.3 * b) {
       ++b_close;
     }
     std::printf("seed %u: b %.3g um found %.3g um, named %s, %.2fx the floor\n", seed, 1e6 * b,
