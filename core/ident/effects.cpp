@@ -467,8 +467,11 @@ std::vector<Column> effect_columns(Effect e) {
       v.push_back(col("backlash_level", "N", true,
                       [cache = std::make_shared<DeadBandCache>()](D d, C c, G g, O o) {
                         const std::size_t n = d.size();
-                        const std::span<const double> gb =
-                            g.size() >= 2 * n ? g.last(n) : g.first(n);
+                        if (g.size() < 2 * n)
+                          throw InternalError(
+                              "backlash column without the model along the contact's motion "
+                              "(fit.hpp, unit_outputs)");
+                        const std::span<const double> gb = g.last(n);
                         const std::vector<double> vb = cache->velocity(d, c.backlash);
                         for (std::size_t k = 0; k < n; ++k)
                           o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
