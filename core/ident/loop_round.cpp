@@ -64,6 +64,21 @@ void choose_dwell_length(const FitResult& cur, const Dataset& train, EffectConte
   c.dwell_s0 = best_s0;
 }
 
+// Golden section on [a, b] for `iters` steps or until the bracket is narrower than `tol`: the
+// better of the last two points and its cost.
+template <class Cost>
+std::pair<double, double> golden_section(double a, double b, int iters, double tol, Cost&& cost) {
+  const double gr = 0.5 * (std::sqrt(5.0) - 1);
+  double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1 = cost(x1), f2 = cost(x2);
+  for (int i = 0; i < iters && b - a > tol; ++i) {
+    if (f1 < f2)
+      b = x2, x2 = x1, f2 = f1, x1 = b - gr * (b - a), f1 = cost(x1);
+    else
+      a = x1, x1 = x2, f1 = f2, x2 = a + gr * (b - a), f2 = cost(x2);
+  }
+  return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
 // A measurement effect's scalar (tau, T or b): the grid value with the lowest training RMS of a
 // linear refit, refined by golden section between its neighbours.
 void tune_scalar(const FitResult& cur, const Dataset& train, EffectContext& c, Effect e,
@@ -84,14 +99,8 @@ void tune_scalar(const FitResult& cur, const Dataset& train, EffectContext& c, E
   double a = grid[bi], b = grid[bi];
   if (bi > 0 && grid[bi - 1] * grid[bi] > 0) a = grid[bi - 1];
   if (bi + 1 < grid.size() && grid[bi + 1] * grid[bi] > 0) b = grid[bi + 1];
-  const double gr = 0.5 * (std::sqrt(5.0) - 1);
-  double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1 = cost(x1), f2 = cost(x2);
-  for (int i = 0; i < 20 && b - a > 1e-4 * std::abs(grid[bi]); ++i) {
-    if (f1 < f2) b = x2, x2 = x1, f2 = f1, x1 = b - gr * (b - a), f1 = cost(x1);
-    else a = x1, x1 = x2, f1 = f2, x2 = a + gr * (b - a), f2 = cost(x2);
-  }
-  const double xr = f1 < f2 ? x1 : x2;
-  c.*field = std::min(f1, f2) < best ? xr : grid[bi];
+  const auto [xr, fr] = golden_section(a, b, 20, 1e-4 * std::abs(grid[bi]), cost);
+  c.*field = fr < best ? xr : grid[bi];
 }
 
 // A scalar that trades off against the shape (a softer presliding shape mimics a lost motion, so
@@ -112,15 +121,7 @@ void refine_with_shape(const FitSpec& spec, const Dataset& train, EffectContext&
     if (r < best->rms_train) best_v = cv.*field, best = std::move(f);
     return r;
   };
-  const double gr = 0.5 * (std::sqrt(5.0) - 1);
-  double a = std::log(v0 / 5), b = std::log(v0 * 5);
-  double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1 = cost(x1), f2 = cost(x2);
-  for (int i = 0; i < 8; ++i) {
-    if (f1 < f2)
-      b = x2, x2 = x1, f2 = f1, x1 = b - gr * (b - a), f1 = cost(x1);
-    else
-      a = x1, x1 = x2, f1 = f2, x2 = a + gr * (b - a), f2 = cost(x2);
-  }
+  golden_section(std::log(v0 / 5), std::log(v0 * 5), 8, 0.0, cost);
   c.*field = best_v;
 }
 
