@@ -1,10 +1,11 @@
 #include "core/friction/gms_path.hpp"
-#include "core/simd_path.hpp"
-
-#include "core/friction/gms_elements.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+
+#include "core/friction/gms_elements.hpp"
+#include "core/simd_path.hpp"
 
 namespace gmslab {
 
@@ -19,6 +20,76 @@ void GmsPath::end_sample() {
   ++samples;
 }
 
+namespace {
+
+// Open-addressing map from a 64-bit key to a dense index (keys numbered in order of appearance).
+class DenseIndex {
+ public:
+  explicit DenseIndex(std::size_t n) {
+    std::size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    slots_.assign(cap, kEmpty);
+    keys_.reserve(n);
+  }
+  // The index of key, new ones numbered from keys().size().
+  std::uint32_t operator()(std::uint64_t key) {
+    const std::size_t mask = slots_.size() - 1;
+    std::size_t i =
+        static_cast<std::size_t>((key ^ (key >> 29)) * 0x9E3779B97F4A7C15ull >> 7) & mask;
+    for (;; i = (i + 1) & mask) {
+      if (slots_[i] == kEmpty) {
+        slots_[i] = static_cast<std::uint32_t>(keys_.size());
+        keys_.push_back(key);
+        return slots_[i];
+      }
+      if (keys_[slots_[i]] == key) return slots_[i];
+    }
+  }
+  std::size_t size() const { return keys_.size(); }
+
+ private:
+  static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> slots_;
+  std::vector<std::uint64_t> keys_;
+};
+
+std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+
+}  // namespace
+
+void GmsPathRunner::build_index(const GmsPath& path) {
+  const std::size_t m = path.v.size();
+  DenseIndex speeds(m), pairs(m);
+  speed_.clear(), pair_h_.clear(), pair_speed_.clear();
+  step_speed_.resize(m), step_pair_.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const double a = std::abs(path.v[j]);
+    const std::uint32_t is = speeds(bits(a));
+    if (is == speed_.size()) speed_.push_back(a);
+    // h and the speed's index in one key: an index below 2^32 and h's bits mixed in.
+    const std::uint64_t key = bits(path.h[j]) * 0xD6E8FEB86659FD93ull ^ is;
+    const std::uint32_t ip = pairs(key);
+    if (ip == pair_h_.size()) pair_h_.push_back(path.h[j]), pair_speed_.push_back(is);
+    // A collision of two pairs in one key would share E: the pair is checked.
+    if (pair_h_[ip] != path.h[j] || pair_speed_[ip] != is) {
+      step_speed_.clear(), step_pair_.clear();
+      index_ = Index::failed;  // two pairs in one key: step by step
+      return;
+    }
+    step_speed_[j] = is, step_pair_[j] = ip;
+  }
+  // Mostly distinct speeds (a filtered velocity, a smooth path): the copies would cost more than
+  // the few values computed once save.
+  if (2 * pair_h_.size() > m) {
+    step_speed_.clear(), step_pair_.clear();
+    index_ = Index::failed;
+    return;
+  }
+  speed_S_.resize(speed_.size());
+  pair_E_.resize(pair_h_.size());
+  index_ = Index::built;
+}
+
 void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
   const std::size_t m = path.v.size();
   // The same shape along the same path (a search moving only the elements): nothing to redo.
@@ -26,18 +97,35 @@ void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
   const bool same_S = same_path && S.Fs == shape_.Fs && S.Fc == shape_.Fc && S.Vs == shape_.Vs &&
                       S.delta == shape_.delta;
   if (same_S && C == C_) return;
+  bool fresh_index = false;
+  if (!same_path) {
+    index_ = Index::none;
+  } else if (index_ == Index::none) {
+    build_index(path);
+    fresh_index = index_ == Index::built;
+  }
   path_ = &path, steps_ = m, shape_ = S, C_ = C;
   S_.resize(m);
   E_.resize(m);
-  if (!same_S) {
-    // As GmsModel::step: beyond r_sat S is Fc exactly in doubles (no pow, no exp there).
-    const double inv_vs = 1.0 / S.Vs;
-    const double r_sat = gms_elements::saturation_ratio(S);
-    for (std::size_t j = 0; j < m; ++j) {
-      const double r = std::abs(path.v[j]) * inv_vs;
-      S_[j] = r > r_sat ? S.Fc : S.at_scaled(r);
+  // As GmsModel::step: beyond r_sat S is Fc exactly in doubles (no pow, no exp there).
+  const double inv_vs = 1.0 / S.Vs;
+  const double r_sat = gms_elements::saturation_ratio(S);
+  auto level = [&](double speed) {
+    const double r = speed * inv_vs;
+    return r > r_sat ? S.Fc : S.at_scaled(r);
+  };
+  if (index_ == Index::built) {
+    if (!same_S || fresh_index) {
+      for (std::size_t i = 0; i < speed_.size(); ++i) speed_S_[i] = level(speed_[i]);
+      for (std::size_t j = 0; j < m; ++j) S_[j] = speed_S_[step_speed_[j]];
     }
+    for (std::size_t i = 0; i < pair_h_.size(); ++i)
+      pair_E_[i] = exp_neg(C * pair_h_[i] / speed_S_[pair_speed_[i]]);
+    for (std::size_t j = 0; j < m; ++j) E_[j] = pair_E_[step_pair_[j]];
+    return;
   }
+  if (!same_S)
+    for (std::size_t j = 0; j < m; ++j) S_[j] = level(std::abs(path.v[j]));
   // Relaxation exp(-C h / S): consecutive steps of the same h and S (sliding beyond the Stribeck
   // region at a fixed sample step) share it.
   double last_x = -1.0, last_e = 0.0;
@@ -47,7 +135,6 @@ void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
     E_[j] = last_e;
   }
 }
-
 
 void GmsPathRunner::run(const GmsPath& path, std::span<const double> alpha,
                         std::span<const double> k, std::span<const double> sigma_over_k,

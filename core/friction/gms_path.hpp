@@ -34,6 +34,11 @@ class GmsPathRunner {
   // S_j and E_j for every step of `path` (the shape S, attraction C [N/s]). Kept from the last
   // call when the path (same object, same steps) and the shape are the same: S_j also when only
   // C changed. A path changed in place must be prepared by a fresh runner.
+  // A path prepared a second time is indexed by its distinct speeds |v_j| and distinct pairs
+  // (h_j, |v_j|): where there are fewer pairs than half the steps (a quantised encoder's
+  // velocities repeat: a third of the steps on gmslab's fig2c trace), S and E are then computed
+  // once per distinct value and copied to the steps, with the same operands and so the same
+  // values; otherwise step by step.
   void prepare(const Stribeck& S, double C, const GmsPath& path);
 
   // Runs elements (alpha_i, k_i [N/m], sigma_i / k_i [s]) from rest along the prepared path.
@@ -41,12 +46,22 @@ class GmsPathRunner {
   // element_rows[rows[k] * n .. + n) (row-major, n = alpha.size()); when total is non-empty,
   // total[k] = sum F_i + sum (sigma_i / k_i) dF_i / h + sigma2 v of the sample's last step (the
   // value GmsModel::step returns); total[0] = 0.
+  // The distinct speeds the index holds (0: not indexed).
+  std::size_t distinct_speeds() const { return index_ == Index::built ? speed_.size() : 0; }
+
   void run(const GmsPath& path, std::span<const double> alpha, std::span<const double> k,
            std::span<const double> sigma_over_k, double sigma2, std::span<const long> rows,
            double scale, double* element_rows, std::span<double> total) const;
 
  private:
+  void build_index(const GmsPath& path);
+
   std::vector<double> S_, E_;
+  // The index of path_ (built at its second prepare): distinct speeds and their S, distinct
+  // (h, speed) pairs and their E, and each step's entries.
+  std::vector<double> speed_, speed_S_, pair_h_, pair_E_;
+  std::vector<std::uint32_t> pair_speed_, step_speed_, step_pair_;
+  enum class Index { none, built, failed } index_ = Index::none;
   const GmsPath* path_ = nullptr;  // what S_ and E_ were computed for
   std::size_t steps_ = 0;
   Stribeck shape_;

@@ -3,27 +3,31 @@
 // (sinusoids, reversals inside sub-stepped samples, rests, constant-speed strokes) with random
 // GMS parameters (1-40 elements: the scalar and the vectorised element loops; delta 2 and others),
 // against the model stepped one step at a time: bit for bit (the same operations in the same
-// order), also when the runner is prepared again for only a new C or for the same shape.
+// order), also when the runner is prepared again for only a new C or for the same shape, and on
+// the paths of a quantised encoder, whose repeated speeds the runner computes once each.
+#include "core/friction/gms_path.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
-
-#include "core/friction/gms_path.hpp"
+#include <set>
 
 namespace gmslab {
 namespace {
 
 // A random path: a sum of two sinusoids with rests and strokes; every tenth sample in 16 parts
-// around a reversal-like sign change, others in 1..3 parts.
+// around a reversal-like sign change, others in 1..3 parts. quantised: the speeds are those of
+// the motion's position read by an encoder of 1/300 of the amplitude (differences of its counts).
 GmsPath random_path(std::mt19937& rng, std::vector<std::pair<double, double>>& steps,
-                    std::vector<std::size_t>& last) {
+                    std::vector<std::size_t>& last, bool quantised = false) {
   std::uniform_real_distribution<double> U(0, 1);
   const double amp = std::pow(10.0, -6 + 4 * U(rng));  // 1 um .. 10 mm
   const double f1 = 0.2 + 3 * U(rng), f2 = 5 + 20 * U(rng), h = std::pow(10.0, -4 + 1.5 * U(rng));
   GmsPath p;
   p.samples = 1;
-  double t = 0;
+  double t = 0, x = 0, xq = 0;
+  const double q = amp / 300;
   for (int k = 1; k < 1500; ++k) {
     const int parts = k % 10 == 0 ? 16 : 1 + static_cast<int>(3 * U(rng));
     for (int j = 0; j < parts; ++j) {
@@ -31,6 +35,12 @@ GmsPath random_path(std::mt19937& rng, std::vector<std::pair<double, double>>& s
       double v = amp * (f1 * std::cos(f1 * t) + 0.3 * f2 * std::sin(f2 * t));
       if (k % 300 < 40) v = 0.0;                          // a rest
       if (k % 300 >= 200 && k % 300 < 240) v = amp * f1;  // a stroke
+      if (quantised) {
+        x += v * hj;
+        const double xq_next = q * std::round(x / q);
+        v = (xq_next - xq) / hj;
+        xq = xq_next;
+      }
       steps.push_back({v, hj});
       p.add_step(v, hj);
       t += hj;
@@ -44,11 +54,12 @@ GmsPath random_path(std::mt19937& rng, std::vector<std::pair<double, double>>& s
 TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
   std::mt19937 rng(20261125);
   std::uniform_real_distribution<double> U(0, 1);
-  std::size_t slipping = 0, sticking = 0;
+  std::size_t slipping = 0, sticking = 0, indexed_quantised = 0;
   for (int trial = 0; trial < 24; ++trial) {
     std::vector<std::pair<double, double>> steps;
     std::vector<std::size_t> last;
-    const GmsPath path = random_path(rng, steps, last);
+    const bool quantised = trial % 2 == 1;
+    const GmsPath path = random_path(rng, steps, last, quantised);
     GmsParams g;
     g.S.Fc = std::pow(10.0, -1 + 3 * U(rng));
     g.S.Fs = g.S.Fc * (1 + 1.5 * U(rng));
@@ -70,12 +81,29 @@ TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
     const GmsModel model(g.to_params());
     GmsPathRunner runner;
     // A stale preparation first (another shape, then another C): what prepare keeps must not leak.
+    // Three orders: indexed at a new shape, indexed at a new C only, and one preparation (steps
+    // one by one, no index).
     Stribeck other = g.S;
     other.Vs *= 1.7;
-    runner.prepare(other, g.C, path);
-    runner.prepare(g.S, 2.0 * g.C, path);
+    const int order = trial % 3;
+    if (order == 0) runner.prepare(other, g.C, path), runner.prepare(g.S, 2.0 * g.C, path);
+    if (order == 1) runner.prepare(g.S, 2.0 * g.C, path);
     runner.prepare(g.S, g.C, path);
     runner.prepare(g.S, g.C, path);
+    if (order == 2) {
+      EXPECT_EQ(runner.distinct_speeds(), 0u) << "trial " << trial;
+    } else {
+      // Indexed where the distinct (h, |v|) pairs are at most half the steps (a quantised
+      // encoder's speeds repeat), with every distinct speed; else step by step.
+      std::set<double> speeds;
+      std::set<std::pair<double, double>> pairs;
+      for (std::size_t j = 0; j < path.v.size(); ++j)
+        speeds.insert(std::abs(path.v[j])), pairs.insert({path.h[j], std::abs(path.v[j])});
+      const bool pays = 2 * pairs.size() <= path.v.size();
+      EXPECT_EQ(runner.distinct_speeds(), pays ? speeds.size() : 0u) << "trial " << trial;
+      if (quantised) indexed_quantised += pays;
+      if (!quantised) EXPECT_FALSE(pays) << "trial " << trial;  // smooth speeds hardly repeat
+    }
     std::vector<double> sk(n);
     for (std::size_t i = 0; i < n; ++i) sk[i] = g.sigma[i] / g.k[i];
     std::vector<long> rows(path.samples);
@@ -97,6 +125,7 @@ TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
   }
   EXPECT_GT(slipping, 1000u);
   EXPECT_GT(sticking, 1000u);
+  EXPECT_EQ(indexed_quantised, 8u);  // every quantised path prepared twice
 }
 
 }  // namespace
