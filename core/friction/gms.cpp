@@ -120,6 +120,54 @@ namespace {
   return {sum_f, sum_damp};
 }
 
+// vector_body's element updates without its sums, along a whole path.
+[[gnu::always_inline]] inline void rows_body(std::size_t n, double* __restrict F,
+                                             double* __restrict d, const double* __restrict alpha,
+                                             const double* __restrict k,
+                                             const gms_elements::PathSteps& p, const long* rows,
+                                             std::size_t n_rows, double scale,
+                                             double* element_rows) {
+  std::size_t j = 0;
+  for (std::size_t kk = 1; kk < p.samples; ++kk) {
+    for (const std::size_t end = p.last[kk - 1]; j < end; ++j) {
+      const double v = p.v[j];
+      const double s = sgn(v), S = p.S[j], E = p.E[j], vh = v * p.h[j];
+#pragma omp simd
+      for (std::size_t i = 0; i < n; ++i) {
+        const double f0 = F[i];
+        const double lim = alpha[i] * S;
+        const double target = s * lim;
+        const double f_slip = target + (f0 - target) * E;
+        const double f_stick = f0 + k[i] * vh;
+        const bool breaks = s * f_stick >= lim;
+        const bool slips = (d[i] * s > 0.0) | (s * f0 >= lim);
+        const double f_clamped = breaks ? target : f_stick;
+        F[i] = slips ? f_slip : f_clamped;
+        d[i] = (slips | breaks) ? s : 0.0;
+      }
+    }
+    if (kk < n_rows && rows[kk] >= 0) {
+      double* out = element_rows + static_cast<std::size_t>(rows[kk]) * n;
+      for (std::size_t i = 0; i < n; ++i) out[i] = scale * F[i];
+    }
+  }
+}
+
+__attribute__((target("avx2"))) void rows_avx2(std::size_t n, double* __restrict F,
+                                               double* __restrict d, const double* __restrict alpha,
+                                               const double* __restrict k,
+                                               const gms_elements::PathSteps& p, const long* rows,
+                                               std::size_t n_rows, double scale,
+                                               double* element_rows) {
+  rows_body(n, F, d, alpha, k, p, rows, n_rows, scale, element_rows);
+}
+
+void rows_baseline(std::size_t n, double* __restrict F, double* __restrict d,
+                   const double* __restrict alpha, const double* __restrict k,
+                   const gms_elements::PathSteps& p, const long* rows, std::size_t n_rows,
+                   double scale, double* element_rows) {
+  rows_body(n, F, d, alpha, k, p, rows, n_rows, scale, element_rows);
+}
 
 __attribute__((target("avx2"))) gms_elements::Sums vector_avx2(
     std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
@@ -141,6 +189,14 @@ gms_elements::Sums gms_elements::vector(std::size_t n, double* __restrict F, dou
                                         const double* __restrict sk, double s, double S, double E, double vh) {
   return use_avx2() ? vector_avx2(n, F, d, alpha, k, sk, s, S, E, vh)
                     : vector_baseline(n, F, d, alpha, k, sk, s, S, E, vh);
+}
+
+void gms_elements::vector_rows(std::size_t n, double* __restrict F, double* __restrict d,
+                               const double* __restrict alpha, const double* __restrict k,
+                               const PathSteps& p, const long* rows, std::size_t n_rows,
+                               double scale, double* element_rows) {
+  if (use_avx2()) return rows_avx2(n, F, d, alpha, k, p, rows, n_rows, scale, element_rows);
+  rows_baseline(n, F, d, alpha, k, p, rows, n_rows, scale, element_rows);
 }
 
 double GmsModel::step(std::span<double> state, const FrictionInput& in) const {

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 
 #include "core/friction/stribeck.hpp"
@@ -68,6 +69,20 @@ template <class Relax>
 // traces are reproducible per machine kind.
 Sums vector(std::size_t n, double* __restrict F, double* __restrict d, const double* __restrict alpha,
             const double* __restrict k, const double* __restrict sk, double s, double S, double E, double vh);
+
+// The element forces and slip directions alone (no sums) along steps [j0, j1) of a prepared path
+// (S_j, E_j, v_j, h_j): the vector loop's element updates, the same operations, so the same F and
+// d; after each sample k in (k0, k1] whose last step is last[k - 1] and rows[k] >= 0, the forces
+// times `scale` go to element_rows[rows[k] * n ..). One call for the whole path: the loop is
+// compiled with the step loop around it (AVX2 or the baseline, as vector()).
+struct PathSteps {
+  const double *S, *E, *v, *h;
+  const std::uint32_t* last;  // per sample k >= 1: one past its last step
+  std::size_t samples;
+};
+void vector_rows(std::size_t n, double* __restrict F, double* __restrict d,
+                 const double* __restrict alpha, const double* __restrict k, const PathSteps& p,
+                 const long* rows, std::size_t n_rows, double scale, double* element_rows);
 
 // |v| / Vs beyond which (Fs - Fc) exp(-r^delta) < Fc 2^-54 <= half an ulp of Fc, so that S(v) is Fc
 // exactly in doubles: pow and exp can be skipped there (sliding is the common case).

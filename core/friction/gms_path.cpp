@@ -143,6 +143,13 @@ void GmsPathRunner::run(const GmsPath& path, std::span<const double> alpha,
   const std::size_t n = alpha.size();
   std::vector<double> F(n, 0.0), d(n, 0.0);
   const bool vec = n > GmsModel::kScalarElements || simd_path().vector_elements;
+  if (vec && total.empty()) {  // the element forces alone: no sums
+    const gms_elements::PathSteps p{S_.data(),     E_.data(),        path.v.data(),
+                                    path.h.data(), path.last.data(), path.samples};
+    gms_elements::vector_rows(n, F.data(), d.data(), alpha.data(), k.data(), p, rows.data(),
+                              element_rows ? rows.size() : 0, scale, element_rows);
+    return;
+  }
   if (!total.empty()) total[0] = 0.0;
   std::size_t j = 0;
   for (std::size_t kk = 1; kk < path.samples; ++kk) {

@@ -4,7 +4,8 @@
 // GMS parameters (1-40 elements: the scalar and the vectorised element loops; delta 2 and others),
 // against the model stepped one step at a time: bit for bit (the same operations in the same
 // order), also when the runner is prepared again for only a new C or for the same shape, and on
-// the paths of a quantised encoder, whose repeated speeds the runner computes once each.
+// the paths of a quantised encoder, whose repeated speeds the runner computes once each; the
+// element forces alone (no total) are the same too.
 #include "core/friction/gms_path.hpp"
 
 #include <gtest/gtest.h>
@@ -110,6 +111,11 @@ TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
     for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = static_cast<long>(k);
     std::vector<double> elems(path.samples * n, -1.0), total(path.samples);
     runner.run(path, g.alpha, g.k, sk, g.sigma2, rows, 2.0, elems.data(), total);
+    // The element forces alone (no total: the vector loop without its sums) are the same.
+    std::vector<double> elems_only(path.samples * n, -1.0);
+    runner.run(path, g.alpha, g.k, sk, g.sigma2, rows, 2.0, elems_only.data(), {});
+    for (std::size_t i = 0; i < elems.size(); ++i)
+      ASSERT_EQ(elems_only[i], elems[i]) << "trial " << trial << " row entry " << i;
     std::vector<double> state(model.state_size());
     model.reset(state);
     std::size_t j = 0;
