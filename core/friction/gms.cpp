@@ -93,6 +93,24 @@ void GmsModel::reset(std::span<double> state) const {
 
 namespace {
 
+// One element's branch-free update (selects only, so that the loops over the elements
+// vectorise): its new force and slip direction.
+struct ElementUpdate {
+  double f, d;
+};
+[[gnu::always_inline]] inline ElementUpdate element_update(double f0, double d0, double alpha,
+                                                           double k, double s, double S, double E,
+                                                           double vh) {
+  const double lim = alpha * S;
+  const double target = s * lim;
+  const double f_slip = target + (f0 - target) * E;
+  const double f_stick = f0 + k * vh;
+  const bool breaks = s * f_stick >= lim;  // false when v = 0 (lim > 0)
+  const bool slips = (d0 * s > 0.0) | (s * f0 >= lim);
+  const double f_clamped = breaks ? target : f_stick;
+  return {slips ? f_slip : f_clamped, (slips | breaks) ? s : 0.0};
+}
+
 // The loop is compiled twice, for AVX2 and for the baseline, and the CPU (or a test,
 // core/simd_path.hpp) chooses per call.
 [[gnu::always_inline]] inline gms_elements::Sums vector_body(
@@ -104,15 +122,8 @@ namespace {
 #pragma omp simd reduction(+ : sum_f, sum_damp)
   for (std::size_t i = 0; i < n; ++i) {
     const double f0 = F[i];
-    const double lim = alpha[i] * S;
-    const double target = s * lim;
-    const double f_slip = target + (f0 - target) * E;
-    const double f_stick = f0 + k[i] * vh;
-    const bool breaks = s * f_stick >= lim;  // false when v = 0 (lim > 0)
-    const bool slips = (d[i] * s > 0.0) | (s * f0 >= lim);
-    const double f_clamped = breaks ? target : f_stick;
-    const double f1 = slips ? f_slip : f_clamped;
-    d[i] = (slips | breaks) ? s : 0.0;
+    const auto [f1, d1] = element_update(f0, d[i], alpha[i], k[i], s, S, E, vh);
+    d[i] = d1;
     sum_damp += sk[i] * (f1 - f0);
     F[i] = f1;
     sum_f += f1;
@@ -134,16 +145,8 @@ namespace {
       const double s = sgn(v), S = p.S[j], E = p.E[j], vh = v * p.h[j];
 #pragma omp simd
       for (std::size_t i = 0; i < n; ++i) {
-        const double f0 = F[i];
-        const double lim = alpha[i] * S;
-        const double target = s * lim;
-        const double f_slip = target + (f0 - target) * E;
-        const double f_stick = f0 + k[i] * vh;
-        const bool breaks = s * f_stick >= lim;
-        const bool slips = (d[i] * s > 0.0) | (s * f0 >= lim);
-        const double f_clamped = breaks ? target : f_stick;
-        F[i] = slips ? f_slip : f_clamped;
-        d[i] = (slips | breaks) ? s : 0.0;
+        const auto [f1, d1] = element_update(F[i], d[i], alpha[i], k[i], s, S, E, vh);
+        F[i] = f1, d[i] = d1;
       }
     }
     if (kk < n_rows && rows[kk] >= 0) {

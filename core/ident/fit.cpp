@@ -47,7 +47,7 @@ ShapeParam shape_for(const ParamSpec& s, double def, double def_ref, const Effec
     p.init = def_ref > 0 && def > 0 ? def / def_ref : 1.0 / c.v_ref;
     p.lo = p.init / 1e3, p.hi = p.init * 1e3;
   } else if (u == "m/s") {
-    p.unit = "m/s", p.init = 0.1 * c.v_ref, p.lo = 1e-4 * c.v_ref, p.hi = 2.0 * c.v_ref;
+    p.unit = "m/s", p.init = 0.1 * c.v_ref, p.lo = 1e-4 * c.v_ref, p.hi = c.vs_hi_factor * c.v_ref;
   } else if (u == "m") {
     p.unit = "m", p.init = 0.3 * c.x_ba, p.lo = p.init / 100, p.hi = p.init * 100;
   } else {
@@ -309,6 +309,7 @@ class Evaluator {
         if (!(contact_b_ == c_.backlash) || contact_.size() != n) {
           contact_ = through_dead_band(d_, c_.backlash);
           contact_path_ = GmsPath{};
+          contact_runner_ = GmsPathRunner{};  // a path made again in place: a fresh runner
           contact_b_ = c_.backlash;
         }
         std::vector<double> gb;
