@@ -363,6 +363,18 @@ class Evaluator {
     return std::sqrt(std::max(0.0, sse) / static_cast<double>(rows_.size()));
   }
 
+  // The residual y - A theta on the used samples after cost(u, &theta) (its columns at u), with
+  // the terms in their order; false after a bad point.
+  bool residual_after_cost(const Eigen::VectorXd& theta, Eigen::VectorXd& r) const {
+    if (theta.size() != static_cast<Eigen::Index>(terms_.size())) return false;
+    r = y_;
+    for (std::size_t j = 0; j < fix_.size(); ++j)
+      r -= theta(static_cast<Eigen::Index>(fix_[j])) * Af_.col(static_cast<Eigen::Index>(j));
+    for (std::size_t j = 0; j < dyn_.size(); ++j)
+      r -= theta(static_cast<Eigen::Index>(dyn_[j])) * Ad_.col(static_cast<Eigen::Index>(j));
+    return r.allFinite();
+  }
+
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
@@ -426,6 +438,71 @@ FitResult make_result(const FitSpec& spec, const Parameterization& par, const Ev
   r.evaluations = evals;
   return r;
 }
+
+}  // namespace
+
+FitResult polish_least_squares(const FitResult& f, const Dataset& train, const EffectContext& c,
+                               int max_iterations, const FitOptions& o) {
+  const Parameterization par(model_info(f.spec.model), f.spec.elements, c);
+  const std::size_t p = par.size();
+  if (p == 0 || f.u.size() != p) return f;
+  Evaluator ev(f.spec, par, train, c);
+  const double bad = 2.0 * ev.null_rms() + 1.0;
+  int evals = 0;
+  // The residual at u with the linear terms solved there; false at a bad point.
+  auto residual = [&](const std::vector<double>& u, Eigen::VectorXd& r, Eigen::VectorXd& th) {
+    if (o.stop_requested()) throw Cancelled();
+    ++evals;
+    return ev.cost(u, &th) < bad && ev.residual_after_cost(th, r);
+  };
+  std::vector<double> u = f.u;
+  Eigen::VectorXd r, th;
+  if (!residual(u, r, th)) return f;
+  double sse = r.squaredNorm();
+  double lambda = 1e-3;
+  Eigen::MatrixXd J(r.size(), static_cast<Eigen::Index>(p));
+  Eigen::VectorXd rj, tj;
+  for (int it = 0; it < max_iterations; ++it) {
+    // Forward differences in the unit box (backward at the upper end).
+    for (std::size_t j = 0; j < p; ++j) {
+      std::vector<double> w = u;
+      const double step = u[j] + 1e-6 <= 1.0 ? 1e-6 : -1e-6;
+      w[j] += step;
+      if (residual(w, rj, tj))
+        J.col(static_cast<Eigen::Index>(j)) = (rj - r) / step;
+      else
+        J.col(static_cast<Eigen::Index>(j)).setZero();
+    }
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    bool moved = false;
+    for (int tries = 0; tries < 8 && !moved; ++tries) {
+      Eigen::MatrixXd Al = A;
+      Al.diagonal() += lambda * A.diagonal() + Eigen::VectorXd::Constant(A.rows(), 1e-300);
+      const Eigen::VectorXd step = -Al.ldlt().solve(g);
+      std::vector<double> w = u;
+      for (std::size_t j = 0; j < p; ++j)
+        w[j] = std::clamp(u[j] + step(static_cast<Eigen::Index>(j)), 0.0, 1.0);
+      if (step.allFinite() && residual(w, rj, tj) && rj.squaredNorm() < sse) {
+        moved = true;
+        // Converged when a step gains less than 1e-10 relative.
+        const bool small = rj.squaredNorm() > (1.0 - 1e-10) * sse;
+        u = std::move(w), r = rj, th = tj, sse = r.squaredNorm();
+        lambda = std::max(1e-9, lambda / 5);
+        if (small) it = max_iterations;
+      } else {
+        lambda *= 8;
+      }
+    }
+    if (!moved) break;
+  }
+  if (!residual(u, r, th)) return f;  // the columns and the terms at the point kept
+  const double rms = std::sqrt(r.squaredNorm() / static_cast<double>(r.size()));
+  if (!(rms < f.rms_train)) return f;
+  return make_result(f.spec, par, ev, u, th, rms, f.evaluations + evals);
+}
+
+namespace {
 
 nlopt::algorithm algorithm_of(const std::string& m) {
   if (m == "bobyqa") return nlopt::LN_BOBYQA;

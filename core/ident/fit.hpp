@@ -156,6 +156,14 @@ void simulate_gms_along(const GmsParams& g, const GmsPath& p, GmsPathRunner& run
 // data-based first start. Throws Cancelled, InputError (model unknown / element count).
 FitResult fit_model(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                     const FitOptions& o, const std::vector<double>* warm = nullptr);
+// Levenberg-Marquardt from f's shape (Marquardt's diagonal scaling; the Jacobian of the residual
+// by forward differences of 1e-6 in the unit box; the linear terms solved at every point, so the
+// search is on the shape alone): follows a narrow curved valley of the cost that a derivative-free
+// search leaves short of its minimum (the Stribeck curve of a record that stays below Vs: Fc, Vs,
+// delta and the viscous term trade off). At most max_iterations Jacobians; returns f when no step
+// lowers the training RMS. Throws Cancelled.
+FitResult polish_least_squares(const FitResult& f, const Dataset& train, const EffectContext& c,
+                               int max_iterations, const FitOptions& o);
 // Re-solves only the linear coefficients for spec at a fixed shape u (screening).
 FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const std::vector<double>& u);

@@ -72,6 +72,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
   detail::choose_path(s);
   detail::retry_base_fit(s);
   s.cur_val = rms_on(s.cur, s.val(), s.c);
+  detail::widen_stribeck_range(s);
   detail::widen_element_range(s, true);
   if (s.rep.range_widened) s.add_shares();
   s.floor = s.rep.noise.floor();

@@ -82,6 +82,8 @@ void screen_record(LoopState& s);
 void choose_path(LoopState& s);
 void retry_base_fit(LoopState& s);
 void widen_element_range(LoopState& s, bool before_rounds);
+// The Stribeck velocity's range a decade wider where the base fit pins Vs at its upper end.
+void widen_stribeck_range(LoopState& s);
 // Whether the base fit is so close to the floor that no effect can be credited by size (the
 // credit bound, LoopOptions::credit_bound); then rep.rounds_skipped says why.
 bool no_effect_creditable(LoopState& s);
