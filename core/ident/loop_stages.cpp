@@ -589,7 +589,8 @@ void widen_stribeck_range(LoopState& s) {
       if (par.params()[i].name == "Fs/Fc") starts[1][i] = pw.box(i, 1.5);
   }
   FitOptions fo = s.o.refit;
-  fo.stage = "base fit with the Stribeck velocity up to " + fmt(wide.vs_hi_factor * wide.v_ref) + " m/s";
+  fo.stage =
+      "base fit with the Stribeck velocity up to " + fmt(wide.vs_hi_factor * wide.v_ref) + " m/s";
   std::optional<FitResult> best;
   for (const auto& u : starts) {
     FitResult f = fit_model(s.cur.spec, s.train(), wide, fo, &u);
@@ -601,18 +602,21 @@ void widen_stribeck_range(LoopState& s) {
   FitResult f = std::move(*best);
   const double val = rms_on(f, s.val(), wide);
   if (!(f.rms_train < s.cur.rms_train && val < s.cur_val)) {
-    s.rep.notes.push_back(std::string("the base fit presses Vs against the ") + (at_hi ? "top of its range (" : "record's speeds from below (") + fmt(vs_was) + " m/s); a fit with " +
-                          "Vs up to " + fmt(wide.vs_hi_factor * wide.v_ref) +
+    s.rep.notes.push_back(std::string("the base fit presses Vs against the ") +
+                          (at_hi ? "top of its range (" : "record's speeds from below (") +
+                          fmt(vs_was) + " m/s); a fit with " + "Vs up to " +
+                          fmt(wide.vs_hi_factor * wide.v_ref) +
                           " m/s did not explain both records better: Vs may lie beyond the speeds "
                           "the record reaches");
     return;
   }
-  s.rep.notes.push_back("the Stribeck velocity's range was widened to " +
-                        fmt(wide.vs_hi_factor * wide.v_ref) + " m/s (the base fit had Vs at " + fmt(vs_was) + " m/s, " +
-                        (at_hi ? "the top of its range" : "below a hundredth of the record's speeds") +
-                        "; the record stays on " +
-                        "the falling branch of the Stribeck curve): Vs " + fmt(pw.value(iv, f.u[iv])) +
-                        " m/s, validation RMS " + fmt(s.cur_val) + " -> " + fmt(val) + " N");
+  s.rep.notes.push_back(
+      "the Stribeck velocity's range was widened to " + fmt(wide.vs_hi_factor * wide.v_ref) +
+      " m/s (the base fit had Vs at " + fmt(vs_was) + " m/s, " +
+      (at_hi ? "the top of its range" : "below a hundredth of the record's speeds") +
+      "; the record stays on " + "the falling branch of the Stribeck curve): Vs " +
+      fmt(pw.value(iv, f.u[iv])) + " m/s, validation RMS " + fmt(s.cur_val) + " -> " + fmt(val) +
+      " N");
   s.cur = std::move(f);
   s.cur_val = val;
   s.c = wide;

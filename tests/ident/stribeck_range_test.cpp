@@ -60,7 +60,8 @@ Drawn draw(unsigned seed, double ratio) {
   const double v_max = 2 * std::numbers::pi * f * amp;
   g.S.Vs = ratio * v_max;
   g.sigma2 = 0.4 * g.S.Fc / v_max * U(rng);
-  Scenario sc = load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig2c_periodic_0p1hz.json");
+  Scenario sc =
+      load_scenario(std::string(GMSLAB_SOURCE_DIR) + "/presets/fig2c_periodic_0p1hz.json");
   sc.friction = g.to_params();
   sc.drive.signal = Signal::sine(0.0, amp, f);
   sc.run.duration = 2.0 / f;  // two periods
@@ -124,11 +125,12 @@ TEST(IdentStribeckRange, VsBeyondTheRecordsSpeedsIsFound) {
       const ModelParams& fit = r.stages.front().friction;
       const double vs = fit.scalar("Vs"), fc = fit.scalar("Fc");
       const double floor = r.ablation.ran ? r.ablation.floor : r.noise.floor();
-      std::printf("seed %u Vs/v_max %.2f noise %.1f %%: Vs %.4g (truth %.4g), Fc %.4g (truth %.4g), "
-                  "base validation %.3g N = %.2fx the floor %.3g N; named %zu%s\n",
-                  seed, ratio, 100 * noise, vs, d.truth.S.Vs, fc, d.truth.S.Fc, r.rms_before_validation,
-                  r.rms_before_validation / floor, floor, r.effects_added.size(),
-                  widened(r) ? "; range widened" : "");
+      std::printf(
+          "seed %u Vs/v_max %.2f noise %.1f %%: Vs %.4g (truth %.4g), Fc %.4g (truth %.4g), "
+          "base validation %.3g N = %.2fx the floor %.3g N; named %zu%s\n",
+          seed, ratio, 100 * noise, vs, d.truth.S.Vs, fc, d.truth.S.Fc, r.rms_before_validation,
+          r.rms_before_validation / floor, floor, r.effects_added.size(),
+          widened(r) ? "; range widened" : "");
       if (noise > 0) {
         ++noisy;
         noisy_named += !r.effects_added.empty();
@@ -140,9 +142,10 @@ TEST(IdentStribeckRange, VsBeyondTheRecordsSpeedsIsFound) {
       }
     }
   }
-  std::printf("noisy: named on %d of %d, base above 1.2x the floor on %d; noise-free: Vs within 2 %% "
-              "on %d of %d, named on %d\n",
-              noisy_named, noisy, noisy_above, exact_vs, exact, exact_named);
+  std::printf(
+      "noisy: named on %d of %d, base above 1.2x the floor on %d; noise-free: Vs within 2 %% "
+      "on %d of %d, named on %d\n",
+      noisy_named, noisy, noisy_above, exact_vs, exact, exact_named);
   EXPECT_EQ(noisy, 6);
   EXPECT_EQ(noisy_named, 0);
   EXPECT_EQ(noisy_above, 0);
