@@ -494,6 +494,9 @@ FitResult polish_least_squares(const FitResult& f, const Dataset& train, const E
         lambda *= 8;
       }
     }
+    if (o.progress)
+      o.progress({o.stage, evals, std::sqrt(sse / static_cast<double>(r.size())),
+                  max_iterations * (static_cast<int>(p) + 8)});
     if (!moved) break;
   }
   if (!residual(u, r, th)) return f;  // the columns and the terms at the point kept
