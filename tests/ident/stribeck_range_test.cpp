@@ -77,7 +77,8 @@ struct TraceFit {
   double truth_val = 0;  // the generating model along the sampled validation path [N RMS]
 };
 
-TraceFit identify_trace(const Scenario& sc, double noise, unsigned seed) {
+// sc's trace at every `every`-th sample, with noise of `noise` x the largest friction force.
+MeasuredRecord sampled_trace(const Scenario& sc, std::size_t every, double noise, unsigned seed) {
   AssemblySimulation sim = one_body_simulation(sc);
   sim.run_to_end();
   const Trace& tr = sim.one_body_trace();
@@ -87,12 +88,16 @@ TraceFit identify_trace(const Scenario& sc, double noise, unsigned seed) {
   std::normal_distribution<double> N(0.0, 1.0);
   MeasuredRecord rec;
   rec.source = "slow sine";
-  for (std::size_t i = 0; i < tr.size(); i += 7) {
+  for (std::size_t i = 0; i < tr.size(); i += every) {
     rec.t.push_back(tr.t[i]);
     rec.x.push_back(tr.x[i]);
     rec.F.push_back(tr.friction[i] + noise * fmax * N(rng));
   }
-  auto [train, val] = split_holdout(prepare_dataset(rec));
+  return rec;
+}
+
+TraceFit identify_trace(const Scenario& sc, double noise, unsigned seed) {
+  auto [train, val] = split_holdout(prepare_dataset(sampled_trace(sc, 7, noise, seed)));
   FitSpec spec;
   spec.model = "gms";
   spec.elements = sc.friction.elements.size();
@@ -184,17 +189,7 @@ TEST(PolishLeastSquares, FollowsTheValleyBackToTheTruth) {
   for (unsigned seed = 44001; seed <= 44004; ++seed) {
     Drawn d = draw(seed, 3.0 + seed % 3);
     d.sc.run.duration /= 2;  // one period
-    AssemblySimulation sim = one_body_simulation(d.sc);
-    sim.run_to_end();
-    const Trace& tr = sim.one_body_trace();
-    MeasuredRecord rec;
-    rec.source = "slow sine";
-    for (std::size_t i = 0; i < tr.size(); i += 20) {
-      rec.t.push_back(tr.t[i]);
-      rec.x.push_back(tr.x[i]);
-      rec.F.push_back(tr.friction[i]);
-    }
-    const Dataset train = prepare_dataset(rec);
+    const Dataset train = prepare_dataset(sampled_trace(d.sc, 20, 0.0, seed));
     EffectContext c = make_context(train);
     c.vs_hi_factor = 20.0;
     FitSpec spec;
