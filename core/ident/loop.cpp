@@ -330,6 +330,7 @@ nlohmann::json to_json(const IdentReport& r) {
       r.rounds_skipped.empty() ? nlohmann::json() : nlohmann::json(r.rounds_skipped);
   j["base_retried"] = r.base_retried;
   j["element_range_widened"] = r.range_widened;
+  j["stribeck_range_widened"] = r.stribeck_range_widened;
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)

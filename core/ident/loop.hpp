@@ -211,6 +211,9 @@ struct IdentReport {
   bool base_retried = false;
   // The element range was widened beyond 20 x the swing estimate (softer elements in the data).
   bool range_widened = false;
+  // The Stribeck velocity's range was widened beyond 2 x v_ref (widen_stribeck_range: the record
+  // stays on the falling branch of the Stribeck curve).
+  bool stribeck_range_widened = false;
   // The loop screened the training record on every screen_every-th sample (1: all of them;
   // LoopOptions::screen_samples). Training RMS of the stages before the final one are on those.
   std::size_t screen_every = 1;

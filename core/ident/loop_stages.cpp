@@ -620,6 +620,7 @@ void widen_stribeck_range(LoopState& s) {
   s.cur = std::move(f);
   s.cur_val = val;
   s.c = wide;
+  s.rep.stribeck_range_widened = true;
   s.base_from_data.reset();
   s.rep.elements = s.cur.spec.elements;
   s.add_shares();
