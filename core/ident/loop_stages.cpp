@@ -588,35 +588,32 @@ void widen_stribeck_range(LoopState& s) {
     for (std::size_t i = 0; i < par.size(); ++i)
       if (par.params()[i].name == "Fs/Fc") starts[1][i] = pw.box(i, 1.5);
   }
-  FitOptions fo = s.o.refit;
-  fo.stage =
-      "base fit with the Stribeck velocity up to " + fmt(wide.vs_hi_factor * wide.v_ref) + " m/s";
+  const std::string top = fmt(wide.vs_hi_factor * wide.v_ref) + " m/s";
+  FitOptions fo = s.o.refit, lso = s.o.refit;
+  fo.stage = "base fit with the Stribeck velocity up to " + top;
+  lso.stage = fo.stage + ", least squares";
   std::optional<FitResult> best;
   for (const auto& u : starts) {
-    FitResult f = fit_model(s.cur.spec, s.train(), wide, fo, &u);
-    FitOptions lo = fo;
-    lo.stage += ", least squares";
-    f = polish_least_squares(f, s.train(), wide, 40, lo);
+    FitResult f = polish_least_squares(fit_model(s.cur.spec, s.train(), wide, fo, &u), s.train(),
+                                       wide, 40, lso);
     if (!best || f.rms_train < best->rms_train) best = std::move(f);
   }
   FitResult f = std::move(*best);
   const double val = rms_on(f, s.val(), wide);
+  const std::string where =
+      fmt(vs_was) + " m/s, " +
+      (at_hi ? "the top of its range" : "below a hundredth of the record's speeds");
   if (!(f.rms_train < s.cur.rms_train && val < s.cur_val)) {
-    s.rep.notes.push_back(std::string("the base fit presses Vs against the ") +
-                          (at_hi ? "top of its range (" : "record's speeds from below (") +
-                          fmt(vs_was) + " m/s); a fit with " + "Vs up to " +
-                          fmt(wide.vs_hi_factor * wide.v_ref) +
-                          " m/s did not explain both records better: Vs may lie beyond the speeds "
-                          "the record reaches");
+    s.rep.notes.push_back("the base fit has Vs at " + where + "; a fit with Vs up to " + top +
+                          " did not explain both records better" +
+                          (at_hi ? ": Vs may lie beyond the speeds the record reaches" : ""));
     return;
   }
-  s.rep.notes.push_back(
-      "the Stribeck velocity's range was widened to " + fmt(wide.vs_hi_factor * wide.v_ref) +
-      " m/s (the base fit had Vs at " + fmt(vs_was) + " m/s, " +
-      (at_hi ? "the top of its range" : "below a hundredth of the record's speeds") +
-      "; the record stays on " + "the falling branch of the Stribeck curve): Vs " +
-      fmt(pw.value(iv, f.u[iv])) + " m/s, validation RMS " + fmt(s.cur_val) + " -> " + fmt(val) +
-      " N");
+  s.rep.notes.push_back("the Stribeck velocity's range was widened to " + top +
+                        " (the base fit had Vs at " + where +
+                        "; the record stays on the falling branch of the Stribeck curve): Vs " +
+                        fmt(pw.value(iv, f.u[iv])) + " m/s, validation RMS " + fmt(s.cur_val) +
+                        " -> " + fmt(val) + " N");
   s.cur = std::move(f);
   s.cur_val = val;
   s.c = wide;
