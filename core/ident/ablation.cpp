@@ -417,7 +417,8 @@ class AblationRun {
       e.test = block_test(val_, s.res, ref.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
       const bool unneeded =
-          e.test.z < o_.z_drop && s.rms * s.rms - ref.rms * ref.rms < floor_ * floor_;
+          e.test.z < o_.z_drop &&
+          s.rms * s.rms - ref.rms * ref.rms < o_.drop_share * floor_ * floor_;
       e.dropped = (unneeded || !needed) && s.fit.spec.elements == spec.elements;
       const bool barely = !e.dropped && !(resolvable(e.test, s.rms, ref.rms) && needed);
       e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
@@ -481,6 +482,7 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
   Scored cur = run.start(final_fit, floor_estimate, from_data);
   out.table.floor = run.floor();
   run.drop_effects(cur, out.table);
+  out.table.rms_validation_all_elements = cur.rms;
   run.drop_elements(cur, out.table);
   run.find_alike(cur, out.table, alternatives);
   out.table.rms_validation_all = cur.rms;

@@ -49,8 +49,12 @@
 //      training RMS of the two is tested, against the model with the credited effects and all
 //      elements (not one with effects that were not credited: their refused gain must not keep
 //      an element). While the data clearly do not need the element, the count goes down: the
-//      test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an
-//      MSE rise below the floor's variance, or a validation within near_floor x the floor. An
+//      test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an MSE rise below
+//      drop_share (a quarter) of the floor's variance, or a validation within near_floor x the
+//      floor. The rise allowed is a share of what names an effect: a missing effect sends the
+//      user to the wrong cause, a missing element only raises the prediction error (by up to
+//      sqrt(2) at the full variance: 16-30 % higher validation RMS on random records where the
+//      block test, with the difference in a few blocks around reversals, gave z 1.1-1.9). An
 //      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
 //      and a drop at the credit's own threshold follows which local minimum the refits ended in
 //      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). The count then
@@ -109,6 +113,8 @@ struct Ablation {
   bool ran = false;
   std::size_t elements_before = 0;  // the element count the loop ended with
   double rms_validation_all = 0;   // the refit with all credited effects [N]
+  // The refit with the credited effects and every element: the element test's reference [N]
+  double rms_validation_all_elements = 0;
   double floor = 0;                // the floor the sizes are judged against [N]
   double z_crit = 3.0;
   std::vector<AblationRow> rows;     // the credited effects (and, at the end, any left)
@@ -130,6 +136,9 @@ struct AblationOptions {
   double from_data_above = 1.2;
   double z_crit = 3.0;        // block-test threshold [-]
   double z_drop = 2.0;        // an element is dropped only below this z (6 above) [-]
+  // and while the validation MSE it costs is below this share of the floor's variance (at the
+  // floor, a validation RMS at most sqrt(1 + drop_share) x the reference's) [-]
+  double drop_share = 0.25;
   double min_size = 0.5;      // contribution / floor below which an effect is not credited [-]
   double near_floor = 1.15;   // validation RMS without the effect / floor at or below which the
                               // effect is not needed [-]

@@ -202,6 +202,7 @@ nlohmann::json to_json(const Ablation& a, const std::vector<Effect>& named) {
               "validation MSE difference over time blocks has z >= " + fmt(a.z_crit) +
               ", the contribution is at least half the floor and the model without it is above 1.15x the floor";
   j["validation_rms_all_N"] = a.rms_validation_all;
+  j["validation_rms_all_elements_N"] = a.rms_validation_all_elements;
   j["floor_N"] = a.floor;
   j["named"] = named_effects(a, named);
   auto row = [](const AblationRow& r) {
