@@ -416,9 +416,8 @@ class AblationRun {
       e.rms_validation_without = s.rms;
       e.test = block_test(val_, s.res, ref.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
-      const bool unneeded =
-          e.test.z < o_.z_drop &&
-          s.rms * s.rms - ref.rms * ref.rms < o_.drop_share * floor_ * floor_;
+      const bool unneeded = e.test.z < o_.z_drop &&
+                            s.rms * s.rms - ref.rms * ref.rms < o_.drop_share * floor_ * floor_;
       e.dropped = (unneeded || !needed) && s.fit.spec.elements == spec.elements;
       const bool barely = !e.dropped && !(resolvable(e.test, s.rms, ref.rms) && needed);
       e.verdict = (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +

@@ -38,10 +38,11 @@ TEST(IdentElementCount, ElementsTheRecordNeedsAreKept) {
     const IdentReport rep = identify(train, val, spec, lo);
     const double ratio = rep.rms_after_validation / floor;
     const double before = rep.ablation.rms_validation_all_elements / floor;
-    std::printf("seed %u: N %zu, kept %zu, validation %.4g N (before the element test %.4g N), "
-                "floor %.4g N: %.3fx\n",
-                seed, tr.elements(), rep.final_fit().spec.elements, rep.rms_after_validation,
-                rep.ablation.rms_validation_all_elements, floor, ratio);
+    std::printf(
+        "seed %u: N %zu, kept %zu, validation %.4g N (before the element test %.4g N), "
+        "floor %.4g N: %.3fx\n",
+        seed, tr.elements(), rep.final_fit().spec.elements, rep.rms_after_validation,
+        rep.ablation.rms_validation_all_elements, floor, ratio);
     for (const auto& e : rep.ablation.elements) std::printf("  %s\n", e.verdict.c_str());
     ASSERT_TRUE(rep.ablation.ran) << "seed " << seed;
     EXPECT_TRUE(rep.effects_added.empty()) << "seed " << seed;
