@@ -333,12 +333,12 @@ struct Search {
   }
 };
 
-constexpr double kGridPointsPerDecade = 6.4;  // 31 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
+constexpr double kGridPointsPerDecade = 12.8;  // 61 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
 constexpr std::size_t kGridRows = 4000;  // samples in the grid stage's cost (a regular subset)
 constexpr std::size_t kPolishRows = 8000;  // in the free-knot polish (the final linear solve: all)
 
 // The grid of normalised stiffnesses kappa = 1 / x (ascending): log-spaced from the stiff end
-// (4e-4 x_ba) with the spacing of the standard range (31 points up to 20 x_ba), continued to the
+// (4e-4 x_ba) with the spacing of the standard range (61 points up to 20 x_ba), continued to the
 // context's softest element. A wider range only adds points: its grid holds the standard one.
 std::vector<double> element_grid(const EffectContext& c) {
   const auto [x_lo, x_hi] = element_x_range(c);
