@@ -333,7 +333,8 @@ struct Search {
   }
 };
 
-constexpr double kGridPointsPerDecade = 12.8;  // 61 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba
+// 61 points over the 4.7 decades of 20 x_ba .. 4e-4 x_ba, a factor 1.2 apart.
+constexpr double kGridPointsPerDecade = 12.8;
 constexpr std::size_t kGridRows = 4000;  // samples in the grid stage's cost (a regular subset)
 constexpr std::size_t kPolishRows = 8000;  // in the free-knot polish (the final linear solve: all)
 
