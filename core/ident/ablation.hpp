@@ -32,7 +32,9 @@
 //   5. One more element in place of an effect: for each effect that passes 2, the model without it
 //      but with one element more is refitted the same way (warm start: the final shape plus the
 //      element whose insertion lowers the training cost most, element_fit.hpp:
-//      shape_with_element). When the data do not resolve it from the model with the effect (the
+//      shape_with_element; and fitted from the data, the lower training RMS kept: the warm
+//      start alone ends in a local minimum that moves with the last bits of the data). When the
+//      data do not resolve it from the model with the effect (the
 //      test of 2 against that model: z < z_crit and an MSE rise below the floor's variance, or
 //      it leaves at most near_floor x the floor), the effect is not credited: one more element
 //      explains it as well ("alike: N+1 elements"), and the data call for more elements. Of

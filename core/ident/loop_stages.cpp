@@ -571,11 +571,17 @@ void widen_stribeck_range(LoopState& s) {
     if (par.params()[i].unit == "m/s") iv = i;
   if (iv == par.size()) return;
   // Pressed against the top: within a factor 1.2 of it (the search stops short of a bound it
-  // presses on). Below a hundredth of the speed scale the fit has given the Stribeck curve up
-  // (S = Fc at nearly every speed the record reaches): a start beyond the speeds is tried too.
+  // presses on), or within a factor 3 of it while the base fit leaves more than twice the floor
+  // on validation (a search that stopped short of the bound: on the noise-free Fig. 2C trace at
+  // 0.1 Hz the base fit ends with Vs 1.17-1.20x below the top, and where it ended 1.2x below it
+  // the loop was left 7x above the floor). Below a hundredth of the speed scale the fit has given
+  // the Stribeck curve up (S = Fc at nearly every speed the record reaches): a start beyond the
+  // speeds is tried too.
   const double vs_was = par.value(iv, s.cur.u[iv]);
   const ShapeParam& pv = par.params()[iv];
-  const bool at_hi = vs_was >= pv.hi / 1.2, at_lo = vs_was <= 0.01 * s.c.v_ref;
+  const bool short_of_floor = s.cur_val > 2.0 * s.rep.noise.floor();
+  const bool at_hi = vs_was >= pv.hi / 1.2 || (short_of_floor && vs_was >= pv.hi / 3.0),
+             at_lo = vs_was <= 0.01 * s.c.v_ref;
   if (!at_hi && !at_lo) return;
   EffectContext wide = s.c;
   wide.vs_hi_factor = 10.0 * s.c.vs_hi_factor;

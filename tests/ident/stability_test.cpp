@@ -1,5 +1,5 @@
 // The loop's answer does not flip on the last bits: on every CI study record (study_cases.hpp), the
-// named effects, their order and the element count are the same
+// named effects and the element count are the same
 //   - with the measured force perturbed at the 1e-12 relative level (a sign drawn per sample), and
 //   - with the baseline (SSE2) variants of the vectorised loops instead of AVX2 and the vector
 //     element loop instead of the scalar one (the element step and the ripple periodogram sum in
@@ -8,9 +8,13 @@
 // the eleven records run here (three identifications each): an effect-free one and the three
 // whose answer sat closest to a threshold of the credit (docs/identification-credit.md: a
 // position ripple's fourth element near z = 3; two two-effect records whose element drop was
-// decided near the line). IdentStudy runs all eleven once.
+// decided near the line). IdentStudy runs all eleven once. The named effects are compared as a
+// set: on a record with two effects of the same size (seed 3002: inertia and direction asymmetry,
+// each 6x the noise) which of them a round takes first is a near tie that the last bits decide
+// (both orders were seen: 1e-12 perturbation, libm without FMA); the answer is that both are named.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <string>
 
@@ -23,7 +27,7 @@ using namespace gmslab::ident;
 namespace {
 
 struct Answer {
-  std::vector<std::string> named;  // in order
+  std::vector<std::string> named;  // in the order the loop added them
   std::vector<std::string> alike;  // each named effect with the alternatives the data cannot
                                    // tell from it, "a|b" (printed: whether a near alternative
                                    // passes the block test can move with the last bits)
@@ -46,6 +50,13 @@ Answer answer_of(const IdentReport& r) {
   a.base_elements = r.stages.front().spec.elements;
   a.validation = r.rms_after_validation;
   return a;
+}
+
+// The named effects as a set (sorted).
+std::vector<std::string> named_set(const Answer& a) {
+  std::vector<std::string> s = a.named;
+  std::sort(s.begin(), s.end());
+  return s;
 }
 
 std::string show(const Answer& a) {
@@ -88,9 +99,9 @@ TEST_P(LoopStability, AnswerStaysUnderLastBitChanges) {
   set_simd_path({});
   std::printf("seed %u: as is      %s\n        perturbed  %s\n        baseline   %s\n", cases[GetParam()].seed,
               show(as_is).c_str(), show(perturbed).c_str(), show(baseline).c_str());
-  EXPECT_EQ(perturbed.named, as_is.named) << "seed " << cases[GetParam()].seed;
+  EXPECT_EQ(named_set(perturbed), named_set(as_is)) << "seed " << cases[GetParam()].seed;
   EXPECT_EQ(perturbed.elements, as_is.elements) << "seed " << cases[GetParam()].seed;
-  EXPECT_EQ(baseline.named, as_is.named) << "seed " << cases[GetParam()].seed;
+  EXPECT_EQ(named_set(baseline), named_set(as_is)) << "seed " << cases[GetParam()].seed;
   EXPECT_EQ(baseline.elements, as_is.elements) << "seed " << cases[GetParam()].seed;
 }
 
