@@ -43,6 +43,11 @@
 //      take up what two missing elements leave). At the end a count the user fixed is restored
 //      (the credited effects refitted with it from the final shape; the count is not changed
 //      silently), while with count_may_grow (--elements auto) the larger count is kept.
+//      Two or more effects that each pass this test may together take up what several missing
+//      elements leave: the model with none of them and k more elements (k = 2 .. their number;
+//      from the data and from the final shape with k elements inserted, the lower training RMS)
+//      is tested the same way, and at the smallest k the data do not resolve from the model with
+//      them none is credited and the data call for N + k elements.
 //   6. The element count the same way: the lightest element is left out (the others keep their
 //      stiffness and share; fit.hpp: shape_without_element) and the model refitted, and the
 //      model with one element less is also fitted from the data (the element grid; stopped and
