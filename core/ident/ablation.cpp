@@ -469,7 +469,7 @@ class AblationRun {
     // Against the model with the credited effects and all elements: an effect not credited must
     // not keep an element by the gain it was refused for, and drops each below the resolution
     // must not add up to one the data resolve.
-    const Scored ref = cur;
+    Scored ref = cur;
     const ModelInfo& info = model_info(cur.fit.spec.model);
     const auto alpha = info.column_index("alpha");
     while (alpha >= 0 && cur.fit.spec.elements >= 2) {
@@ -496,9 +496,33 @@ class AblationRun {
       Scored s = refit(spec, "ablation: " + n, &u).get();
       if (s.rms > kFromDataNeededBelow * ref.rms) abandon = true;
       Scored d = fresh.get();
-      if (!d.res.empty() && d.fit.spec.elements == spec.elements &&
+      // Once abandoned, never used (whether it finished first is a matter of timing).
+      if (!abandon && !d.res.empty() && d.fit.spec.elements == spec.elements &&
           d.fit.rms_train < s.fit.rms_train)
         s = std::move(d);
+      // A model with more elements nests the one with fewer (an element of zero weight): where
+      // the fit with one element less trains better, the reference stopped short of its minimum.
+      // It is refitted from that fit's shape with the element inserted where it helps most, and
+      // the test is against the better of the two. (Seed 2006 of the CI study records: under
+      // 1e-12 changes of the force the reference ended at 0.073-0.095 N on validation; at
+      // 0.095 N the three-element fit trained better and predicted 0.090 N, and the fourth
+      // element was dropped.)
+      if (cur.fit.spec.elements == ref.fit.spec.elements && s.fit.spec.elements == spec.elements &&
+          s.fit.rms_train < ref.fit.rms_train) {
+        const std::vector<double> u2 = shape_with_element(s.fit, ref.fit.spec, train_, c_);
+        if (!u2.empty()) {
+          Scored again = refit(ref.fit.spec,
+                               "ablation: " + std::to_string(ref.fit.spec.elements) +
+                                   " elements from the shape with one less",
+                               &u2)
+                             .get();
+          if (!again.res.empty() && again.fit.rms_train < ref.fit.rms_train) {
+            ref = again;
+            cur = std::move(again);
+            table.rms_validation_all_elements = ref.rms;
+          }
+        }
+      }
       ElementAblation e;
       e.elements = spec.elements;
       e.rms_validation_without = s.rms;
