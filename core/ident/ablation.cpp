@@ -503,10 +503,10 @@ class AblationRun {
       // A model with more elements nests the one with fewer (an element of zero weight): where
       // the fit with one element less trains better, the reference stopped short of its minimum.
       // It is refitted from that fit's shape with the element inserted where it helps most, and
-      // the test is against the better of the two. (Seed 2006 of the CI study records: under
-      // 1e-12 changes of the force the reference ended at 0.073-0.095 N on validation; at
-      // 0.095 N the three-element fit trained better and predicted 0.090 N, and the fourth
-      // element was dropped.)
+      // the test is against the better of the two. (Not seen to act on the records measured: on
+      // seed 2006 of the CI study records, where the reference ended at 0.073-0.095 N on
+      // validation under 1e-12 changes of the force and the fourth element was dropped once,
+      // the three-element fit trained worse; docs/identification-credit.md.)
       if (cur.fit.spec.elements == ref.fit.spec.elements && s.fit.spec.elements == spec.elements &&
           s.fit.rms_train < ref.fit.rms_train) {
         const std::vector<double> u2 = shape_with_element(s.fit, ref.fit.spec, train_, c_);
@@ -611,14 +611,14 @@ std::string more_elements_summary(const Ablation& a) {
   const std::string n = std::to_string(a.elements_called_for);
   // More than one element more: several effects taken up together (more_in_place_of_all).
   const bool several = a.elements_called_for > a.elements_before + 1;
-  const std::string more =
-      several ? "more elements (" + n + ") explain " : "one more element (" + n + ") explains ";
+  const std::string who = several ? "more elements" : "one more element";
+  const std::string verb = several ? " explain " : " explains ";
   if (a.count_raised)
-    return "the element count went up to " + n + ": " +
-           (several ? "more elements explain " : "one more element explains ") + effects +
+    return "the element count went up to " + n + ": " + who + verb + effects +
            " as well as the effects did";
-  return "the data call for more elements: " + more + effects + " as well; identify with " + n +
-         " elements (--elements " + n + ") or let the count be chosen (--elements auto)";
+  return "the data call for more elements: " + who + " (" + n + ")" + verb + effects +
+         " as well; identify with " + n + " elements (--elements " + n +
+         ") or let the count be chosen (--elements auto)";
 }
 
 std::string named_effects(const Ablation& a, const std::vector<Effect>& named) {
