@@ -136,6 +136,26 @@ void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
   }
 }
 
+void GmsPathRunner::prepare_raised(const Stribeck& S, double C, const GmsPath& path,
+                                   std::span<const double> fs_rise) {
+  const std::size_t m = path.v.size();
+  path_ = nullptr, index_ = Index::none, steps_ = m, shape_ = S, C_ = C;
+  S_.resize(m);
+  E_.resize(m);
+  const double inv_vs = 1.0 / S.Vs;
+  std::size_t j = 0;
+  for (std::size_t kk = 1; kk < path.samples; ++kk) {
+    Stribeck Sk = S;
+    if (kk < fs_rise.size()) Sk.Fs += fs_rise[kk];
+    const double r_sat = gms_elements::saturation_ratio(Sk);
+    for (const std::size_t end = path.last[kk - 1]; j < end; ++j) {
+      const double r = std::abs(path.v[j]) * inv_vs;
+      S_[j] = r > r_sat ? Sk.Fc : Sk.at_scaled(r);
+      E_[j] = exp_neg(C * path.h[j] / S_[j]);
+    }
+  }
+}
+
 void GmsPathRunner::run(const GmsPath& path, std::span<const double> alpha,
                         std::span<const double> k, std::span<const double> sigma_over_k,
                         double sigma2, std::span<const long> rows, double scale,

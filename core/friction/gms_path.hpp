@@ -40,6 +40,11 @@ class GmsPathRunner {
   // once per distinct value and copied to the steps, with the same operands and so the same
   // values; otherwise step by step.
   void prepare(const Stribeck& S, double C, const GmsPath& path);
+  // As prepare, with Fs raised by fs_rise[k] [N] on the steps of sample k (a break-away level
+  // that changes along the path: dwell stiction), every step computed; what it prepares is not
+  // kept for a later prepare.
+  void prepare_raised(const Stribeck& S, double C, const GmsPath& path,
+                      std::span<const double> fs_rise);
 
   // Runs elements (alpha_i, k_i [N/m], sigma_i / k_i [s]) from rest along the prepared path.
   // After each sample k >= 1: when rows[k] >= 0, the element forces times `scale` go to

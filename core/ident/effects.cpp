@@ -322,23 +322,59 @@ std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext&
 }
 
 std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c) {
+  // A rest: |v| below v_rest, and standing still (|v| below a twentieth of that) for half of
+  // dwell_min at a stretch in it (a slow presliding oscillation also stays below v_rest, but
+  // passes through zero only for instants). The rest the record begins in counts from the record's
+  // start, and only where the position stays within two encoder counts (the record's smallest
+  // step) until the start: a presliding sweep of micrometres is motion, and leaves the length of
+  // the rest before it unknown.
+  const double still = 0.05 * c.v_rest;
   std::vector<MotionStart> out;
   double rest_since = d.t.front();
-  bool resting = std::abs(d.v.front()) < c.v_rest;
+  bool resting = std::abs(d.v.front()) < c.v_rest, first = true;
+  double count = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < d.size(); ++k)
+    if (const double dx = std::abs(d.x[k] - d.x[k - 1]); dx > 0.0) count = std::min(count, dx);
+  double stood = 0.0, run = 0.0;  // the longest and the current time standing still [s]
   for (std::size_t k = 1; k < d.size(); ++k) {
     const bool r = std::abs(d.v[k]) < c.v_rest;
-    if (r && !resting) rest_since = d.t[k];
+    if (r && !resting) rest_since = d.t[k], stood = run = 0.0;
+    run = r && std::abs(d.v[k]) < still ? run + (d.t[k] - d.t[k - 1]) : 0.0;
+    stood = std::max(stood, run);
     if (!r && resting) {
       // The motion began before |v| crossed v_rest: walk back to where it left (near) zero.
       std::size_t j = k;
-      while (j > 0 && d.t[j - 1] > rest_since && std::abs(d.v[j - 1]) > 0.05 * c.v_rest &&
+      while (j > 0 && d.t[j - 1] > rest_since && std::abs(d.v[j - 1]) > still &&
              sgn(d.v[j - 1]) == sgn(d.v[k]))
         --j;
-      if (d.t[j] - rest_since >= c.dwell_min) out.push_back({j, d.t[j] - rest_since, sgn(d.v[k])});
+      bool known = !first;
+      if (first) {
+        double span = 0.0;
+        for (std::size_t i = 0; i < j; ++i) span = std::max(span, std::abs(d.x[i] - d.x.front()));
+        known = span <= 2.0 * count * (1.0 + 1e-9);
+      }
+      if (stood >= 0.5 * c.dwell_min && known && d.t[j] - rest_since >= c.dwell_min)
+        out.push_back({j, d.t[j] - rest_since, sgn(d.v[k])});
+      first = false;
     }
     resting = r;
   }
   return out;
+}
+
+std::vector<double> dwell_weight(const Dataset& d, const EffectContext& c) {
+  const std::size_t n = d.size();
+  std::vector<double> w(n, 0.0);
+  for (const auto& s : motion_starts(d, c)) {
+    const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+    for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < n; ++k) {
+      if (k > s.k + 1 && std::abs(d.v[k]) < 0.05 * c.v_rest) break;  // at rest again
+      const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
+      if (q > 30.0) break;
+      w[k] = phi * std::exp(-q);
+    }
+  }
+  return w;
 }
 
 bool effect_applicable(Effect e, const Dataset& d, const EffectContext& c) {
@@ -426,25 +462,16 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::DwellStiction:
-      // Raised break-away level after a rest, fading with travel s (q = s / s0): the model's own
-      // response to a raised Fs (sensitivity S = dg / d(Fs/Fc), second half of g) weighted by
-      // phi e^-q and phi q e^-q, plus phi g e^-q.
-      for (int m = 0; m < 3; ++m)
-        v.push_back(col("dwell_" + std::to_string(m), "N", true, [m](D d, C c, G g, O o) {
-          std::fill(o.begin(), o.end(), 0.0);
-          const std::size_t n = d.size();
-          const bool sens = g.size() >= 2 * n;
-          for (const auto& s : motion_starts(d, c)) {
-            const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
-            for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < n; ++k) {
-              if (k > s.k + 1 && std::abs(d.v[k]) < 0.05 * c.v_rest) break;  // at rest again
-              const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
-              if (q > 30.0) break;
-              const double base = m < 2 && sens ? g[n + k] : g[k];
-              o[k] = phi * base * std::exp(-q) * (m == 1 ? q : 1.0);
-            }
-          }
-        }));
+      // Raised break-away level after a rest, fading with travel: the model simulated with
+      // Fs/Fc raised by rho w (the second n values of g) less the model, and w g.
+      v.push_back(col("dwell_response", "N", true, [](D d, C, G g, O o) {
+        const std::size_t n = d.size();
+        for (std::size_t k = 0; k < n; ++k) o[k] = g.size() >= 2 * n ? g[n + k] : 0.0;
+      }));
+      v.push_back(col("dwell_level", "N", true, [](D d, C c, G g, O o) {
+        const std::vector<double> w = dwell_weight(d, c);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = w[k] * g[k];
+      }));
       break;
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {

@@ -16,15 +16,18 @@
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
 //   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
-//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d); columns
-//                        phi S e^-q, phi S q e^-q, phi g e^-q with q = s / s0 (s = travel since
-//                        the start, s0 from the residual) and S = dg / d(Fs/Fc), the model's own
-//                        response to a raised break-away level (fit.cpp computes it)          [N]
+//   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d), the
+//                        break-away ratio Fs/Fc raised by rho w, w = phi e^-q with q = s / s0
+//                        (s = travel since the start; dwell_weight); columns g_rho - g, the
+//                        model simulated with that raised level less the model (fit.cpp computes
+//                        it; its coefficient is about Fc when the rise is rho), and w g. rho
+//                        [-] and s0 [m] are searched on the training residual              [N]
 //   normal_load          g (Fn / Fn0 - 1)   (friction proportional to the normal force)         [N]
 // Measurement and transmission effects: the model seen through the channel; each adds one column
 // (model through the channel - model) whose coefficient is the force level (about Fc when the
 // effect is all there is), and one scalar found by a 1-D search on the training residual:
-//   time_shift           u(t - tau) - u(t), u = g + rho v: the force channel lags the position (tau > 0)
+//   time_shift           u(t - tau) - u(t), u = g + rho v: the force channel lags the position (tau
+//   > 0)
 //                        channel by tau (sub-sample, linear interpolation in time)     [N], tau [s]
 //   sensor_filter        lowpass_T(u) - u: first-order force sensor (filter) with time constant
 //                        T, exact for a piecewise-constant input on the record's grid  [N], T [s]
@@ -33,7 +36,8 @@
 //                        negative inertia; a free viscous column would mimic inertia itself)
 //   backlash             g_b - g: lost motion b between the encoder and the contact: after each
 //                        reversal the contact stays until the motor has travelled b, then follows
-//                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b [m]
+//                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b
+//                        [m]
 // Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
 // unchanged to validation records (EffectContext).
 #pragma once
@@ -91,6 +95,7 @@ struct EffectContext {
   double dwell_min = 0.05;           // shortest rest that counts as a dwell [s]
   double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
+  double dwell_rise = 0.3;           // rise rho of Fs/Fc per unit phi after a rest [-]
   // The element grid fit's stand-in for g in effect columns that multiply the friction (the unit
   // output at a warm shape, one value per sample); empty: such effects need the shape search.
   std::vector<double> g_frozen;
@@ -104,8 +109,9 @@ EffectContext make_context(const Dataset& train);
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
   std::string unit;  // unit of the coefficient, e.g. "kg"
-  bool uses_g = false;  // g: the unit model output (n samples), followed by dg / d(Fs/Fc) when
-                        // the fit has a dwell_stiction term (then g.size() == 2 n)
+  bool uses_g = false;  // g: the unit model output (n samples), followed by g_rho - g (the
+                        // model with the dwell rise less the model) when the fit has a
+                        // dwell_stiction term (then g.size() == 2 n)
   std::function<void(const Dataset&, const EffectContext&, std::span<const double> g,
                      std::span<double> out)>
       fill;
@@ -135,13 +141,18 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
 // over each step, as the steps of d do.
 Dataset through_dead_band(const Dataset& d, double b);
 
-// Motion starts after rests of at least c.dwell_min: index of the first moving sample, rest
-// duration [s], direction (+-1).
+// Motion starts after rests of at least c.dwell_min (|v| below c.v_rest, standing still at
+// |v| < 0.05 c.v_rest within it; the rest the record begins in only where the position stays
+// within two encoder counts): index of the first moving sample, rest duration [s], direction.
 struct MotionStart {
   std::size_t k;
   double dwell;
   double dir;
 };
 std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c);
+// Per sample, the dwell weight w = phi e^-q of the motion that started after the last rest
+// (phi = ln(1 + T_d / c.dwell_tau), q = |x - x_start| / c.dwell_s0), from the sample before the
+// start until the motion comes to rest again or q > 30; 0 elsewhere.
+std::vector<double> dwell_weight(const Dataset& d, const EffectContext& c);
 
 }  // namespace gmslab::ident

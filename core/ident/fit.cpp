@@ -258,7 +258,7 @@ class Evaluator {
             const EffectContext& c)
       : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
     for (Effect e : spec.effects) {
-      needs_sensitivity_ |= e == Effect::DwellStiction;
+      needs_dwell_ |= e == Effect::DwellStiction;
       needs_contact_ |= e == Effect::Backlash;
     }
     for (std::size_t k = 0; k < d.size(); ++k)
@@ -283,26 +283,17 @@ class Evaluator {
   double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
 
   // Simulates g for shape u; false when the model cannot be built or diverges. With a
-  // dwell_stiction term, g also carries (next n values) the sensitivity dg / d(Fs/Fc) by a 1 %
-  // forward difference (models without Fs: g itself); with a backlash term (last n values) the
-  // model along the contact's motion through the dead band (effects.hpp, Column::uses_g).
+  // dwell_stiction term, g also carries (next n values) the dwell response (dwell_response);
+  // with a backlash term (last n values) the model along the contact's motion through the dead
+  // band (effects.hpp, Column::uses_g).
   bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
     const std::size_t n = d_.size();
     try {
       auto mp = par_.unit_model(u);
       sim(mp, d_, path_, runner_, g);
-      if (needs_sensitivity_) {
+      if (needs_dwell_) {
         std::vector<double> g2;
-        const auto fs = model_info(mp.model).scalar_index("Fs");
-        if (fs >= 0) {
-          const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
-          mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
-          sim(mp, d_, path_, runner_, g2);
-          for (std::size_t k = 0; k < n; ++k) g2[k] = (g2[k] - g[k]) / (0.01 * ratio);
-          mp.scalars[static_cast<std::size_t>(fs)] = ratio;
-        } else {
-          g2 = g;
-        }
+        dwell_response(mp, g, g2);
         g.insert(g.end(), g2.begin(), g2.end());
       }
       if (needs_contact_) {
@@ -378,7 +369,7 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_)) g_.assign((1 + needs_sensitivity_ + needs_contact_) * d_.size(), 0.0);
+    if (!simulate(u, g_)) g_.assign((1 + needs_dwell_ + needs_contact_) * d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
       terms_[j].column.fill(d_, c_, g_, full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
@@ -397,6 +388,36 @@ class Evaluator {
     if (path.samples != d.size()) path = gms_path(d);
     simulate_gms_along(GmsParams::from(mp), path, runner, out);
   }
+  // The model with its break-away ratio Fs/Fc raised by rho w_k at sample k (rho =
+  // c.dwell_rise, w = dwell_weight), less the model g: GMS along the path with the raised level
+  // per sample; other models with Fs the linearised response (a 1 % difference) times the rise;
+  // models without Fs the rise times g.
+  void dwell_response(ModelParams mp, const std::vector<double>& g,
+                      std::vector<double>& out) const {
+    const std::size_t n = d_.size();
+    if (dwell_w_.size() != n) dwell_w_ = dwell_weight(d_, c_);
+    const auto fs = model_info(mp.model).scalar_index("Fs");
+    if (mp.model == "gms") {
+      const GmsParams gp = GmsParams::from(mp);
+      std::vector<double> rise(n);
+      for (std::size_t k = 0; k < n; ++k) rise[k] = c_.dwell_rise * gp.S.Fc * dwell_w_[k];
+      dwell_runner_.prepare_raised(gp.S, gp.C, path_, rise);
+      std::vector<double> sk(gp.k.size());
+      for (std::size_t i = 0; i < sk.size(); ++i) sk[i] = gp.sigma[i] / gp.k[i];
+      out.assign(n, 0.0);
+      dwell_runner_.run(path_, gp.alpha, gp.k, sk, gp.sigma2, {}, 1.0, nullptr, out);
+      for (std::size_t k = 0; k < n; ++k) out[k] -= g[k];
+    } else if (fs >= 0) {
+      const double ratio = mp.scalars[static_cast<std::size_t>(fs)];
+      mp.scalars[static_cast<std::size_t>(fs)] = ratio * 1.01;
+      sim(mp, d_, path_, runner_, out);
+      for (std::size_t k = 0; k < n; ++k)
+        out[k] = (out[k] - g[k]) / (0.01 * ratio) * c_.dwell_rise * dwell_w_[k];
+    } else {
+      out.assign(n, 0.0);
+      for (std::size_t k = 0; k < n; ++k) out[k] = c_.dwell_rise * dwell_w_[k] * g[k];
+    }
+  }
   void gather(const std::vector<double>& full, Eigen::Ref<Eigen::VectorXd> out) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) out(static_cast<Eigen::Index>(i)) = full[rows_[i]];
   }
@@ -411,7 +432,9 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
-  bool needs_sensitivity_ = false, needs_contact_ = false;
+  bool needs_dwell_ = false, needs_contact_ = false;
+  mutable std::vector<double> dwell_w_;  // dwell_weight of d_ (made at the first simulation)
+  mutable GmsPathRunner dwell_runner_;
   mutable GmsPath path_;
   mutable GmsPathRunner runner_;
   // The record as the contact moves behind the backlash dead band, for b = contact_b_.
@@ -793,9 +816,14 @@ std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const 
   const auto has = [&](Effect e) {
     return std::find(spec.effects.begin(), spec.effects.end(), e) != spec.effects.end();
   };
-  if (has(Effect::DwellStiction)) {
-    const std::vector<double> g1 = g;
-    g.insert(g.end(), g1.begin(), g1.end());
+  if (has(Effect::DwellStiction)) {  // the dwell response, as the fit's Evaluator has it
+    const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
+    const FitSpec dwell{r.spec.model, r.spec.elements, {Effect::DwellStiction}};
+    const Evaluator ev(dwell, par, d, c);
+    std::vector<double> gd;
+    if (!ev.simulate(r.u, gd) || gd.size() != 2 * d.size())
+      throw SimulationError("the dwell response of the fitted model could not be simulated");
+    g.insert(g.end(), gd.begin() + static_cast<std::ptrdiff_t>(d.size()), gd.end());
   }
   if (has(Effect::Backlash)) {
     const auto gb = unit_friction(r, through_dead_band(d, c.backlash), c);

@@ -353,13 +353,14 @@ nlohmann::json to_json(const IdentReport& r) {
   j["base_fit"] = fit_json(r.stages.front());
   j["final_model"] = fit_json(r.final_fit());
   const auto& c = r.context;
-  j["context"] = {{"x_mid_m", c.x_mid},         {"x_half_m", c.x_half},
-                  {"t_mid_s", c.t_mid},         {"t_half_s", c.t_half},
-                  {"v_ref_mps", c.v_ref},       {"x_breakaway_m", c.x_ba},
-                  {"force_level_N", c.f_level}, {"ripple_wavelengths_m", c.wavelengths},
+  j["context"] = {{"x_mid_m", c.x_mid},           {"x_half_m", c.x_half},
+                  {"t_mid_s", c.t_mid},           {"t_half_s", c.t_half},
+                  {"v_ref_mps", c.v_ref},         {"x_breakaway_m", c.x_ba},
+                  {"force_level_N", c.f_level},   {"ripple_wavelengths_m", c.wavelengths},
                   {"time_shift_s", c.time_shift}, {"filter_time_constant_s", c.filter_T},
-                  {"backlash_m", c.backlash}, {"sample_step_s", c.h_med},
-                  {"dwell_decay_m", c.dwell_s0}, {"normal_force_mean_N", c.Fn0}};
+                  {"backlash_m", c.backlash},     {"sample_step_s", c.h_med},
+                  {"dwell_decay_m", c.dwell_s0},  {"dwell_rise_per_ln", c.dwell_rise},
+                  {"normal_force_mean_N", c.Fn0}};
   return j;
 }
 

@@ -53,17 +53,6 @@ Candidate screen(Effect e, const FitResult& cur, const Dataset& train, const Dat
 
 namespace {
 
-// The dwell decay length that explains most, from a few multiples of x_ba.
-void choose_dwell_length(const FitResult& cur, const Dataset& train, EffectContext& c) {
-  double best = -1, best_s0 = c.dwell_s0;
-  for (double m : {0.1, 0.2, 0.4, 0.7, 1.0, 2.0, 4.0, 8.0}) {
-    c.dwell_s0 = m * c.x_ba;
-    const auto lin = refit_linear(with(cur.spec, Effect::DwellStiction), train, c, cur.u);
-    if (cur.rms_train - lin.rms_train > best) best = cur.rms_train - lin.rms_train, best_s0 = c.dwell_s0;
-  }
-  c.dwell_s0 = best_s0;
-}
-
 // Golden section on [a, b] for `iters` steps or until the bracket is narrower than `tol`: the
 // better of the last two points and its cost.
 template <class Cost>
@@ -77,6 +66,28 @@ std::pair<double, double> golden_section(double a, double b, int iters, double t
       a = x1, x1 = x2, f1 = f2, x2 = a + gr * (b - a), f2 = cost(x2);
   }
   return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
+}
+
+// The dwell decay length s0 (a few multiples of x_ba) and rise rho (of Fs/Fc per unit phi, 0.01
+// to 10, log-spaced) whose linear refit at the current shape leaves the lowest training RMS; rho
+// then refined by golden section in log between its grid neighbours.
+void choose_dwell_length(const FitResult& cur, const Dataset& train, EffectContext& c) {
+  const FitSpec spec = with(cur.spec, Effect::DwellStiction);
+  auto cost = [&](double s0, double rho) {
+    c.dwell_s0 = s0, c.dwell_rise = rho;
+    return refit_linear(spec, train, c, cur.u).rms_train;
+  };
+  const double rises[] = {0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0};
+  double best = std::numeric_limits<double>::infinity(), best_s0 = c.dwell_s0,
+         best_rho = c.dwell_rise;
+  for (double m : {0.1, 0.2, 0.4, 0.7, 1.0, 2.0, 4.0, 8.0})
+    for (double rho : rises)
+      if (const double r = cost(m * c.x_ba, rho); r < best)
+        best = r, best_s0 = m * c.x_ba, best_rho = rho;
+  const auto [lr, fr] = golden_section(std::log(best_rho / 3.0), std::log(best_rho * 3.0), 10, 0.0,
+                                       [&](double l) { return cost(best_s0, std::exp(l)); });
+  c.dwell_s0 = best_s0;
+  c.dwell_rise = fr < best ? std::exp(lr) : best_rho;
 }
 
 // A measurement effect's scalar (tau, T or b): the grid value with the lowest training RMS of a

@@ -134,5 +134,78 @@ TEST(GmsPath, RunnerEqualsGmsModelStepByStep) {
   EXPECT_EQ(indexed_quantised, 8u);  // every quantised path prepared twice
 }
 
+// prepare_raised (the break-away level raised per sample, dwell stiction's model) is GmsModel
+// stepped with Fs + rise[k] on the steps of sample k, bit for bit: random paths and shapes, the
+// rise zero on some samples and a piecewise level of up to 3 Fs on others; a zero rise everywhere
+// is the plain preparation, and a preparation after it starts afresh.
+TEST(GmsPath, RaisedLevelIsTheModelWithThatBreakAwayLevelPerSample) {
+  std::mt19937 rng(20261203);
+  std::uniform_real_distribution<double> U(0, 1);
+  std::size_t raised_steps = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    std::vector<std::pair<double, double>> steps;
+    std::vector<std::size_t> last;
+    const GmsPath path = random_path(rng, steps, last, trial % 2 == 1);
+    GmsParams g;
+    g.S.Fc = std::pow(10.0, -1 + 3 * U(rng));
+    g.S.Fs = g.S.Fc * (1 + 1.5 * U(rng));
+    g.S.Vs = std::pow(10.0, -4 + 2 * U(rng));
+    g.S.delta = trial % 2 == 0 ? 2.0 : 0.5 + 2 * U(rng);
+    g.C = g.S.Fs * std::pow(10.0, 1 + 3 * U(rng));
+    g.sigma2 = g.S.Fc * U(rng);
+    const std::size_t n = trial % 3 == 0 ? 12 : 1 + static_cast<std::size_t>(7 * U(rng));
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      g.alpha.push_back(0.1 + U(rng));
+      sum += g.alpha.back();
+      g.k.push_back(g.S.Fc / std::pow(10.0, -7 + 3.5 * U(rng)));
+      g.sigma.push_back(1e-4 * g.k.back() * U(rng));
+    }
+    for (auto& a : g.alpha) a /= sum;
+    for (std::size_t i = 0; i < n; ++i) g.k[i] *= g.alpha[i];
+    std::vector<double> rise(path.samples, 0.0);
+    double level = 0.0;
+    for (std::size_t k = 1; k < path.samples; ++k) {
+      if (k % 97 == 0) level = U(rng) < 0.3 ? 0.0 : 3.0 * g.S.Fs * U(rng);
+      rise[k] = level;
+    }
+    std::vector<double> sk(n);
+    for (std::size_t i = 0; i < n; ++i) sk[i] = g.sigma[i] / g.k[i];
+    GmsPathRunner runner;
+    runner.prepare_raised(g.S, g.C, path, rise);
+    std::vector<double> total(path.samples);
+    runner.run(path, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, total);
+    std::vector<double> state(GmsModel(g.to_params()).state_size(), 0.0);
+    GmsModel(g.to_params()).reset(state);
+    std::size_t j = 0;
+    for (std::size_t k = 1; k < path.samples; ++k) {
+      GmsParams gk = g;
+      gk.S.Fs += rise[k];
+      const GmsModel model(gk.to_params());
+      double f = 0;
+      for (; j < last[k - 1]; ++j)
+        f = model.step(state, {steps[j].first, steps[j].second, 0.0, 0.0});
+      ASSERT_EQ(total[k], f) << "trial " << trial << " sample " << k;
+      raised_steps += rise[k] > 0.0 ? last[k - 1] - (k > 1 ? last[k - 2] : 0) : 0;
+    }
+    // No rise: the plain preparation; a plain preparation after a raised one starts afresh.
+    std::vector<double> zero(path.samples, 0.0), a(path.samples), b(path.samples);
+    runner.prepare_raised(g.S, g.C, path, zero);
+    runner.run(path, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, a);
+    GmsPathRunner plain;
+    plain.prepare(g.S, g.C, path);
+    plain.run(path, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, b);
+    runner.prepare_raised(g.S, g.C, path, rise);
+    runner.prepare(g.S, g.C, path);
+    std::vector<double> again(path.samples);
+    runner.run(path, g.alpha, g.k, sk, g.sigma2, {}, 1.0, nullptr, again);
+    for (std::size_t k = 0; k < path.samples; ++k) {
+      ASSERT_EQ(a[k], b[k]) << "trial " << trial << " sample " << k;
+      ASSERT_EQ(again[k], b[k]) << "trial " << trial << " sample " << k;
+    }
+  }
+  EXPECT_GT(raised_steps, 10000u);
+}
+
 }  // namespace
 }  // namespace gmslab

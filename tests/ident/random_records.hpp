@@ -90,6 +90,10 @@ struct Truth {
   // else each record's own span). A friction that depends on where the slide is must be the same
   // function of x in every record of the axis: synthesize_pair sets the training record's span.
   double x_span_lo = 0.0, x_span_hi = 0.0;
+  // Every stroke followed by a rest of 0.05 s up to 4 s (log-uniform; draw_motion): what dwell
+  // stiction needs to be seen. synthesize_pair sets it for a truth with dwell stiction, so that
+  // the record with and without the effect follow the same motion.
+  bool dwell_rests = false;
 
   std::size_t elements() const { return alpha.size(); }
   double x_break(std::size_t i) const { return alpha[i] * Fs / k[i]; }  // [m]
@@ -256,12 +260,22 @@ inline Motion draw_motion(const Truth& tr, unsigned seed, std::size_t samples = 
     m.seg.push_back({Segment::Sine, dur, amp, f});
   }
   rest(0.02 * T_total * U(rng));
+  // Dwell rests: log-uniform from 0.05 s to min(4 s, 1.5 T_total / strokes) (at least 0.1 s), so
+  // that their sum stays within about the record's own length; drawn from a stream of their own,
+  // so the rest of the motion is that of the same seed without them.
+  std::mt19937_64 rest_rng(seed * 6151ULL + 29);
+  const double dwell_hi = std::clamp(1.5 * T_total / strokes, 0.1, 4.0);
   for (int s = 0; s < strokes; ++s) {
     const double speed = v * (0.3 + 1.2 * U(rng));
     const double len = std::min(L, speed * t_stroke * 0.8);
     const double dur = std::max(len / speed * 1.25, 60 * dt);
     m.seg.push_back({Segment::Stroke, dur, dir * len, 0, 0.2 * dur});
-    if (U(rng) < 0.7) rest(0.08 * T_total / strokes * (0.3 + U(rng)));
+    const bool short_rest = U(rng) < 0.7;
+    const double short_len = short_rest ? 0.08 * T_total / strokes * (0.3 + U(rng)) : 0.0;
+    if (tr.dwell_rests)
+      rest(0.05 * std::pow(dwell_hi / 0.05, U(rest_rng)));
+    else if (short_rest)
+      rest(short_len);
     dir = -dir;
   }
   // Sinusoids with amplitude L/4 .. L/2 at peak speeds ~ v_ref.
@@ -311,7 +325,7 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
   const EffectSpec* filt = eff(GenEffect::SensorFilter);
   std::vector<double> out(ts.size(), 0.0);
   if (Fn_out) Fn_out->assign(ts.size(), 0.0);
-  double t_prev = 0.0, xc = 0.0, x_prev_c = 0.0, rest_time = 0.0, dwell_bonus = 0.0, x_motion_start = 0.0;
+  double t_prev = 0.0, xc = 0.0, x_prev_c = 0.0, rest_time = 0.0, dwell_bonus = 0.0, travel = 0.0;
   bool have_prev = false, resting = true;
   double filt_state = 0.0;
   double xm_prev = 0.0;
@@ -346,10 +360,12 @@ std::vector<double> force_along(const Truth& tr, const std::vector<double>& ts, 
       } else if (resting) {
         resting = false;
         dwell_bonus = dwell ? dwell->param * std::log(1.0 + rest_time / 0.1) : 0.0;
-        x_motion_start = xc;
+        travel = 0.0;
       }
       double Fs = tr.Fs;
-      if (dwell && !resting) Fs += dwell_bonus * std::exp(-std::abs(xc - x_motion_start) / (2 * xmax));
+      // The rise fades with the travel since the motion started (reversals included).
+      travel += std::abs(dx);
+      if (dwell && !resting) Fs += dwell_bonus * std::exp(-travel / (2 * xmax));
       const double r = std::abs(vc) / tr.Vs;
       const double S = tr.Fc + (Fs - tr.Fc) * std::exp(-std::pow(r, tr.delta));
       const double sg = (vc > 0) - (vc < 0);
@@ -548,6 +564,7 @@ inline std::pair<Generated, Generated> synthesize_pair(Truth& tr, unsigned seed,
   std::mt19937_64 rng(seed * 97ULL + 1);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   std::vector<EffectSpec> wanted = tr.effects;
+  for (const auto& e : wanted) tr.dwell_rests |= e.kind == GenEffect::DwellStiction;
   tr.effects.clear();
   const Generated base = synthesize(tr, seed, samples);
   double xlo = 1e9, xhi = -1e9;
