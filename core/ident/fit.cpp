@@ -395,7 +395,8 @@ class Evaluator {
   void dwell_response(ModelParams mp, const std::vector<double>& g,
                       std::vector<double>& out) const {
     const std::size_t n = d_.size();
-    if (dwell_w_.size() != n) dwell_w_ = dwell_weight(d_, c_);
+    if (dwell_w_.size() != n || dwell_w_s0_ != c_.dwell_s0)
+      dwell_w_ = dwell_weight(d_, c_), dwell_w_s0_ = c_.dwell_s0;
     const auto fs = model_info(mp.model).scalar_index("Fs");
     if (mp.model == "gms") {
       const GmsParams gp = GmsParams::from(mp);
@@ -433,7 +434,8 @@ class Evaluator {
   double yy_ = 0;
   std::vector<double> g_;
   bool needs_dwell_ = false, needs_contact_ = false;
-  mutable std::vector<double> dwell_w_;  // dwell_weight of d_ (made at the first simulation)
+  mutable std::vector<double> dwell_w_;  // dwell_weight of d_, for the decay length dwell_w_s0_
+  mutable double dwell_w_s0_ = 0.0;
   mutable GmsPathRunner dwell_runner_;
   mutable GmsPath path_;
   mutable GmsPathRunner runner_;

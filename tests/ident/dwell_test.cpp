@@ -52,11 +52,11 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
   for (unsigned seed = 1; seed <= 12; ++seed) {
     std::mt19937 rng(7000 + seed);
     std::uniform_real_distribution<double> U(0, 1);
-    const double rate = 500 * std::pow(10.0, U(rng));  // 0.5-5 kHz
+    const double rate = 500 * std::pow(10.0, U(rng));   // 0.5-5 kHz
     const double vpk = 0.005 * std::pow(20.0, U(rng));  // 5-100 mm/s
     const double quantum = 1e-8 * std::pow(10.0, U(rng));
     std::vector<Segment> plan;
-    std::vector<double> expected;  // the long rests, in order
+    std::vector<double> expected;                            // the long rests, in order
     plan.push_back({0.2 + 0.3 * U(rng), 0, Segment::Rest});  // the record begins at rest
     expected.push_back(plan.back().dur);
     double dir = 1;
@@ -86,7 +86,8 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
         rec.x.push_back(quantum * std::round(x / quantum));
         rec.F.push_back(0.0);
         // The exact position: the speed integrated in 16 parts of the step.
-        for (int j = 0; j < 16; ++j) x += speed_at(s, t - ts + (j + 0.5) / (16 * rate)) / (16 * rate);
+        for (int j = 0; j < 16; ++j)
+          x += speed_at(s, t - ts + (j + 0.5) / (16 * rate)) / (16 * rate);
       }
       ts += s.dur;
     }
@@ -101,7 +102,8 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
       std::size_t i = 0;
       for (double acc = 0; i < plan.size(); ++i) {
         acc += plan[i].dur;
-        if (plan[i].kind == Segment::Rest && plan[i].dur >= 0.06 && std::abs(acc - d.t[s.k]) < 0.03) {
+        if (plan[i].kind == Segment::Rest && plan[i].dur >= 0.06 &&
+            std::abs(acc - d.t[s.k]) < 0.03) {
           t_end = acc;
           break;
         }
@@ -128,7 +130,9 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
 TEST(DwellModel, LowersTheValidationErrorAtTheGeneratorsValues) {
   using namespace gmslab::records;
   int visible = 0, lowered = 0, by_a_quarter = 0;
-  const unsigned s0 = std::getenv("DWELL_SEED0") ? static_cast<unsigned>(std::atoi(std::getenv("DWELL_SEED0"))) : 41001;
+  const unsigned s0 = std::getenv("DWELL_SEED0")
+                          ? static_cast<unsigned>(std::atoi(std::getenv("DWELL_SEED0")))
+                          : 41001;
   for (unsigned seed = s0; seed < s0 + 8; ++seed) {
     Truth tr = draw_truth(seed);
     tr.effects.push_back({GenEffect::DwellStiction, 5.0});
@@ -150,9 +154,10 @@ TEST(DwellModel, LowersTheValidationErrorAtTheGeneratorsValues) {
     const FitResult f =
         refit_linear({"gms", tr.elements(), {Effect::DwellStiction}}, train, c, b0.u);
     const double before = rms_on(b, val, c) / floor, after = rms_on(f, val, c) / floor;
-    std::printf("seed %u: %zu rests, rise %.3g Fc per unit ln; validation / floor: base %.2f, "
-                "with the dwell model %.2f\n",
-                seed, motion_starts(train, c).size(), a / tr.Fc, before, after);
+    std::printf(
+        "seed %u: %zu rests, rise %.3g Fc per unit ln; validation / floor: base %.2f, "
+        "with the dwell model %.2f\n",
+        seed, motion_starts(train, c).size(), a / tr.Fc, before, after);
     if (before < 1.5) continue;  // the effect is hardly visible at this size
     ++visible;
     lowered += after < 0.95 * before;
