@@ -321,6 +321,11 @@ std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext&
   return s;
 }
 
+namespace {
+// Standing still: |v| below a twentieth of the rest threshold [m/s].
+double standstill(const EffectContext& c) { return 0.05 * c.v_rest; }
+}  // namespace
+
 std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c) {
   // A rest: |v| below v_rest, and standing still (|v| below a twentieth of that) for half of
   // dwell_min at a stretch in it (a slow presliding oscillation also stays below v_rest, but
@@ -328,7 +333,7 @@ std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c)
   // start, and only where the position stays within two encoder counts (the record's smallest
   // step) until the start: a presliding sweep of micrometres is motion, and leaves the length of
   // the rest before it unknown.
-  const double still = 0.05 * c.v_rest;
+  const double still = standstill(c);
   std::vector<MotionStart> out;
   double rest_since = d.t.front();
   bool resting = std::abs(d.v.front()) < c.v_rest, first = true;
@@ -368,7 +373,7 @@ std::vector<double> dwell_weight(const Dataset& d, const EffectContext& c) {
   for (const auto& s : motion_starts(d, c)) {
     const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
     for (std::size_t k = s.k > 0 ? s.k - 1 : 0; k < n; ++k) {
-      if (k > s.k + 1 && std::abs(d.v[k]) < 0.05 * c.v_rest) break;  // at rest again
+      if (k > s.k + 1 && std::abs(d.v[k]) < standstill(c)) break;  // at rest again
       const double q = std::abs(d.x[k] - d.x[s.k]) / c.dwell_s0;
       if (q > 30.0) break;
       w[k] = phi * std::exp(-q);

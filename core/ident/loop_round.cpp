@@ -68,10 +68,10 @@ std::pair<double, double> golden_section(double a, double b, int iters, double t
   return f1 < f2 ? std::pair{x1, f1} : std::pair{x2, f2};
 }
 
-// The dwell decay length s0 (a few multiples of x_ba) and rise rho (of Fs/Fc per unit phi, 0.01
-// to 10, log-spaced) whose linear refit at the current shape leaves the lowest training RMS; rho
-// then refined by golden section in log between its grid neighbours.
-void choose_dwell_length(const FitResult& cur, const Dataset& train, EffectContext& c) {
+// The dwell decay length s0 (a few multiples of x_ba) and rise rho (of Fs/Fc per unit phi, a grid
+// of 0.01 to 10, log-spaced) whose linear refit at the current shape leaves the lowest training
+// RMS; rho then refined by golden section in log within 3x of the best grid value.
+void choose_dwell_shape(const FitResult& cur, const Dataset& train, EffectContext& c) {
   const FitSpec spec = with(cur.spec, Effect::DwellStiction);
   auto cost = [&](double s0, double rho) {
     c.dwell_s0 = s0, c.dwell_rise = rho;
@@ -270,7 +270,7 @@ class RoundRun {
       if (c.wavelengths.size() > 3) c.wavelengths.resize(3);
     }
     if (!contains(cur.spec.effects, Effect::DwellStiction) && effect_applicable(Effect::DwellStiction, train_, c))
-      choose_dwell_length(cur, train_, c);
+      choose_dwell_shape(cur, train_, c);
     for (const auto& t : cur.terms)  // the viscous share the channel effects carry along
       if (t.effect == "base" && t.name == "sigma2" && !cur.theta.empty() && cur.theta[0] > 0)
         c.viscous_ratio = t.value / cur.theta[0];
