@@ -167,14 +167,15 @@ int run_identify(const IdentifyOptions& o) {
   if (!rep.optimum.verified)
     std::cout << "  not converged: " << rep.optimum.reason << "; no standard errors\n";
   for (const auto& p : rep.parameters) {
-    if (std::isfinite(p.std_error) && p.path_error > 0)
-      std::fprintf(
-          stdout, "  %s.%s = %.4g +- %.2g %s (of which the path between samples +- %.2g)\n",
-          p.effect.c_str(), p.name.c_str(), p.value, p.std_error, p.unit.c_str(), p.path_error);
-    else if (std::isfinite(p.std_error))
-      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s\n", p.effect.c_str(), p.name.c_str(), p.value,
+    if (std::isfinite(p.std_error)) {
+      std::fprintf(stdout, "  %s.%s = %.4g +- %.2g %s", p.effect.c_str(), p.name.c_str(), p.value,
                    p.std_error, p.unit.c_str());
-    else
+      if (p.path_error > 0 || p.encoder_error > 0)
+        std::fprintf(stdout,
+                     " (of which the path between samples +- %.2g, the encoder step +- %.2g)",
+                     p.path_error, p.encoder_error);
+      std::fputc('\n', stdout);
+    } else
       std::fprintf(stdout, "  %s.%s = %.4g %s (no standard error: %s)\n", p.effect.c_str(),
                    p.name.c_str(), p.value, p.unit.c_str(), p.no_error.c_str());
   }

@@ -245,9 +245,11 @@ int run_coverage(int records, unsigned seed0, std::size_t samples, const std::st
       }
       const double z = std::abs(pe->value - w.truth) / pe->std_error;
       c.covered += z <= 2.0;
-      std::printf("%-6u %-8s %-10s %12.4g %12.4g %10.3g %8.2f %6.2f  (path share %.3g)%s\n", seed,
-                  effect.substr(0, 8).c_str(), w.name.c_str(), w.truth, pe->value, pe->std_error, z,
-                  s, pe->path_error, z <= 2.0 ? "" : "  <-- outside 2 sigma");
+      std::printf(
+          "%-6u %-8s %-10s %12.4g %12.4g %10.3g %8.2f %6.2f  (path share %.3g, encoder share "
+          "%.3g)%s\n",
+          seed, effect.substr(0, 8).c_str(), w.name.c_str(), w.truth, pe->value, pe->std_error, z,
+          s, pe->path_error, pe->encoder_error, z <= 2.0 ? "" : "  <-- outside 2 sigma");
     }
     std::fflush(stdout);
   }

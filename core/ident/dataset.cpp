@@ -136,6 +136,16 @@ std::vector<double> local_derivative(const std::vector<double>& t, const std::ve
   return local_polynomial_derivative<3>(t, y, half, 1);
 }
 
+std::vector<double> local_cubic_value(const std::vector<double>& t, const std::vector<double>& y,
+                                      int w) {
+  const auto n = static_cast<std::ptrdiff_t>(t.size());
+  if (n < 5) return y;
+  const std::ptrdiff_t half = std::min<std::ptrdiff_t>(std::max(w, 2), (n - 1) / 2);
+  std::vector<double> s = local_polynomial_derivative<3>(t, y, half, 0);
+  for (std::size_t k = 0; k < s.size(); ++k) s[k] += y[k];
+  return s;
+}
+
 std::vector<double> local_second_derivative(const std::vector<double>& t,
                                             const std::vector<double>& y, int w) {
   const auto n = static_cast<std::ptrdiff_t>(t.size());
@@ -264,6 +274,21 @@ Dataset prepare_dataset(const MeasuredRecord& r, const std::vector<TimeWindow>& 
                      " samples are left after masking; at least " + std::to_string(kMinSamples) +
                      " are needed (check --mask)");
   return d;
+}
+
+Dataset within_encoder_step(const Dataset& d, double q, const PathRule& rule) {
+  Dataset s = d;
+  if (!(q > 0) || d.size() < 5) return s;
+  const std::vector<double> xs = local_cubic_value(d.t, d.x, 3);
+  for (std::size_t k = 0; k < d.size(); ++k)
+    s.x[k] = std::clamp(xs[k], d.x[k] - 0.5 * q, d.x[k] + 0.5 * q);
+  if (!d.has_v) {
+    s.v = local_derivative(s.t, s.x, 3);
+    s.a = local_second_derivative(s.t, s.x, 4);
+  }
+  for (std::size_t k = 1; k < s.size(); ++k) s.vstep[k] = (s.x[k] - s.x[k - 1]) / s.h[k];
+  set_path(s, rule);
+  return s;
 }
 
 std::pair<Dataset, Dataset> split_holdout(const Dataset& d, double fraction, int blocks) {

@@ -73,6 +73,12 @@ inline Dataset with_straight_steps(Dataset d) {
   return d;
 }
 
+// A copy of d along the smoothest positions its encoder allows: each x the local least-squares
+// cubic over +-3 samples, held within q/2 of the recorded count (q: the encoder step); v (where
+// it came from x) and a derived again, the step velocities and the path made again by `rule`. The
+// difference of a model along it and along d is what the encoder's rounding can change.
+Dataset within_encoder_step(const Dataset& d, double q, const PathRule& rule);
+
 // Calls step(v, h) for each part of the step k-1 -> k (k >= 1): the substeps where the path is
 // curved, else once with (vstep[k], h[k]).
 template <class Step>
@@ -137,6 +143,9 @@ std::vector<double> local_slope(const std::vector<double>& t, const std::vector<
 // (shifted inwards at the ends; non-uniform t). Exact for cubics: unlike the local slope it has no
 // bias from the curvature of a sine or a reversal.
 std::vector<double> local_derivative(const std::vector<double>& t, const std::vector<double>& y, int w);
+// Value at each sample of the local least-squares cubic over 2w+1 samples (as local_derivative).
+std::vector<double> local_cubic_value(const std::vector<double>& t, const std::vector<double>& y,
+                                      int w);
 // Second derivative of y(t) from a local least-squares quartic over 2w+1 samples (w >= 2) centred
 // on each sample (shifted inwards at the ends; non-uniform t); with fewer than 2w+1 samples, the
 // local slope of local_derivative. Exact for quartics, so an acceleration pulse a dozen samples

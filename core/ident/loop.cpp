@@ -343,6 +343,8 @@ nlohmann::json to_json(const IdentReport& r) {
          {"std_error", std::isfinite(p.std_error) ? nlohmann::json(p.std_error) : nlohmann::json()},
          {"std_error_path",
           std::isfinite(p.std_error) ? nlohmann::json(p.path_error) : nlohmann::json()},
+         {"std_error_encoder",
+          std::isfinite(p.std_error) ? nlohmann::json(p.encoder_error) : nlohmann::json()},
          {"no_error", p.no_error}});
   j["parameters"] = pars;
   j["converged"] = {{"verified_minimum", r.optimum.verified}, {"reason", r.optimum.reason}};

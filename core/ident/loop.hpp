@@ -137,6 +137,10 @@ struct ParameterEstimate {
   // sqrt(3) [unit].
   double path_error = 0;
   std::string no_error;  // why std_error is NaN (empty when it is given)
+  // The part of std_error (in quadrature) from the encoder's rounding: the shift of the estimate
+  // when the model runs along the smoothest positions within half an encoder step of the recorded
+  // ones (dataset.hpp: within_encoder_step) instead of the recorded ones [unit].
+  double encoder_error = 0;
 };
 
 // How far the record's sliding reaches down a Stribeck curve S(v) = Fc + (Fs - Fc)

@@ -109,7 +109,8 @@ std::vector<std::vector<double>> effect_matrix(Effect e, const Dataset& d, const
 // Standard errors of the final model's linear terms (and the effects' scalars) from the
 // linearised least squares at the fitted shape.
 std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dataset& d,
-                                                   const EffectContext& c) {
+                                                   const EffectContext& c, const PathRule& rule,
+                                                   double quantum) {
   const auto g = unit_friction(f, d, c);
   std::vector<std::vector<double>> cols;
   std::vector<ParameterEstimate> out;
@@ -217,12 +218,28 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
       diff(static_cast<Eigen::Index>(i)) = ps[rows[i]] - pr[rows[i]];
     shift = Ginv * (As.transpose() * diff);
   }
+  // The encoder rounds the position to its step q: where the slide was within the count is not
+  // recorded, and where the elements are stiff (k q comparable with the noise) the model along the
+  // recorded staircase differs systematically from the model along the slide's smooth motion.
+  // The image of that difference in the parameters (the model along the smoothest positions the
+  // encoder allows against the model along the recorded ones) is added in quadrature as the
+  // encoder share.
+  Eigen::VectorXd enc = Eigen::VectorXd::Zero(As.cols());
+  if (quantum > 0) {
+    const auto pe = predict(f, within_encoder_step(d, quantum, rule), c);
+    Eigen::VectorXd diff(static_cast<Eigen::Index>(rows.size()));
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      diff(static_cast<Eigen::Index>(i)) = pe[rows[i]] - pr[rows[i]];
+    enc = Ginv * (As.transpose() * diff);
+  }
   for (std::size_t j = 0; j < live.size(); ++j) {
     const auto jj = static_cast<Eigen::Index>(j);
     const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
     auto& e = out[static_cast<std::size_t>(live[j])];
     e.path_error = std::abs(shift(jj)) * sc_(jj) / std::sqrt(3.0);
-    e.std_error = std::sqrt(std::max(0.0, var) * sc_(jj) * sc_(jj) + e.path_error * e.path_error);
+    e.encoder_error = std::abs(enc(jj)) * sc_(jj);
+    e.std_error = std::sqrt(std::max(0.0, var) * sc_(jj) * sc_(jj) + e.path_error * e.path_error +
+                            e.encoder_error * e.encoder_error);
   }
   // Leave out the unused ripple slots.
   std::vector<ParameterEstimate> kept;
@@ -919,7 +936,8 @@ void finish_report(LoopState& s) {
     rep.rms_after_train = n > 0 ? std::sqrt(q / n) : 0.0;
     rep.rms_after_validation = rep.discovery.rms_validation_after;
   }
-  rep.parameters = parameter_estimates(cur, full, c);
+  rep.parameters =
+      parameter_estimates(cur, full, c, rep.fine_path ? kFinePath : PathRule{}, rep.noise.quantum);
   rep.optimum = s.optimum ? *s.optimum : check_optimum(cur, full, c);
   withhold_errors(rep, cur, full);
   auto rv = residual(cur, val, c);

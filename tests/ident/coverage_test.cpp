@@ -46,11 +46,15 @@ TEST(Coverage, TruthLiesWithinTwoStandardErrors) {
       ++with_error;
       EXPECT_GT(pe->std_error, 0.0) << "seed " << seed << " " << w.name;
       EXPECT_GE(pe->std_error, pe->path_error) << "seed " << seed << " " << w.name;
+      EXPECT_GE(pe->std_error, pe->encoder_error) << "seed " << seed << " " << w.name;
       const double z = std::abs(pe->value - w.truth) / pe->std_error;
       covered += z <= 2.0;
       if (!offset && std::string(w.name) == "M") ++masses, masses_covered += z <= 2.0;
-      std::printf("seed %u %s.%s: truth %.4g, estimate %.4g +- %.3g (path share %.3g): %.2f se\n",
-                  seed, w.effect, w.name, w.truth, pe->value, pe->std_error, pe->path_error, z);
+      std::printf(
+          "seed %u %s.%s: truth %.4g, estimate %.4g +- %.3g (path share %.3g, encoder share %.3g): "
+          "%.2f se\n",
+          seed, w.effect, w.name, w.truth, pe->value, pe->std_error, pe->path_error,
+          pe->encoder_error, z);
     }
   }
   EXPECT_EQ(params, 24);
