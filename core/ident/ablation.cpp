@@ -98,6 +98,11 @@ std::string unphysical(const std::vector<LinearTerm>& terms, Effect e) {
       return "backlash level " + fmt(*level) + " N against the Coulomb level " + fmt(*fc) +
              " N: the force does not pass through a play (its level would be the Coulomb level), "
              "not a backlash";
+  } else if (e == Effect::DwellStiction) {
+    if (const auto r = value(effect_name(e), "dwell_response"); r && !(*r > 0))
+      return "dwell response " + fmt(*r) +
+             " x the raised break-away level: the friction would fall after a rest, not a dwell "
+             "stiction";
   }
   return {};
 }

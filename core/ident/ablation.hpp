@@ -180,7 +180,8 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
 // level (a play passes the whole friction force through it, so its level is Fc: on the issue's
 // noise-free fig2c trace the column took up 1e-5 of it with the opposite sign, a small correction
 // it happens to span, not a play; on the per-kind study's records with a generated play the level
-// was 0.93-1.15 Fc).
+// was 0.93-1.15 Fc); a dwell response that is not positive (the friction would fall after a
+// rest).
 std::string unphysical(const std::vector<LinearTerm>& terms, Effect e);
 
 // RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].

@@ -208,3 +208,27 @@ TEST(DwellRecords, EveryStrokeIsFollowedByARestOfTheDrawnRange) {
   EXPECT_GT(long_ones * 4, rests);
   EXPECT_LT(long_ones * 4, 3 * rests);
 }
+
+// Dwell stiction raises the friction after a rest: a response coefficient that is not positive
+// is refused, whatever the level term and the base; a positive one passes.
+TEST(DwellModel, ARiseThatIsNotPositiveIsNotADwellStiction) {
+  std::mt19937_64 rng(4417);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  int refused = 0, passed = 0;
+  for (int i = 0; i < 200; ++i) {
+    const double fc = std::pow(10.0, -2.0 + 5.0 * U(rng));
+    const double resp = std::pow(10.0, -4.0 + 5.0 * U(rng)) * (U(rng) < 0.3 ? -1.0 : 1.0);
+    const double level = fc * std::pow(10.0, -4.0 + 4.0 * U(rng)) * (U(rng) < 0.5 ? -1.0 : 1.0);
+    const std::vector<LinearTerm> terms = {{"base", "Fc", "N", fc},
+                                           {"dwell_stiction", "dwell_response", "N", resp},
+                                           {"dwell_stiction", "dwell_level", "N", level}};
+    const std::string why = unphysical(terms, Effect::DwellStiction);
+    EXPECT_EQ(why.empty(), resp > 0) << "response " << resp << ", level " << level;
+    (why.empty() ? passed : refused) += 1;
+    EXPECT_TRUE(unphysical(terms, Effect::Offset).empty());
+  }
+  EXPECT_GE(refused, 30);
+  EXPECT_GE(passed, 100);
+  std::vector<LinearTerm> zero = {{"dwell_stiction", "dwell_response", "N", 0.0}};
+  EXPECT_FALSE(unphysical(zero, Effect::DwellStiction).empty());
+}
