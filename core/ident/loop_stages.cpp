@@ -210,28 +210,25 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
   // least-squares shift it would cause, over sqrt(3) (the true path anywhere between the two,
   // as in the sampling share of the floor, structure.hpp), is added in quadrature as the path
   // share.
-  Eigen::VectorXd shift = Eigen::VectorXd::Zero(As.cols());
-  if (!d.sub.empty()) {
-    const auto ps = predict(f, with_straight_steps(d), c);
+  // The least-squares shift of the (scaled) parameters that the model along another path of the
+  // record, predicting `other`, would cause.
+  auto image = [&](const std::vector<double>& other) {
     Eigen::VectorXd diff(static_cast<Eigen::Index>(rows.size()));
     for (std::size_t i = 0; i < rows.size(); ++i)
-      diff(static_cast<Eigen::Index>(i)) = ps[rows[i]] - pr[rows[i]];
-    shift = Ginv * (As.transpose() * diff);
-  }
+      diff(static_cast<Eigen::Index>(i)) = other[rows[i]] - pr[rows[i]];
+    return Eigen::VectorXd(Ginv * (As.transpose() * diff));
+  };
+  const Eigen::VectorXd shift = d.sub.empty() ? Eigen::VectorXd::Zero(As.cols())
+                                              : image(predict(f, with_straight_steps(d), c));
   // The encoder rounds the position to its step q: where the slide was within the count is not
   // recorded, and where the elements are stiff (k q comparable with the noise) the model along the
   // recorded staircase differs systematically from the model along the slide's smooth motion.
   // The image of that difference in the parameters (the model along the smoothest positions the
   // encoder allows against the model along the recorded ones) is added in quadrature as the
   // encoder share.
-  Eigen::VectorXd enc = Eigen::VectorXd::Zero(As.cols());
-  if (quantum > 0) {
-    const auto pe = predict(f, within_encoder_step(d, quantum, rule), c);
-    Eigen::VectorXd diff(static_cast<Eigen::Index>(rows.size()));
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      diff(static_cast<Eigen::Index>(i)) = pe[rows[i]] - pr[rows[i]];
-    enc = Ginv * (As.transpose() * diff);
-  }
+  const Eigen::VectorXd enc = quantum > 0
+                                  ? image(predict(f, within_encoder_step(d, quantum, rule), c))
+                                  : Eigen::VectorXd::Zero(As.cols());
   for (std::size_t j = 0; j < live.size(); ++j) {
     const auto jj = static_cast<Eigen::Index>(j);
     const double var = std::max(s2 * Ginv(jj, jj), robust(jj, jj));
