@@ -58,10 +58,16 @@
 //      an element). While the data clearly do not need the element, the count goes down: the
 //      test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an MSE rise below
 //      drop_share (a quarter) of the floor's variance, or a validation within near_floor x the
-//      floor. The rise allowed is a share of what names an effect: a missing effect sends the
-//      user to the wrong cause, a missing element only raises the prediction error (by up to
-//      sqrt(2) at the full variance: 16-30 % higher validation RMS on random records where the
-//      block test, with the difference in a few blocks around reversals, gave z 1.1-1.9). An
+//      floor. Where the reference itself leaves more than from_data_above (1.2) x the floor on
+//      validation (a search short of the data's minimum), "about as good" must hold on the
+//      training record too (the same z and MSE-rise test on it): two searches that stop short of
+//      the minimum differ by where they stopped (one record's four-element reference ended at
+//      0.070-0.095 N on validation under last-bit changes of its data; on one path the
+//      three-element fit validated at 0.0934 N against 0.094 N while training at 0.088 N
+//      against 0.068 N), and the validation comparison alone then follows the last bits. The
+//      rise allowed is a share of what names an effect: a missing effect sends the user to the
+//      wrong cause, a missing element only raises the prediction error (by up to sqrt(2) at the
+//      full variance: 16-30 % higher validation RMS on random records where the block test, with the difference in a few blocks around reversals, gave z 1.1-1.9). An
 //      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
 //      and a drop at the credit's own threshold follows which local minimum the refits ended in
 //      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). The count then
