@@ -67,13 +67,14 @@
 //      against 0.068 N), and the validation comparison alone then follows the last bits. The
 //      rise allowed is a share of what names an effect: a missing effect sends the user to the
 //      wrong cause, a missing element only raises the prediction error (by up to sqrt(2) at the
-//      full variance: 16-30 % higher validation RMS on random records where the block test, with the difference in a few blocks around reversals, gave z 1.1-1.9). An
-//      element the data barely resolve (z_drop <= z < z_crit) is kept: an element names no effect,
-//      and a drop at the credit's own threshold follows which local minimum the refits ended in
-//      (one record's z was 2.65, 3.66 and 3.23 under last-bit changes of its data). The count then
-//      follows neither thresholds on weights (the grid, the polish) nor a single refit ending in
-//      a local minimum (the warm start of one element less can end 2x the floor above the fit
-//      from the data); an element at z near z_drop can still move with the last bits.
+//      full variance: 16-30 % higher validation RMS on random records where the block test, with
+//      the difference in a few blocks around reversals, gave z 1.1-1.9). An element the data barely
+//      resolve (z_drop <= z < z_crit) is kept: an element names no effect, and a drop at the
+//      credit's own threshold follows which local minimum the refits ended in (one record's z
+//      was 2.65, 3.66 and 3.23 under last-bit changes of its data). The count then follows neither
+//      thresholds on weights (the grid, the polish) nor a single refit ending in a local minimum
+//      (the warm start of one element less can end 2x the floor above the fit from the data); an
+//      element at z near z_drop can still move with the last bits.
 #pragma once
 
 #include <string>
