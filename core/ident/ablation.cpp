@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <future>
 #include <limits>
 #include <optional>
@@ -552,9 +551,6 @@ class AblationRun {
                         rms_train_without * rms_train_without - rms_train_ref * rms_train_ref >=
                             o_.drop_share * floor_ * floor_;
       }
-      std::fprintf(stderr,
-                   "ZZ elements %zu: s train %.5f ref train %.5f z_train %.3f ref/floor %.3f\n",
-                   spec.elements, rms_train_without, rms_train_ref, z_train, ref.rms / floor_);
       e.dropped = ((alike && !trains_better) || !needed) && s.fit.spec.elements == spec.elements;
       const bool barely =
           !e.dropped && !trains_better && !(resolvable(e.test, s.rms, ref.rms) && needed);
