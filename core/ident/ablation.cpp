@@ -528,8 +528,10 @@ class AblationRun {
           }
         }
       }
+      // The refit may come back with fewer elements (light ones that carried no weight left out):
+      // still a model without the element, nested in the reference, and tested as one.
       ElementAblation e;
-      e.elements = spec.elements;
+      e.elements = s.fit.spec.elements;
       e.rms_validation_without = s.rms;
       e.test = block_test(val_, s.res, ref.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
@@ -551,13 +553,17 @@ class AblationRun {
                         rms_train_without * rms_train_without - rms_train_ref * rms_train_ref >=
                             o_.drop_share * floor_ * floor_;
       }
-      e.dropped = ((alike && !trains_better) || !needed) && s.fit.spec.elements == spec.elements;
+      e.dropped = (alike && !trains_better) || !needed;
       const bool barely =
           !e.dropped && !trains_better && !(resolvable(e.test, s.rms, ref.rms) && needed);
       e.verdict =
           (e.dropped ? "element dropped: " : "element kept: ") + std::string("with ") +
-          std::to_string(spec.elements) + " elements validation " + fmt(s.rms) + " N against " +
-          fmt(ref.rms) + " N, z = " + fmt(e.test.z) +
+          std::to_string(e.elements) + " elements" +
+          (e.elements < spec.elements
+               ? " (the refit with " + std::to_string(spec.elements) + " kept " +
+                     std::to_string(e.elements) + ": the rest carried no weight)"
+               : std::string()) +
+          " validation " + fmt(s.rms) + " N against " + fmt(ref.rms) + " N, z = " + fmt(e.test.z) +
           (barely ? " (the data barely resolve it: " + fmt(o_.z_drop) + " <= z < " +
                         fmt(o_.z_crit) + ")"
                   : std::string()) +

@@ -53,15 +53,16 @@
 //      model with one element less is also fitted from the data (the element grid; stopped and
 //      not used where the refit leaves more than 10x the reference's validation RMS: to drop the
 //      element it would have to predict 7x better than the refit); the lower
-//      training RMS of the two is tested, against the model with the credited effects and all
-//      elements (not one with effects that were not credited: their refused gain must not keep
-//      an element). While the data clearly do not need the element, the count goes down: the
-//      test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an MSE rise below
-//      drop_share (a quarter) of the floor's variance, or a validation within near_floor x the
-//      floor. Where the reference itself leaves more than from_data_above (1.2) x the floor on
-//      validation (a search short of the data's minimum), "about as good" must hold on the
-//      training record too (the same z and MSE-rise test on it): two searches that stop short of
-//      the minimum differ by where they stopped (one record's four-element reference ended at
+//      training RMS of the two is tested (with fewer elements still where the refit left light
+//      ones without weight: a model nested in the reference all the same), against the model with
+//      the credited effects and all elements (not one with effects that were not credited: their
+//      refused gain must not keep an element). While the data clearly do not need the element, the
+//      count goes down: the test of 2 with z_drop (2) in place of z_crit, i.e. a z below 2 and an
+//      MSE rise below drop_share (a quarter) of the floor's variance, or a validation within
+//      near_floor x the floor. Where the reference itself leaves more than from_data_above (1.2) x
+//      the floor on validation (a search short of the data's minimum), "about as good" must hold on
+//      the training record too (the same z and MSE-rise test on it): two searches that stop short
+//      of the minimum differ by where they stopped (one record's four-element reference ended at
 //      0.070-0.095 N on validation under last-bit changes of its data; on one path the
 //      three-element fit validated at 0.0934 N against 0.094 N while training at 0.088 N
 //      against 0.068 N), and the validation comparison alone then follows the last bits. The
@@ -116,7 +117,8 @@ struct AblationRow {
 
 // One element left out (the lightest), refitted the same way.
 struct ElementAblation {
-  std::size_t elements = 0;           // the count tested (one less than the model had)
+  std::size_t elements = 0;  // the count tested: one less than the model had, or fewer where
+                             // the refit left light elements without weight
   double rms_validation_without = 0;  // [N]
   BlockTest test;
   bool dropped = false;               // the data do not resolve the element: the count went down
