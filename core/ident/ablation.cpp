@@ -535,13 +535,13 @@ class AblationRun {
       e.rms_validation_without = s.rms;
       e.test = block_test(val_, s.res, ref.res, o_.blocks);
       const bool needed = s.rms > o_.near_floor * floor_;
-      // "About as good as the reference on validation" tells what the data need only where the
-      // reference reached the data's resolution or does not train resolvably better either
-      // (ablation.hpp, 6).
-      const bool alike = e.test.z < o_.z_drop &&
-                         s.rms * s.rms - ref.rms * ref.rms < o_.drop_share * floor_ * floor_;
-      // Short of the data's minimum, the element is dropped only where the training record does
-      // not tell the two apart either (the same test on it).
+      // About as good as the reference: z below z_drop and an MSE rise below drop_share of the
+      // floor's variance. Where the reference is short of the data's minimum (more than
+      // from_data_above x the floor), on the training record too (ablation.hpp, 6).
+      auto as_good = [&](double z, double rms, double rms_ref) {
+        return z < o_.z_drop && rms * rms - rms_ref * rms_ref < o_.drop_share * floor_ * floor_;
+      };
+      const bool alike = as_good(e.test.z, s.rms, ref.rms);
       bool trains_better = false;
       double z_train = 0, rms_train_without = 0, rms_train_ref = 0;
       if (alike && needed && ref.rms > o_.from_data_above * floor_) {
@@ -549,9 +549,7 @@ class AblationRun {
                                   rr = residual_on(ref.fit, train_, c_);
         z_train = block_test(train_, rs, rr, o_.blocks).z;
         rms_train_without = rms_of(train_, rs), rms_train_ref = rms_of(train_, rr);
-        trains_better = z_train >= o_.z_drop ||
-                        rms_train_without * rms_train_without - rms_train_ref * rms_train_ref >=
-                            o_.drop_share * floor_ * floor_;
+        trains_better = !as_good(z_train, rms_train_without, rms_train_ref);
       }
       e.dropped = (alike && !trains_better) || !needed;
       const bool barely =
