@@ -138,21 +138,30 @@ void GmsPathRunner::prepare(const Stribeck& S, double C, const GmsPath& path) {
 
 void GmsPathRunner::prepare_raised(const Stribeck& S, double C, const GmsPath& path,
                                    std::span<const double> fs_rise) {
+  std::vector<double> step_rise(path.v.size(), 0.0);
+  std::size_t j = 0;
+  for (std::size_t kk = 1; kk < path.samples; ++kk)
+    for (const std::size_t end = path.last[kk - 1]; j < end; ++j)
+      step_rise[j] = kk < fs_rise.size() ? fs_rise[kk] : 0.0;
+  prepare_raised_steps(S, C, path, step_rise);
+}
+
+void GmsPathRunner::prepare_raised_steps(const Stribeck& S, double C, const GmsPath& path,
+                                         std::span<const double> step_rise) {
   const std::size_t m = path.v.size();
   path_ = nullptr, index_ = Index::none, steps_ = m, shape_ = S, C_ = C;
   S_.resize(m);
   E_.resize(m);
   const double inv_vs = 1.0 / S.Vs;
-  std::size_t j = 0;
-  for (std::size_t kk = 1; kk < path.samples; ++kk) {
-    Stribeck Sk = S;
-    if (kk < fs_rise.size()) Sk.Fs += fs_rise[kk];
-    const double r_sat = gms_elements::saturation_ratio(Sk);
-    for (const std::size_t end = path.last[kk - 1]; j < end; ++j) {
-      const double r = std::abs(path.v[j]) * inv_vs;
-      S_[j] = r > r_sat ? Sk.Fc : Sk.at_scaled(r);
-      E_[j] = exp_neg(C * path.h[j] / S_[j]);
-    }
+  const double r_sat0 = gms_elements::saturation_ratio(S);
+  for (std::size_t j = 0; j < m; ++j) {
+    Stribeck Sj = S;
+    const double rise = j < step_rise.size() ? step_rise[j] : 0.0;
+    Sj.Fs += rise;
+    const double r_sat = rise != 0.0 ? gms_elements::saturation_ratio(Sj) : r_sat0;
+    const double r = std::abs(path.v[j]) * inv_vs;
+    S_[j] = r > r_sat ? Sj.Fc : Sj.at_scaled(r);
+    E_[j] = exp_neg(C * path.h[j] / S_[j]);
   }
 }
 

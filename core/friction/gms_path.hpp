@@ -45,6 +45,10 @@ class GmsPathRunner {
   // kept for a later prepare.
   void prepare_raised(const Stribeck& S, double C, const GmsPath& path,
                       std::span<const double> fs_rise);
+  // As prepare_raised, with Fs raised by step_rise[j] [N] on step j of the path (one value per
+  // step: a level that changes within a sample's steps).
+  void prepare_raised_steps(const Stribeck& S, double C, const GmsPath& path,
+                            std::span<const double> step_rise);
 
   // Runs elements (alpha_i, k_i [N/m], sigma_i / k_i [s]) from rest along the prepared path.
   // After each sample k >= 1: when rows[k] >= 0, the element forces times `scale` go to

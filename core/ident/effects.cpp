@@ -321,10 +321,7 @@ std::vector<double> travel_since_reversal(const Dataset& d, const EffectContext&
   return s;
 }
 
-namespace {
-// Standing still: |v| below a twentieth of the rest threshold [m/s].
 double standstill(const EffectContext& c) { return 0.05 * c.v_rest; }
-}  // namespace
 
 std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c) {
   // A rest: |v| below v_rest, and standing still (|v| below a twentieth of that) for half of
@@ -341,9 +338,13 @@ std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c)
   for (std::size_t k = 1; k < d.size(); ++k)
     if (const double dx = std::abs(d.x[k] - d.x[k - 1]); dx > 0.0) count = std::min(count, dx);
   double stood = 0.0, run = 0.0;  // the longest and the current time standing still [s]
+  // The rest's length counts from its first sample standing still (the slow tail of the stroke
+  // before it, below v_rest, is still motion).
+  double still_since = std::abs(d.v.front()) < still ? d.t.front() : NAN;
   for (std::size_t k = 1; k < d.size(); ++k) {
     const bool r = std::abs(d.v[k]) < c.v_rest;
-    if (r && !resting) rest_since = d.t[k], stood = run = 0.0;
+    if (r && !resting) rest_since = d.t[k], stood = run = 0.0, still_since = NAN;
+    if (r && std::isnan(still_since) && std::abs(d.v[k]) < still) still_since = d.t[k];
     run = r && std::abs(d.v[k]) < still ? run + (d.t[k] - d.t[k - 1]) : 0.0;
     stood = std::max(stood, run);
     if (!r && resting) {
@@ -359,7 +360,7 @@ std::vector<MotionStart> motion_starts(const Dataset& d, const EffectContext& c)
         known = span <= 2.0 * count * (1.0 + 1e-9);
       }
       if (stood >= 0.5 * c.dwell_min && known && d.t[j] - rest_since >= c.dwell_min)
-        out.push_back({j, d.t[j] - rest_since, sgn(d.v[k])});
+        out.push_back({j, d.t[j] - still_since, sgn(d.v[k])});
       first = false;
     }
     resting = r;

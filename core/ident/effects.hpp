@@ -141,6 +141,9 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
 // over each step, as the steps of d do.
 Dataset through_dead_band(const Dataset& d, double b);
 
+// Standing still: |v| below a twentieth of the rest threshold c.v_rest [m/s].
+double standstill(const EffectContext& c);
+
 // Motion starts after rests of at least c.dwell_min (|v| below c.v_rest, standing still at
 // |v| < 0.05 c.v_rest within it; the rest the record begins in only where the position stays
 // within two encoder counts): index of the first moving sample, rest duration [s], direction.

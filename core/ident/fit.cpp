@@ -230,6 +230,35 @@ void simulate_gms_along(const GmsParams& g, const GmsPath& p, GmsPathRunner& run
 
 namespace {
 
+// Per step of `path` (gms_path(d)), the dwell weight phi e^(-s / s0) of the motion that started
+// after the last rest (phi = ln(1 + T_d / c.dwell_tau), s0 = c.dwell_s0): s is the travel along
+// the path's steps since the start, reversals included, so that a rise confined to the first
+// micrometres fades within a sample's steps as it does along the motion. From the steps before the
+// sample ahead of the start until the motion comes to rest again (as dwell_weight) or s / s0 > 30.
+std::vector<double> dwell_weight_steps(const Dataset& d, const EffectContext& c,
+                                       const GmsPath& path) {
+  std::vector<double> w(path.v.size(), 0.0);
+  const double still = standstill(c);
+  for (const auto& s : motion_starts(d, c)) {
+    const double phi = std::log(1.0 + s.dwell / c.dwell_tau);
+    double travel = 0.0;
+    bool far = false;
+    for (std::size_t kk = std::max<std::size_t>(s.k, 2) - 1; kk < path.samples && !far; ++kk) {
+      if (kk > s.k + 1 && std::abs(d.v[kk]) < still) break;  // at rest again
+      for (std::size_t j = kk >= 2 ? path.last[kk - 2] : 0; j < path.last[kk - 1]; ++j) {
+        travel += std::abs(path.v[j]) * path.h[j];
+        const double q = travel / c.dwell_s0;
+        if (q > 30.0) {
+          far = true;
+          break;
+        }
+        w[j] = phi * std::exp(-q);
+      }
+    }
+  }
+  return w;
+}
+
 struct Term {
   Column column;
   std::string effect;
@@ -400,9 +429,13 @@ class Evaluator {
     const auto fs = model_info(mp.model).scalar_index("Fs");
     if (mp.model == "gms") {
       const GmsParams gp = GmsParams::from(mp);
-      std::vector<double> rise(n);
-      for (std::size_t k = 0; k < n; ++k) rise[k] = c_.dwell_rise * gp.S.Fc * dwell_w_[k];
-      dwell_runner_.prepare_raised(gp.S, gp.C, path_, rise);
+      if (path_.samples != n) path_ = gms_path(d_);
+      if (dwell_ws_.size() != path_.v.size() || dwell_ws_s0_ != c_.dwell_s0)
+        dwell_ws_ = dwell_weight_steps(d_, c_, path_), dwell_ws_s0_ = c_.dwell_s0;
+      std::vector<double> rise(dwell_ws_.size());
+      for (std::size_t j = 0; j < rise.size(); ++j)
+        rise[j] = c_.dwell_rise * gp.S.Fc * dwell_ws_[j];
+      dwell_runner_.prepare_raised_steps(gp.S, gp.C, path_, rise);
       std::vector<double> sk(gp.k.size());
       for (std::size_t i = 0; i < sk.size(); ++i) sk[i] = gp.sigma[i] / gp.k[i];
       out.assign(n, 0.0);
@@ -436,6 +469,8 @@ class Evaluator {
   bool needs_dwell_ = false, needs_contact_ = false;
   mutable std::vector<double> dwell_w_;  // dwell_weight of d_, for the decay length dwell_w_s0_
   mutable double dwell_w_s0_ = 0.0;
+  mutable std::vector<double> dwell_ws_;  // dwell_weight_steps along path_, for dwell_ws_s0_
+  mutable double dwell_ws_s0_ = 0.0;
   mutable GmsPathRunner dwell_runner_;
   mutable GmsPath path_;
   mutable GmsPathRunner runner_;

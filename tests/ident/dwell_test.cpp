@@ -2,17 +2,20 @@
 // - motion_starts finds the motion after every rest of at least dwell_min, with its length, on
 //   random motions read by an encoder of 10-100 nm (strokes with raised-cosine speed, rests of
 //   0.06-2 s and of 5-15 ms, direct reversals, slow oscillations below the rest speed), and
-//   nothing else;
+//   nothing else (the rest lengths, from the first standstill sample, within 20 % and 35 ms;
+//   measured: within 11.1 ms);
 // - the dwell model (the break-away level raised after each rest, fading with travel) follows a
 //   generated dwell effect: on random-truth records with dwell stiction of 5x the noise
 //   (random_records.hpp), the dwell columns at the generator's decay length and rise, with the
 //   base shape fitted on the same truth's record without the effect, lower the validation RMS
 //   where the base model leaves 1.5x the generator's floor or more: by 5 % on all but one of
-//   them, by a quarter on half of them at least (seeds 30001-30008 and 52001-52008, measured
-//   when the limits were set: 12 of 13 and 8 of 13; 7 of 13 came within 2.5x the floor). The
-//   model is not the generator's: the generator raises the level after rests of any length.
+//   them, by a quarter on half of them at least (limits set on seeds 30001-30008 and
+//   52001-52008; measured with the rise per step of the path: by 5 % on 13 of 13 of those and on
+//   5 of 5 of seeds 41001-41008, by a quarter on 12 of 13 and 5 of 5). The model is not the
+//   generator's: the generator raises the level after rests of any length.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,6 +52,7 @@ double speed_at(const Segment& s, double tl) {
 
 TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
   int long_rests = 0, found = 0, extra = 0;
+  double worst = 0.0;  // the largest error of a rest length [s]
   for (unsigned seed = 1; seed <= 12; ++seed) {
     std::mt19937 rng(7000 + seed);
     std::uniform_real_distribution<double> U(0, 1);
@@ -118,11 +122,13 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
       // The rest's length, from where the stroke before it slowed below v_rest to the start
       // (the raised-cosine ramps' tails below 2 % of the speed scale add up to 30 ms): within
       // 20 % of the rest and 35 ms.
+      worst = std::max(worst, std::abs(s.dwell - plan[i].dur));
       EXPECT_NEAR(s.dwell, plan[i].dur, 0.2 * plan[i].dur + 0.035)
           << "seed " << seed << " start at " << d.t[s.k] << " rate " << rate << " peak " << vpk;
     }
   }
-  std::printf("%d long rests, %d starts found after them, %d others\n", long_rests, found, extra);
+  std::printf("%d long rests, %d starts found after them, %d others; rest lengths within %.1f ms\n",
+              long_rests, found, extra, 1e3 * worst);
   EXPECT_EQ(extra, 0);
   EXPECT_GE(found * 10, long_rests * 9);
 }
