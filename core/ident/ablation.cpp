@@ -107,7 +107,8 @@ std::string unphysical(const std::vector<LinearTerm>& terms, Effect e) {
   return {};
 }
 
-double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
+std::vector<double> contribution(const FitResult& f, Effect e, const Dataset& d,
+                                 const EffectContext& c) {
   const std::vector<double> g2 = unit_outputs(f, FitSpec{f.spec.model, f.spec.elements, {e}}, d, c);
   std::vector<const LinearTerm*> ts;
   for (const auto& t : f.terms)
@@ -121,7 +122,11 @@ double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const Ef
     for (std::size_t k = 0; k < d.size(); ++k) sum[k] += ts[j]->value * col[k];
     ++j;
   }
-  return rms_of(d, sum);
+  return sum;
+}
+
+double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c) {
+  return rms_of(d, contribution(f, e, d, c));
 }
 
 namespace {

@@ -193,7 +193,10 @@ AblationResult ablate(const FitResult& final_fit, const Dataset& train, const Da
 // rest).
 std::string unphysical(const std::vector<LinearTerm>& terms, Effect e);
 
-// RMS of an effect's contribution sum_j theta_j c_j over d's used samples [N].
+// An effect's contribution sum_j theta_j c_j per sample of d [N], and its RMS over d's used
+// samples.
+std::vector<double> contribution(const FitResult& f, Effect e, const Dataset& d,
+                                 const EffectContext& c);
 double contribution_rms(const FitResult& f, Effect e, const Dataset& d, const EffectContext& c);
 
 // "the data call for more elements: one more element (3) explains backlash, sensor_filter as well;

@@ -432,11 +432,11 @@ class RoundRun {
     }
     const bool lag_like = k.effect == Effect::Inertia || k.effect == Effect::TimeShift ||
                           k.effect == Effect::SensorFilter;
-    if (const double sampling = a.kept && lag_like ? sampling_through(f) : 0.0;
+    if (const double sampling = a.kept && lag_like ? sampling_through(f, k.effect) : 0.0;
         a.size < 1.5 * sampling) {
       // Lag-like effects (a force leading or lagging the motion) are what the unmeasured path
-      // between samples also changes: below 1.5 x that share of the floor they cannot be told
-      // from it, and the loop says so instead of naming one.
+      // between samples also changes: below 1.5 x that share along the effect's contribution
+      // they cannot be told from it, and the loop says so instead of naming one.
       a.kept = false, guarded = true;
       a.verdict = "contribution " + std::to_string(a.size) +
                   " N is within 1.5 x what the path between samples "
@@ -459,12 +459,21 @@ class RoundRun {
 
   // The sampling share (structure.hpp, add_sampling) through f on the whole training record (as
   // the floor's), at most the floor's: that comes through a base fit that may have bent to the
-  // missing effect, and then overstates what the path between samples changes.
-  double sampling_through(const FitResult& f) const {
-    NoiseEstimate e;
+  // missing effect, and then overstates what the path between samples changes. Of the path's
+  // change only the part along effect e's contribution u can pass for the effect: the share is
+  // that projection's RMS, (<df, u> / <u, u>) u with df the cubic less the straight path's
+  // friction, over sqrt(3) as the share (the path anywhere between the two), at most the share.
+  double sampling_through(const FitResult& f, Effect e) const {
+    NoiseEstimate est;
     const Dataset& d = s_.full();
-    add_sampling(e, d, s_.friction_force(f, d), s_.friction_force(f, d, true));
-    return std::min(e.sampling, s_.rep.noise.sampling);
+    const auto fc = s_.friction_force(f, d), fs = s_.friction_force(f, d, true);
+    add_sampling(est, d, fc, fs);
+    const auto u = contribution(f, e, d, s_.c);
+    double du = 0.0, uu = 0.0, n = 0.0;
+    for (std::size_t k = 0; k < d.size(); ++k)
+      if (d.use[k]) du += (fc[k] - fs[k]) * u[k], uu += u[k] * u[k], n += 1.0;
+    const double along = uu > 0.0 && n > 0.0 ? std::abs(du) / std::sqrt(uu * n * 3.0) : 0.0;
+    return std::min({along, est.sampling, s_.rep.noise.sampling});
   }
 
   // Refits one candidate with its effect and judges it; returns false when a guard said the
