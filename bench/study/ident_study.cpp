@@ -129,24 +129,13 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
              const std::string& report_dir, std::size_t screen, std::optional<GenEffect> only,
              bool credit_bound) {
-  const GenEffect one[] = {GenEffect::Inertia, GenEffect::Offset, GenEffect::DirectionAsymmetry,
-                           GenEffect::PositionRipple, GenEffect::PositionDependent,
-                           GenEffect::TimeDrift, GenEffect::VelocityExtra, GenEffect::NormalLoad};
   int n0 = 0, ok0 = 0, n1 = 0, ok1 = 0, n2 = 0, ok2 = 0, floor_ok = 0;
   double total_s = 0;
   std::printf("%-4s %-40s %-40s %8s %6s %6s\n", "rec", "generated", "added", "val/floor", "s", "every");
   for (int i = skip; i < skip + records; ++i) {
     const unsigned seed = seed0 + static_cast<unsigned>(i);
-    Truth tr = draw_truth(seed);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(0.0, 1.0);
+    Truth tr = study::loop_truth(seed, i, only);
     const int kind = only ? 1 : i % 3;  // 0: none, 1: one effect, 2: two effects
-    const std::size_t ne = sizeof one / sizeof one[0];
-    if (only)
-      tr.effects.push_back({*only, 1.5 * std::pow(50.0 / 1.5, U(rng))});
-    else if (kind >= 1)
-      tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
-    if (kind == 2) tr.effects.push_back({one[(i / 3 + 3) % ne], 2.0 + 8.0 * U(rng)});
     auto [g_train, g_val] = synthesize_pair(tr, seed, samples);
     if (only) {
       const auto& e = tr.effects.front();

@@ -146,7 +146,8 @@ double standstill(const EffectContext& c);
 
 // Motion starts after rests of at least c.dwell_min (|v| below c.v_rest, standing still at
 // |v| < 0.05 c.v_rest within it; the rest the record begins in only where the position stays
-// within two encoder counts): index of the first moving sample, rest duration [s], direction.
+// within two encoder counts): index of the first moving sample, rest duration [s] (from the rest's
+// first standstill sample), direction.
 struct MotionStart {
   std::size_t k;
   double dwell;

@@ -417,16 +417,16 @@ class Evaluator {
     if (path.samples != d.size()) path = gms_path(d);
     simulate_gms_along(GmsParams::from(mp), path, runner, out);
   }
-  // The model with its break-away ratio Fs/Fc raised by rho w_k at sample k (rho =
-  // c.dwell_rise, w = dwell_weight), less the model g: GMS along the path with the raised level
-  // per sample; other models with Fs the linearised response (a 1 % difference) times the rise;
-  // models without Fs the rise times g.
+  // The model with its break-away ratio Fs/Fc raised by rho w (rho = c.dwell_rise), less the
+  // model g: GMS along the path with the raised level per step of the path (w =
+  // dwell_weight_steps); other models with Fs the linearised response (a 1 % difference) times
+  // the rise per sample (w = dwell_weight); models without Fs the rise times g.
   void dwell_response(ModelParams mp, const std::vector<double>& g,
                       std::vector<double>& out) const {
     const std::size_t n = d_.size();
-    if (dwell_w_.size() != n || dwell_w_s0_ != c_.dwell_s0)
-      dwell_w_ = dwell_weight(d_, c_), dwell_w_s0_ = c_.dwell_s0;
     const auto fs = model_info(mp.model).scalar_index("Fs");
+    if (mp.model != "gms" && (dwell_w_.size() != n || dwell_w_s0_ != c_.dwell_s0))
+      dwell_w_ = dwell_weight(d_, c_), dwell_w_s0_ = c_.dwell_s0;
     if (mp.model == "gms") {
       const GmsParams gp = GmsParams::from(mp);
       if (path_.samples != n) path_ = gms_path(d_);

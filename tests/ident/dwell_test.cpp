@@ -119,9 +119,8 @@ TEST(DwellStarts, EveryRestOfTheMotionAndNothingElse) {
         continue;
       }
       ++found, ++next;
-      // The rest's length, from where the stroke before it slowed below v_rest to the start
-      // (the raised-cosine ramps' tails below 2 % of the speed scale add up to 30 ms): within
-      // 20 % of the rest and 35 ms.
+      // The rest's length, from its first standstill sample to the start (the raised-cosine
+      // ramps' tails below 2 % of the speed scale are motion): within 20 % of the rest and 35 ms.
       worst = std::max(worst, std::abs(s.dwell - plan[i].dur));
       EXPECT_NEAR(s.dwell, plan[i].dur, 0.2 * plan[i].dur + 0.035)
           << "seed " << seed << " start at " << d.t[s.k] << " rate " << rate << " peak " << vpk;

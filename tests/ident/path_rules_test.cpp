@@ -133,14 +133,11 @@ TEST(IdentLoopGuards, AnInertiaIsNamedWhereThePathChangesTheForceElsewhere) {
   };
   std::vector<std::pair<unsigned, Rec>> recs;
   {
-    // gmslab_study loop, seed 1, record index 41: a time drift and an inertia of 2-10x the noise.
+    // gmslab_study loop from seed 1, record index 41: a time drift and an inertia of 2-10x the
+    // noise.
     const unsigned seed = 42;
     Rec r;
-    r.truth = records::draw_truth(seed);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(0.0, 1.0);
-    r.truth.effects.push_back({records::GenEffect::TimeDrift, 2.0 + 8.0 * U(rng)});
-    r.truth.effects.push_back({records::GenEffect::Inertia, 2.0 + 8.0 * U(rng)});
+    r.truth = study::loop_truth(seed, 41);
     auto [tg, vg] = records::synthesize_pair(r.truth, seed, 3000);
     r.train = std::move(tg), r.validation = std::move(vg);
     recs.emplace_back(seed, std::move(r));

@@ -3,6 +3,8 @@
 // exactly as the study chooses them, records whose floor exceeds twice the noise drawn again.
 #pragma once
 
+#include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -55,6 +57,34 @@ inline ident::LoopOptions study_options() {
 
 // One effect at 2..10 x the noise (size from the seed); the first five kinds in CI.
 inline double one_effect_size(unsigned seed) { return 2.0 + 8.0 * ((seed * 37u) % 100) / 100.0; }
+
+// The truth of record i of the loop study (`gmslab_study loop`; seed = first seed + i): the random
+// truth of `seed` with no effect (i % 3 == 0), one (1) or two (2) of eight catalog kinds at
+// 2..10 x the noise, the kinds cycled by i / 3; with `only`, that one kind at 1.5..50 x the noise,
+// log-uniform.
+inline records::Truth loop_truth(unsigned seed, int i,
+                                 std::optional<records::GenEffect> only = std::nullopt) {
+  using records::GenEffect;
+  static constexpr GenEffect one[] = {GenEffect::Inertia,
+                                      GenEffect::Offset,
+                                      GenEffect::DirectionAsymmetry,
+                                      GenEffect::PositionRipple,
+                                      GenEffect::PositionDependent,
+                                      GenEffect::TimeDrift,
+                                      GenEffect::VelocityExtra,
+                                      GenEffect::NormalLoad};
+  constexpr int ne = sizeof one / sizeof one[0];
+  records::Truth tr = records::draw_truth(seed);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const int kind = only ? 1 : i % 3;
+  if (only)
+    tr.effects.push_back({*only, 1.5 * std::pow(50.0 / 1.5, U(rng))});
+  else if (kind >= 1)
+    tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
+  if (kind == 2) tr.effects.push_back({one[(i / 3 + 3) % ne], 2.0 + 8.0 * U(rng)});
+  return tr;
+}
 
 // A record of the coverage study (`gmslab_study coverage`, coverage_test.cpp): the random truth of
 // `seed` over the full draw ranges with an offset (even seeds) or an inertia (odd seeds) of
