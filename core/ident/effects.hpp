@@ -83,6 +83,8 @@ struct EffectContext {
                                      // (widened by identify when the data asks for softer ones)
   double vs_hi_factor = 2.0;         // the highest Stribeck velocity the fits allow: vs_hi_factor
                                      // x v_ref (widened by identify when the fit pins it there)
+  double fs_hi_factor = 5.0;         // the highest break-away ratio Fs/Fc the fits allow (widened
+                                     // five-fold by identify when the fit pins it there)
   double f_level = 1.0;              // Coulomb level estimated from sliding [N]
   std::vector<double> wavelengths;   // position_periodic wavelengths L_i [m] (empty: none found)
   double time_shift = 0.0;           // time_shift tau [s] (0: not searched yet)

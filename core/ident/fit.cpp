@@ -32,7 +32,7 @@ ShapeParam shape_for(const ParamSpec& s, double def, double def_ref, const Effec
   const std::string_view u = s.unit;
   if (u == "N") {
     if (s.key == "Fs") {
-      p.name = "Fs/Fc", p.unit = "-", p.lo = 1.0, p.hi = 5.0, p.init = 1.3;
+      p.name = "Fs/Fc", p.unit = "-", p.lo = 1.0, p.hi = c.fs_hi_factor, p.init = 1.3;
     } else {
       p.name += "/Fref", p.unit = "-";
       p.init = def_ref > 0 && def > 0 ? def / def_ref : 1.0;

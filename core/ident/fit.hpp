@@ -10,7 +10,8 @@
 // shape p is searched (cost: RMS force error on the used samples [N]).
 //
 // Shape parameters (generic, read from ModelInfo): the reference force scalar (Fc, or the first
-// scalar in N) is fixed at 1 N; other N-valued scalars are ratios to it (Fs/Fc in [1, 5]);
+// scalar in N) is fixed at 1 N; other N-valued scalars are ratios to it (Fs/Fc in [1, 5],
+// widened to [1, 25] by identify where the base fit pins it at 5);
 // stiffness-like parameters (N/m) per unit force are searched around 1 / x_ba (x_ba estimated from
 // the data after reversals); N/s (attraction C) in [0.5, 1e5] 1/s; velocities (m/s) in
 // [1e-4, 2] v_ref; lengths (m) around the default; dimensionless within their range (at most 10

@@ -73,6 +73,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
   detail::retry_base_fit(s);
   s.cur_val = rms_on(s.cur, s.val(), s.c);
   detail::widen_stribeck_range(s);
+  detail::widen_break_away_range(s);
   detail::widen_element_range(s, true);
   if (s.rep.range_widened) s.add_shares();
   s.floor = s.rep.noise.floor();
@@ -332,6 +333,7 @@ nlohmann::json to_json(const IdentReport& r) {
   j["base_retried"] = r.base_retried;
   j["element_range_widened"] = r.range_widened;
   j["stribeck_range_widened"] = r.stribeck_range_widened;
+  j["break_away_range_widened"] = r.break_away_range_widened;
   j["ripple_search"] = to_json(r.ripples);
   nlohmann::json pars = nlohmann::json::array();
   for (const auto& p : r.parameters)

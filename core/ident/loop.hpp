@@ -218,6 +218,9 @@ struct IdentReport {
   // The Stribeck velocity's range was widened beyond 2 x v_ref (widen_stribeck_range: the record
   // stays on the falling branch of the Stribeck curve).
   bool stribeck_range_widened = false;
+  // The break-away ratio's range was widened beyond Fs/Fc = 5 (widen_break_away_range: the base
+  // fit pinned Fs/Fc at the top of its range).
+  bool break_away_range_widened = false;
   // The loop screened the training record on every screen_every-th sample (1: all of them;
   // LoopOptions::screen_samples). Training RMS of the stages before the final one are on those.
   std::size_t screen_every = 1;

@@ -248,9 +248,12 @@ std::vector<ParameterEstimate> parameter_estimates(const FitResult& f, const Dat
 
 // Whether the final shape is a minimum of the training RMS: every coordinate of the unit box
 // stepped by +-1e-3 (inside the box) with the linear terms re-solved must not lower the RMS by
-// more than 1e-5 relative (gradient test), and the second difference along each must not be
-// negative (curvature test). Standard errors mean something only there.
+// more than 1e-5 relative (gradient test), the second difference along each must not be
+// negative (curvature test), and a coordinate within 5 % of the box from an end must not do
+// better at the end itself (a search stopped short of a bound it presses on). Standard errors
+// mean something only there.
 OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectContext& c) {
+  constexpr double kNearEnd = 0.05;  // of the unit box: where the end itself is tried
   OptimumCheck out;
   if (f.time_limited) {
     out.verified = false;
@@ -278,6 +281,27 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
       out.verified = false;
       out.reason = "a step of 1e-3 of its range in " + par.params()[i].name + " lowers the training RMS by " +
                    fmt(100 * drop) + " %: not at a minimum";
+    }
+    // A search can stop short of an end it presses on where the cost is flat along the parameter
+    // at the scale of these steps (a break-away ratio beyond the range stopped 4 % short of its
+    // top, and steps of 1e-3 saw no descent). Within kNearEnd of the box from an end, the end
+    // itself is tried too: a lower RMS there is no minimum within the range.
+    for (const double end : {1.0, 0.0}) {
+      const double gap = std::abs(end - f.u[i]);
+      if (!(gap > h && gap <= kNearEnd)) continue;
+      std::vector<double> u = f.u;
+      u[i] = end;
+      const double at_end = refit_linear(f.spec, d, c, u).rms_train;
+      const double fall = (c0 - at_end) / std::max(c0, 1e-300);
+      if (fall > 1e-5 && fall >= worst) {
+        const ShapeParam& sp = par.params()[i];
+        worst = fall;
+        out.verified = false;
+        out.reason = sp.name + " stopped at " + fmt(par.value(i, f.u[i])) + ", short of the " +
+                     (end > 0.5 ? "upper" : "lower") + " end of its search range [" + fmt(sp.lo) +
+                     ", " + fmt(sp.hi) + "] (" + sp.unit + "), where the training RMS is " +
+                     fmt(100 * fall) + " % lower: not at a minimum within the range";
+      }
     }
     // Pinned at an end of its search range: at the upper end, or at the lower end with the cost
     // rising inwards (a lower end where the parameter merely fades to nothing, e.g. a viscous
@@ -643,6 +667,89 @@ void widen_stribeck_range(LoopState& s) {
   s.add_shares();
 }
 
+namespace {
+constexpr double kWidestBreakAwayRatio = 125.0;  // the loop widens Fs/Fc's range up to this
+constexpr double kPressing = 1.1;  // a fit within this factor of the top presses on it
+}  // namespace
+
+std::optional<std::string> beyond_widest_break_away_range(const FitResult& f,
+                                                          const EffectContext& c) {
+  const ModelInfo& info = model_info(f.spec.model);
+  if (info.scalar_index("Fs") < 0 || info.scalar_index("Fc") < 0 ||
+      c.fs_hi_factor < kWidestBreakAwayRatio)
+    return std::nullopt;
+  const double ratio = f.friction.scalar("Fs") / f.friction.scalar("Fc");
+  if (!(ratio >= c.fs_hi_factor / kPressing)) return std::nullopt;
+  return "Fs/Fc is " + fmt(ratio) + ", at the top of the widest range the loop searches [1, " +
+         fmt(c.fs_hi_factor) +
+         "] (-): the data may want a value beyond it, and the fit is the "
+         "closest model within the range";
+}
+
+// A break-away ratio beyond its range. The fits search Fs/Fc in [1, fs_hi_factor] (5); friction
+// that falls by more than that from break-away to sliding (the registry's ranges allow Fs/Fc up to
+// 9) pins the base fit at the top, and the other terms bend to what the ratio cannot give. Where
+// the base fit has Fs/Fc within a factor 1.1 of the top (the search can stop short of a bound it
+// presses on), or within a factor 2 while it leaves more than 1.5x the floor on validation (a fit
+// that settled on a higher Coulomb level), the range goes up five-fold and the base model is
+// refitted with the refit budget from its shape and from its shape with the ratio 2.5x higher,
+// each polished by Levenberg-Marquardt (polish_least_squares, fit.hpp); the best refit is
+// kept when it lowers both the training and the validation RMS, and the range goes up once more
+// (to 125) where the refit presses on the new top. A final fit that presses on that top is not a
+// verified minimum (beyond_widest_break_away_range).
+void widen_break_away_range(LoopState& s) {
+  const ModelInfo& info = model_info(s.cur.spec.model);
+  while (s.c.fs_hi_factor < kWidestBreakAwayRatio && !s.cur.u.empty()) {
+    const Parameterization par(info, s.cur.spec.elements, s.c);
+    if (par.size() != s.cur.u.size()) return;
+    std::size_t ir = par.size();
+    for (std::size_t i = 0; i < par.size(); ++i)
+      if (par.params()[i].name == "Fs/Fc") ir = i;
+    if (ir == par.size()) return;
+    const double was = par.value(ir, s.cur.u[ir]);
+    const double top = par.params()[ir].hi;
+    const bool short_of_floor = s.cur_val > 1.5 * s.rep.noise.floor();
+    if (!(was >= top / kPressing || (short_of_floor && was >= top / 2))) return;
+    EffectContext wide = s.c;
+    wide.fs_hi_factor = std::min(5.0 * s.c.fs_hi_factor, kWidestBreakAwayRatio);
+    const Parameterization pw(info, s.cur.spec.elements, wide);
+    // From the base fit's shape, and from it with the ratio 2.5 times higher: a fit that settled
+    // on a higher Coulomb level below the top has the other basin far along the ratio.
+    std::vector<std::vector<double>> starts(2, std::vector<double>(par.size()));
+    for (std::size_t i = 0; i < par.size(); ++i) starts[0][i] = pw.box(i, par.value(i, s.cur.u[i]));
+    starts[1] = starts[0];
+    starts[1][ir] = pw.box(ir, 2.5 * was);
+    FitOptions fo = s.o.refit, lso = s.o.refit;
+    fo.stage = "base fit with Fs/Fc up to " + fmt(wide.fs_hi_factor);
+    lso.stage = fo.stage + ", least squares";
+    std::optional<FitResult> best;
+    for (const auto& u : starts) {
+      FitResult f = polish_least_squares(fit_model(s.cur.spec, s.train(), wide, fo, &u),
+                                         s.train(), wide, 40, lso);
+      if (!best || f.rms_train < best->rms_train) best = std::move(f);
+    }
+    FitResult f = std::move(*best);
+    const double val = rms_on(f, s.val(), wide);
+    if (!(f.rms_train < s.cur.rms_train && val < s.cur_val)) {
+      s.rep.notes.push_back("the base fit has Fs/Fc at " + fmt(was) +
+                            ", the top of its range; a fit with Fs/Fc up to " +
+                            fmt(wide.fs_hi_factor) + " did not explain both records better");
+      return;
+    }
+    s.rep.notes.push_back("the break-away ratio's range was widened to Fs/Fc <= " +
+                          fmt(wide.fs_hi_factor) + " (the base fit had Fs/Fc at " + fmt(was) +
+                          ", the top of its range): Fs/Fc " + fmt(pw.value(ir, f.u[ir])) +
+                          ", validation RMS " + fmt(s.cur_val) + " -> " + fmt(val) + " N");
+    s.cur = std::move(f);
+    s.cur_val = val;
+    s.c = wide;
+    s.rep.break_away_range_widened = true;
+    s.base_from_data.reset();
+    s.rep.elements = s.cur.spec.elements;
+    s.add_shares();
+  }
+}
+
 // The credit test names an effect by size when the validation MSE without it exceeds the MSE
 // with it by at least the floor's variance (ablation.hpp). The most an effect can lower the
 // model's validation MSE is what lies above the floor, cur_val^2 - floor^2: below floor^2 (within
@@ -936,6 +1043,9 @@ void finish_report(LoopState& s) {
   rep.parameters =
       parameter_estimates(cur, full, c, rep.fine_path ? kFinePath : PathRule{}, rep.noise.quantum);
   rep.optimum = s.optimum ? *s.optimum : check_optimum(cur, full, c);
+  if (rep.optimum.verified)
+    if (auto why = beyond_widest_break_away_range(cur, c))
+      rep.optimum.verified = false, rep.optimum.reason = *why, rep.optimum.pinned = true;
   withhold_errors(rep, cur, full);
   auto rv = residual(cur, val, c);
   if (found) {

@@ -84,6 +84,12 @@ void retry_base_fit(LoopState& s);
 void widen_element_range(LoopState& s, bool before_rounds);
 // The Stribeck velocity's range a decade wider where the base fit pins Vs at its upper end.
 void widen_stribeck_range(LoopState& s);
+// The break-away ratio's range five-fold wider where the base fit pins Fs/Fc at its upper end.
+void widen_break_away_range(LoopState& s);
+// Why f is no verified minimum where its break-away ratio presses on the top of the widest range
+// the loop searches (125); none below it.
+std::optional<std::string> beyond_widest_break_away_range(const FitResult& f,
+                                                          const EffectContext& c);
 // Whether the base fit is so close to the floor that no effect can be credited by size (the
 // credit bound, LoopOptions::credit_bound); then rep.rounds_skipped says why.
 bool no_effect_creditable(LoopState& s);
