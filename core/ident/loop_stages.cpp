@@ -724,22 +724,27 @@ void widen_break_away_range(LoopState& s) {
     lso.stage = fo.stage + ", least squares";
     std::optional<FitResult> best;
     for (const auto& u : starts) {
-      FitResult f = polish_least_squares(fit_model(s.cur.spec, s.train(), wide, fo, &u),
-                                         s.train(), wide, 40, lso);
+      FitResult f = polish_least_squares(fit_model(s.cur.spec, s.train(), wide, fo, &u), s.train(),
+                                         wide, 40, lso);
       if (!best || f.rms_train < best->rms_train) best = std::move(f);
     }
     FitResult f = std::move(*best);
     const double val = rms_on(f, s.val(), wide);
     if (!(f.rms_train < s.cur.rms_train && val < s.cur_val)) {
       s.rep.notes.push_back("the base fit has Fs/Fc at " + fmt(was) +
-                            ", the top of its range; a fit with Fs/Fc up to " +
-                            fmt(wide.fs_hi_factor) + " did not explain both records better");
+                            ", near the top of its range, " + fmt(top) +
+                            "; a fit with Fs/Fc up to " + fmt(wide.fs_hi_factor) +
+                            " did not explain both records better");
       return;
     }
     s.rep.notes.push_back("the break-away ratio's range was widened to Fs/Fc <= " +
                           fmt(wide.fs_hi_factor) + " (the base fit had Fs/Fc at " + fmt(was) +
-                          ", the top of its range): Fs/Fc " + fmt(pw.value(ir, f.u[ir])) +
-                          ", validation RMS " + fmt(s.cur_val) + " -> " + fmt(val) + " N");
+                          (was >= top / kPressing ? ", the top of its range"
+                                                  : ", near the top of its range, and left " +
+                                                        fmt(s.cur_val / s.rep.noise.floor()) +
+                                                        "x the floor on validation") +
+                          "): Fs/Fc " + fmt(pw.value(ir, f.u[ir])) + ", validation RMS " +
+                          fmt(s.cur_val) + " -> " + fmt(val) + " N");
     s.cur = std::move(f);
     s.cur_val = val;
     s.c = wide;
