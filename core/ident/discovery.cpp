@@ -436,6 +436,7 @@ nlohmann::json to_json(const Discovery& s) {
                      {"scale", t.column.scale}});
   j["terms"] = terms;
   j["kept"] = s.found;
+  j["joined"] = s.joined;
   j["test"] = {{"description",
                 "validation MSE without against with the terms over time blocks; kept when z >= " +
                     num(s.z_crit) +

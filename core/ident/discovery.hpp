@@ -3,21 +3,9 @@
 // model's training residual on a library of candidate columns proposes the smallest set of terms
 // that passes the catalog's credit test (ablation.hpp) on the validation record.
 //
-// The library (every column computed from the record alone, and from the final model's force f
-// where named; sgn v is the direction of the last motion while |v| > v_rest, else 0):
-//   basic        v / v_ref, a [m/s^2], (x - x_mid) / x_half, sgn v, v |v| / v_ref^2
-//   reversal     sgn(v) exp(-s / L), s = travel since the last reversal of the direction of
-//                motion, L on a factor-2 grid from 1 um to the stroke
-//   rest         sgn(v) exp(-tau / T), tau = time since the last rest (|v| <= v_rest), T on a
-//                factor-sqrt(10) grid from 0.01 s to 100 s
-//   history |v|  sgn(v) LP_T(|v| / v_ref), LP_T a first-order low-pass (exact for
-//   piecewise-constant
-//                input), T on a factor-sqrt(10) grid from 0.1 s to 100 s
-//   history |Fv| sgn(v) LP_T(|f v| / (f_level v_ref)), the same grid (f: the model's force)
-//   force lag    df/dt [N/s] (local slope of the model's force): a lag of the force channel
-//   dir. ripple  sin and cos(2 pi x / lambda) for v > 0 only, and for v < 0 only; lambda the
-//                strongest wavelength of the training residual's position spectrum for that
-//                direction (evidence.hpp: position_spectrum)
+// The library (library.hpp) is computed from the record alone, and from the final model's force f
+// where named; the direction-gated ripple's wavelength lambda is the strongest of the training
+// residual's position spectrum for that direction (evidence.hpp: position_spectrum).
 //
 // Selection: forward stepwise (orthogonal matching pursuit) on the used training samples: at each
 // step the column most correlated with the current residual (columns standardised), then least
@@ -27,7 +15,9 @@
 // tell from the best (z < z_crit) is proposed. It is kept when it passes the credit test:
 // block test of the validation MSE without against with the terms z >= z_crit (or a rise of at
 // least floor^2), the terms' contribution on training >= min_size x the floor, and the model
-// without them above near_floor x the floor on validation (the run condition).
+// without them above near_floor x the floor on validation (the run condition). The loop then fits
+// the kept terms jointly with the model (Effect::Discovered, effects.hpp) and credits every effect
+// again with them in the model (loop_stages.hpp: join_discovered).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -36,46 +26,13 @@
 
 #include "core/ident/ablation.hpp"
 #include "core/ident/fit.hpp"
+#include "core/ident/library.hpp"
 
 namespace gmslab::ident {
-
-enum class LibraryFamily {
-  Velocity,
-  Acceleration,
-  Position,
-  Sign,
-  VelocitySquared,
-  Reversal,
-  Rest,
-  HistoryV,
-  HistoryFv,
-  ForceLag,
-  DirRippleSin,
-  DirRippleCos
-};
-
-// One candidate column. scale: L [m] (Reversal), T [s] (Rest, History*), wavelength [m]
-// (DirRipple*); direction: +1 / -1 for the direction-gated ripple.
-struct LibraryColumn {
-  LibraryFamily family = LibraryFamily::Sign;
-  double scale = 0;
-  int direction = 0;
-};
-std::string family_name(LibraryFamily f);              // "reversal transient", ...
-std::string column_formula(const LibraryColumn& c);    // "sgn(v) exp(-s / 1 mm)"
-std::string coefficient_unit(const LibraryColumn& c);  // "N", "N s^2/m", "s"
 
 // The library for a training record (the ripple wavelengths from the residual r on train).
 std::vector<LibraryColumn> discovery_library(const Dataset& train, const EffectContext& c,
                                              const std::vector<double>& r);
-// Column values on d (f: the model's force along d) [one value per sample].
-std::vector<double> library_values(const LibraryColumn& col, const Dataset& d,
-                                   const EffectContext& c, const std::vector<double>& f);
-
-struct DiscoveredTerm {
-  LibraryColumn column;
-  double coefficient = 0;  // in coefficient_unit(column)
-};
 
 struct DiscoveryStep {                       // one set on the selection path
   std::vector<std::size_t> columns;          // library indices
@@ -89,7 +46,11 @@ struct Discovery {
   std::size_t library_size = 0;
   std::vector<LibraryColumn> library;
   std::vector<DiscoveryStep> path;
-  std::vector<DiscoveredTerm> terms;                           // the proposed set (kept when found)
+  std::vector<DiscoveredTerm> terms;  // the proposed set (kept when found)
+  // The kept terms are part of the final model (Effect::Discovered, fitted jointly with the shape
+  // and the catalog effects and credited by ablation with them); their coefficients are those of
+  // the joint fit. Else they are fitted on the final model's residual.
+  bool joined = false;
   double rms_validation_before = 0, rms_validation_after = 0;  // [N]
   BlockTest test;           // validation MSE without against with the proposed terms
   double contribution = 0;  // RMS of the terms on training [N]

@@ -14,6 +14,8 @@ namespace gmslab::ident {
 
 namespace {
 
+constexpr std::size_t kMaxDiscovered = 4;  // DiscoveryOptions::max_terms
+
 struct Entry {
   Effect e;
   std::string_view name;
@@ -244,12 +246,14 @@ const std::vector<Effect>& effect_catalog() {
 }
 
 std::string_view effect_name(Effect e) {
+  if (e == Effect::Discovered) return "discovered";
   for (const auto& x : entries())
     if (x.e == e) return x.name;
   return "?";
 }
 
 std::string_view effect_meaning(Effect e) {
+  if (e == Effect::Discovered) return "terms beyond the catalog, found by sparse regression";
   for (const auto& x : entries())
     if (x.e == e) return x.meaning;
   return "?";
@@ -509,6 +513,20 @@ std::vector<Column> effect_columns(Effect e) {
                         for (std::size_t k = 0; k < n; ++k)
                           o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
                       }));
+      break;
+    case Effect::Discovered:
+      for (std::size_t i = 0; i < kMaxDiscovered; ++i)
+        v.push_back(col("term" + std::to_string(i + 1), "-", true, [i](D d, C c, G g, O o) {
+          std::fill(o.begin(), o.end(), 0.0);
+          if (i >= c.discovered.size()) return;
+          const std::size_t n = d.size();
+          const double level = c.f_level > 0 ? c.f_level : 1.0;
+          std::vector<double> f(n);
+          for (std::size_t k = 0; k < n; ++k) f[k] = level * g[k];
+          const DiscoveredTerm& t = c.discovered[i];
+          const std::vector<double> y = library_values(t.column, d, c, f);
+          for (std::size_t k = 0; k < n; ++k) o[k] = t.coefficient * y[k];
+        }));
       break;
   }
   return v;

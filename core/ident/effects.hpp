@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "core/ident/dataset.hpp"
+#include "core/ident/library.hpp"
 
 namespace gmslab::ident {
 
@@ -64,9 +65,15 @@ enum class Effect {
   NormalLoad,
   TimeShift,
   SensorFilter,
-  Backlash
+  Backlash,
+  // Not in the catalog: the terms discovery kept (library.hpp), as one effect of up to four
+  // columns, each a kept term as discovery fitted it (its coefficient times its library column;
+  // the friction force f of the force-lag and |F v|-history terms taken as f_level g), so each
+  // column's coefficient is a dimensionless scale (1: as discovered). Unused slots are zero.
+  Discovered
 };
 
+// The catalog: every Effect but Discovered.
 const std::vector<Effect>& effect_catalog();
 std::string_view effect_name(Effect e);
 std::string_view effect_meaning(Effect e);
@@ -98,6 +105,7 @@ struct EffectContext {
   double dwell_tau = 0.1;            // tau_d of phi = ln(1 + T_d / tau_d) [s]
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
   double dwell_rise = 0.3;           // rise rho of Fs/Fc per unit phi after a rest [-]
+  std::vector<DiscoveredTerm> discovered;  // the Discovered effect's terms (at most 4)
   // The element grid fit's stand-in for g in effect columns that multiply the friction (the unit
   // output at a warm shape, one value per sample); empty: such effects need the shape search.
   std::vector<double> g_frozen;

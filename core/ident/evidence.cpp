@@ -246,6 +246,9 @@ nlohmann::json effect_evidence(Effect e, const Dataset& d, const EffectContext& 
       j["mean_residual_after_reversal_N"] = round3(n ? s / n : 0.0);
       break;
     }
+    case Effect::Discovered:
+      j["terms"] = c.discovered.size();
+      break;
   }
   return j;
 }

@@ -87,6 +87,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
   detail::credit(s);
   detail::descend_to_minimum(s);
   detail::discover_terms(s);
+  detail::join_discovered(s);
   detail::finish_report(s);
   return std::move(s.rep);
 }
@@ -126,7 +127,7 @@ nlohmann::json fit_json(const FitResult& f) {
 
 std::vector<double> predict_final(const IdentReport& r, const Dataset& d) {
   auto f = predict(r.final_fit(), d, r.context);
-  if (!r.discovery.found) return f;
+  if (!r.discovery.found || r.discovery.joined) return f;
   const auto extra = discovered_force(r.discovery, d, r.context, f);
   for (std::size_t k = 0; k < f.size(); ++k) f[k] += extra[k];
   return f;

@@ -1001,6 +1001,65 @@ void discover_terms(LoopState& s) {
   s.rep.discovery = discover(s.full(), s.val(), s.c, ft, fv, s.credit_floor, o);
 }
 
+// The discovered terms in the model. Discovery fits its terms on the final model's residual, at a
+// shape the catalog's effects bent to whatever the terms explain (a reversal transient read as a
+// backlash or a sensor filter, a one-sided ripple as a position ripple). The model with the kept
+// terms as one more effect (Effect::Discovered: each term as discovered, scaled by a coefficient
+// of its own) is refitted from the final shape with the refit budget on all training samples, and
+// kept when it predicts the validation record better than the final model with the terms on its
+// residual; then every effect, the terms included, is credited again by ablation (credit: a
+// catalog effect that only stood in for the terms is no longer named) and the shape is taken to a
+// minimum the optimum test verifies. The report says what the credit made of the terms.
+void join_discovered(LoopState& s) {
+  Discovery& ds = s.rep.discovery;
+  if (!ds.found || s.cur.u.empty() || contains(s.cur.spec.effects, Effect::Discovered)) return;
+  EffectContext joint = s.c;
+  joint.discovered = ds.terms;
+  FitOptions fo = s.o.refit;
+  fo.stage = "joint refit with the discovered terms";
+  FitResult f = fit_model(with(s.cur.spec, Effect::Discovered), s.full(), joint, fo, &s.cur.u);
+  const double val = rms_on(f, s.val(), joint);
+  if (!(val < ds.rms_validation_after)) {
+    s.rep.notes.push_back(
+        "the model refitted jointly with the discovered terms predicts the "
+        "validation record less well (" +
+        fmt(val) + " N against " + fmt(ds.rms_validation_after) +
+        " N with the terms on the final model's residual): the terms stay "
+        "fitted on the residual");
+    return;
+  }
+  const double residual_val = ds.rms_validation_after;
+  s.c = joint;
+  s.cur = std::move(f);
+  s.cur_val = val;
+  s.rep.effects_added = s.cur.spec.effects;
+  s.rep.stages.push_back(s.cur);
+  s.optimum.reset();
+  credit(s);
+  descend_to_minimum(s);
+  const auto kept = terms_of(s.cur, Effect::Discovered);
+  if (!contains(s.cur.spec.effects, Effect::Discovered)) {
+    std::string why;
+    for (const auto& d : s.rep.ablation.dropped)
+      if (d.effect == Effect::Discovered) why = d.verdict;
+    ds.found = false;
+    ds.rms_validation_after = ds.rms_validation_before;
+    ds.summary = "nothing discovered: " + discovered_formula(ds) +
+                 " passed on the final model's residual, but fitted jointly with the model it "
+                 "failed the credit test" +
+                 (why.empty() ? std::string() : " (" + why + ")");
+    return;
+  }
+  for (std::size_t i = 0; i < ds.terms.size() && i < kept.size(); ++i)
+    ds.terms[i].coefficient *= kept[i].value;
+  ds.joined = true;
+  ds.rms_validation_after = s.cur_val;
+  ds.summary = "discovered: " + discovered_formula(ds) + "  (fitted jointly with the model and " +
+               "credited by ablation: validation " + fmt(ds.rms_validation_before) + " -> " +
+               fmt(s.cur_val) + " N; " + fmt(residual_val) +
+               " N with the terms on the final model's residual)";
+}
+
 // The final model's figures: parameter errors (only at a verified optimum) and what the
 // validation residual still holds, against the validation record's own floor.
 namespace {
@@ -1033,7 +1092,8 @@ void finish_report(LoopState& s) {
   rep.context = c;
   rep.rms_after_train = cur.rms_train;
   rep.rms_after_validation = s.cur_val;
-  const bool found = rep.discovery.found;
+  // Terms fitted on the residual (not joined) are added to the final model's prediction.
+  const bool found = rep.discovery.found && !rep.discovery.joined;
   if (found) {
     const auto ft = predict(cur, full, c);
     const auto dt = discovered_force(rep.discovery, full, c, ft);

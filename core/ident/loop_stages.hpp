@@ -15,6 +15,8 @@
 //   descend_to_minimum a pattern search from a final shape the optimum test finds short of a
 //                      minimum (not from one pinned at an end of its range)
 //   discover_terms     terms beyond the catalog (discovery.hpp) when structure remains
+//   join_discovered    the kept terms fitted jointly with the model (Effect::Discovered), every
+//                      effect credited again with them in the model
 //   finish_report      parameter errors at a verified optimum, what the residual still holds
 //
 // Internal to the identification: not a public interface.
@@ -105,6 +107,7 @@ void credit(LoopState& s);
 // A compass search from the final shape on the optimum test's steps (check_optimum).
 void descend_to_minimum(LoopState& s);
 void discover_terms(LoopState& s);
+void join_discovered(LoopState& s);
 void finish_report(LoopState& s);
 
 // Shared by the stages.
