@@ -11,6 +11,7 @@
 // Seeds: GMSLAB_DISCOVERY_SEED (environment) replaces the base seed, for studies on other draws.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -171,7 +172,7 @@ TEST_P(DiscoveryOutside, TermsOutsideTheCatalog) {
   const std::vector<double> sizes = term == Term::History
                                         ? std::vector<double>{4.0, 10.0, 25.0, 50.0}
                                         : std::vector<double>{10.0, 50.0};
-  int cases = 0, family_ok = 0, floor_ok = 0;
+  int cases = 0, family_ok = 0, floor_ok = 0, catalog_named = 0;
   std::printf("%-20s %6s %10s %6s | %-8s %-7s %-9s | %s\n", "term", "size", "scale", "seed",
               "family", "val/flr", "seconds", "catalog | discovery");
   {
@@ -205,13 +206,26 @@ TEST_P(DiscoveryOutside, TermsOutsideTheCatalog) {
         EXPECT_NEAR(o.report.rms_after_validation, ds.rms_validation_after, 1e-12)
             << "the report includes the terms";
       }
+      // Terms in the model: named as an effect and credited by the ablation like one.
+      if (ds.joined) {
+        EXPECT_TRUE(ds.found) << ds.summary;
+        bool credited = false;
+        for (const auto& row : o.report.ablation.rows)
+          credited = credited || (row.effect == Effect::Discovered && row.credited);
+        EXPECT_TRUE(credited) << ds.summary;
+        EXPECT_NE(std::find(o.report.effects_added.begin(), o.report.effects_added.end(),
+                            Effect::Discovered),
+                  o.report.effects_added.end());
+      }
       const double ratio = o.report.rms_after_validation / o.floor;
       ++cases;
       family_ok += fam;
       floor_ok += ratio <= 1.5;
       std::string named;
-      for (Effect e : o.report.effects_added)
+      for (Effect e : o.report.effects_added) {
         named += std::string(named.empty() ? "" : ",") + std::string(effect_name(e));
+        catalog_named += e != Effect::Discovered;  // none of them is in the record
+      }
       std::printf("%-20s %6.0f %10.3g %6u | %-8s %-7.2f %-9.1f | %s | %s\n", term_name(term), size,
                   d.scale, seed, fam ? "right" : "no", ratio, secs,
                   named.empty() ? "-" : named.c_str(), ds.summary.c_str());
@@ -224,8 +238,14 @@ TEST_P(DiscoveryOutside, TermsOutsideTheCatalog) {
   // these before the residual regression sees them); only the history has a count to hold, set
   // below both seed ranges' counts (3 and 2 of 4) because a last-bit difference between machines
   // can move a fit to another stopping point (docs/identification-credit.md).
+  // Catalog effects named on records that hold none: with the discovered terms fitted jointly and
+  // credited again, the sliding history's stand-ins (time_drift, velocity_extra) go; on seeds
+  // 9100-9111 its four records named 3 catalog effects with the terms on the residual and 0 with
+  // them joined (on 7300-7311: 5 and 1).
+  std::printf("%s: catalog effects named %d\n", term_name(term), catalog_named);
   if (term == Term::History) {
     EXPECT_GE(family_ok, 1);
+    EXPECT_LE(catalog_named, 2);
   }
 }
 
