@@ -73,7 +73,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
   detail::retry_base_fit(s);
   s.cur_val = rms_on(s.cur, s.val(), s.c);
   detail::widen_stribeck_range(s);
-  detail::widen_break_away_range(s);
+  detail::widen_break_away_range(s, true);
   detail::widen_element_range(s, true);
   if (s.rep.range_widened) s.add_shares();
   s.floor = s.rep.noise.floor();
@@ -84,6 +84,7 @@ IdentReport identify(const Dataset& train, const Dataset& validation, const FitS
     for (int round = 1; round <= o.max_rounds; ++round)
       if (!detail::run_round(s, round)) break;
   detail::final_refit(s);
+  detail::widen_break_away_range(s, false);
   detail::credit(s);
   detail::descend_to_minimum(s);
   detail::discover_terms(s);

@@ -695,10 +695,21 @@ std::optional<std::string> beyond_widest_break_away_range(const FitResult& f,
 // refitted with the refit budget from its shape and from its shape with the ratio 2.5x higher,
 // each polished by Levenberg-Marquardt (polish_least_squares, fit.hpp); the best refit is
 // kept when it lowers both the training and the validation RMS, and the range goes up once more
-// (to 125) where the refit presses on the new top. A final fit that presses on that top is not a
-// verified minimum (beyond_widest_break_away_range).
-void widen_break_away_range(LoopState& s) {
+// (to 125) where the refit presses on the new top. Before the rounds only where the additive
+// effects do not take up half the base fit's misfit; after them (before_rounds false: the final
+// model, its effects included) where the final model presses on the top. A final fit that presses on 125 is not a verified
+// minimum (beyond_widest_break_away_range).
+void widen_break_away_range(LoopState& s, bool before_rounds) {
   const ModelInfo& info = model_info(s.cur.spec.model);
+  // A base fit whose misfit the additive effects (offset, inertia, drift, a force along the
+  // stroke) take up by half or more misfits for an effect the rounds look for, not for the ratio
+  // (an actuator force's inertia pins a GMS base fit at any ratio): the final model is tested
+  // instead.
+  if (before_rounds && has_linear_elements(s.cur.spec.model) && !s.cur.u.empty()) {
+    const double plain = grid_cost_at(s.cur.spec, s.train(), s.c, s.cur.u);
+    const double probed = grid_cost_at(with_additive_probes(s.cur.spec), s.train(), s.c, s.cur.u);
+    if (probed < 0.5 * plain) return;
+  }
   while (s.c.fs_hi_factor < kWidestBreakAwayRatio && !s.cur.u.empty()) {
     const Parameterization par(info, s.cur.spec.elements, s.c);
     if (par.size() != s.cur.u.size()) return;
@@ -708,7 +719,7 @@ void widen_break_away_range(LoopState& s) {
     if (ir == par.size()) return;
     const double was = par.value(ir, s.cur.u[ir]);
     const double top = par.params()[ir].hi;
-    const bool short_of_floor = s.cur_val > 1.5 * s.rep.noise.floor();
+    const bool short_of_floor = before_rounds && s.cur_val > 1.5 * s.rep.noise.floor();
     if (!(was >= top / kPressing || (short_of_floor && was >= top / 2))) return;
     EffectContext wide = s.c;
     wide.fs_hi_factor = std::min(5.0 * s.c.fs_hi_factor, kWidestBreakAwayRatio);
@@ -723,9 +734,11 @@ void widen_break_away_range(LoopState& s) {
     fo.stage = "base fit with Fs/Fc up to " + fmt(wide.fs_hi_factor);
     lso.stage = fo.stage + ", least squares";
     std::optional<FitResult> best;
+    // The final model was refitted on all samples (final_refit).
+    const Dataset& rec = before_rounds ? s.train() : s.full();
     for (const auto& u : starts) {
-      FitResult f = polish_least_squares(fit_model(s.cur.spec, s.train(), wide, fo, &u), s.train(),
-                                         wide, 40, lso);
+      FitResult f =
+          polish_least_squares(fit_model(s.cur.spec, rec, wide, fo, &u), rec, wide, 40, lso);
       if (!best || f.rms_train < best->rms_train) best = std::move(f);
     }
     FitResult f = std::move(*best);
@@ -752,6 +765,13 @@ void widen_break_away_range(LoopState& s) {
     s.base_from_data.reset();
     s.rep.elements = s.cur.spec.elements;
     s.add_shares();
+    if (!before_rounds) {
+      s.optimum.reset();
+      if (!s.rep.stages.empty()) s.rep.stages.back() = s.cur;
+      if (!s.rep.rounds.empty())
+        s.rep.rounds.back().rms_train_after = s.cur.rms_train,
+        s.rep.rounds.back().rms_validation_after = s.cur_val;
+    }
   }
 }
 

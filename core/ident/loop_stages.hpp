@@ -86,8 +86,9 @@ void retry_base_fit(LoopState& s);
 void widen_element_range(LoopState& s, bool before_rounds);
 // The Stribeck velocity's range a decade wider where the base fit pins Vs at its upper end.
 void widen_stribeck_range(LoopState& s);
-// The break-away ratio's range five-fold wider where the base fit pins Fs/Fc at its upper end.
-void widen_break_away_range(LoopState& s);
+// The break-away ratio's range five-fold wider where the base fit (before_rounds) or the final
+// model pins Fs/Fc at its upper end.
+void widen_break_away_range(LoopState& s, bool before_rounds);
 // Why f is no verified minimum where its break-away ratio presses on the top of the widest range
 // the loop searches (125); none below it.
 std::optional<std::string> beyond_widest_break_away_range(const FitResult& f,
