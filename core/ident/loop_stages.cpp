@@ -697,8 +697,8 @@ std::optional<std::string> beyond_widest_break_away_range(const FitResult& f,
 // kept when it lowers both the training and the validation RMS, and the range goes up once more
 // (to 125) where the refit presses on the new top. Before the rounds only where the additive
 // effects do not take up half the base fit's misfit; after them (before_rounds false: the final
-// model, its effects included) where the final model presses on the top. A final fit that presses on 125 is not a verified
-// minimum (beyond_widest_break_away_range).
+// model, its effects included) where the final model presses on the top. A final fit that presses
+// on 125 is not a verified minimum (beyond_widest_break_away_range).
 void widen_break_away_range(LoopState& s, bool before_rounds) {
   const ModelInfo& info = model_info(s.cur.spec.model);
   // A base fit whose misfit the additive effects (offset, inertia, drift, a force along the
