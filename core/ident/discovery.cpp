@@ -184,6 +184,10 @@ std::vector<LibraryColumn> discovery_library(const Dataset& train, const EffectC
   return lib;
 }
 
+bool needs_model_force(const LibraryColumn& c) {
+  return c.family == LibraryFamily::HistoryFv || c.family == LibraryFamily::ForceLag;
+}
+
 std::vector<double> library_values(const LibraryColumn& col, const Dataset& d,
                                    const EffectContext& c, const std::vector<double>& f) {
   using F = LibraryFamily;

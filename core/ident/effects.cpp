@@ -516,16 +516,19 @@ std::vector<Column> effect_columns(Effect e) {
       break;
     case Effect::Discovered:
       for (std::size_t i = 0; i < kMaxDiscovered; ++i)
-        v.push_back(col("term" + std::to_string(i + 1), "-", true, [i](D d, C c, G g, O o) {
+        v.push_back(col("term" + std::to_string(i + 1), "-", false, [i](D d, C c, G, O o) {
           std::fill(o.begin(), o.end(), 0.0);
           if (i >= c.discovered.size()) return;
-          const std::size_t n = d.size();
-          const double level = c.f_level > 0 ? c.f_level : 1.0;
-          std::vector<double> f(n);
-          for (std::size_t k = 0; k < n; ++k) f[k] = level * g[k];
           const DiscoveredTerm& t = c.discovered[i];
+          std::vector<double> f;
+          if (needs_model_force(t.column)) {
+            if (!c.discovered_force)
+              throw InternalError("discovered term " + column_formula(t.column) +
+                                  " without the model force it was discovered on");
+            f = c.discovered_force(d);
+          }
           const std::vector<double> y = library_values(t.column, d, c, f);
-          for (std::size_t k = 0; k < n; ++k) o[k] = t.coefficient * y[k];
+          for (std::size_t k = 0; k < d.size(); ++k) o[k] = t.coefficient * y[k];
         }));
       break;
   }

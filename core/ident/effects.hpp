@@ -67,9 +67,10 @@ enum class Effect {
   SensorFilter,
   Backlash,
   // Not in the catalog: the terms discovery kept (library.hpp), as one effect of up to four
-  // columns, each a kept term as discovery fitted it (its coefficient times its library column;
-  // the friction force f of the force-lag and |F v|-history terms taken as f_level g), so each
-  // column's coefficient is a dimensionless scale (1: as discovered). Unused slots are zero.
+  // columns, each a kept term as discovery fitted it (its coefficient times its library column,
+  // the force-lag and |F v|-history terms on the force of the model discovery ran on,
+  // EffectContext::discovered_force), so each column's coefficient is a dimensionless scale (1: as
+  // discovered). Unused slots are zero. No column depends on the fit's own g.
   Discovered
 };
 
@@ -106,6 +107,9 @@ struct EffectContext {
   double dwell_s0 = 1e-5;            // decay length of the dwell term s0 [m]
   double dwell_rise = 0.3;           // rise rho of Fs/Fc per unit phi after a rest [-]
   std::vector<DiscoveredTerm> discovered;  // the Discovered effect's terms (at most 4)
+  // The force of the model discovery ran on, along a record [N] (the f of the terms that need one);
+  // set with `discovered`.
+  std::function<std::vector<double>(const Dataset&)> discovered_force;
   // The element grid fit's stand-in for g in effect columns that multiply the friction (the unit
   // output at a warm shape, one value per sample); empty: such effects need the shape search.
   std::vector<double> g_frozen;

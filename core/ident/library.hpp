@@ -48,7 +48,10 @@ std::string family_name(LibraryFamily f);              // "reversal transient", 
 std::string column_formula(const LibraryColumn& c);    // "sgn(v) exp(-s / 1 mm)"
 std::string coefficient_unit(const LibraryColumn& c);  // "N", "N s^2/m", "s"
 
-// Column values on d (f: the model's force along d) [one value per sample].
+// Whether the column is computed from a model force f (|F v| history, force lag).
+bool needs_model_force(const LibraryColumn& c);
+// Column values on d (f: the model's force along d; read only where needs_model_force) [one value
+// per sample].
 std::vector<double> library_values(const LibraryColumn& col, const Dataset& d,
                                    const EffectContext& c, const std::vector<double>& f);
 

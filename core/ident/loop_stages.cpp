@@ -1025,7 +1025,8 @@ void discover_terms(LoopState& s) {
 // shape the catalog's effects bent to whatever the terms explain (a reversal transient read as a
 // backlash or a sensor filter, a one-sided ripple as a position ripple). The model with the kept
 // terms as one more effect (Effect::Discovered: each term as discovered, scaled by a coefficient
-// of its own) is refitted from the final shape with the refit budget on all training samples, and
+// of its own; the force-lag and |F v|-history terms on the final model's force as discovery had
+// them) is refitted from the final shape with the refit budget on all training samples, and
 // kept when it predicts the validation record better than the final model with the terms on its
 // residual; then every effect, the terms included, is credited again by ablation (credit: a
 // catalog effect that only stood in for the terms is no longer named) and the shape is taken to a
@@ -1035,6 +1036,10 @@ void join_discovered(LoopState& s) {
   if (!ds.found || s.cur.u.empty() || contains(s.cur.spec.effects, Effect::Discovered)) return;
   EffectContext joint = s.c;
   joint.discovered = ds.terms;
+  // The force the terms were discovered on: the final model's, along any record.
+  auto model = std::make_shared<const FitResult>(s.cur);
+  auto at = std::make_shared<const EffectContext>(s.c);
+  joint.discovered_force = [model, at](const Dataset& d) { return predict(*model, d, *at); };
   FitOptions fo = s.o.refit;
   fo.stage = "joint refit with the discovered terms";
   FitResult f = fit_model(with(s.cur.spec, Effect::Discovered), s.full(), joint, fo, &s.cur.u);
