@@ -25,6 +25,7 @@ struct Harness {
   bool fixed = true;  // limits `lim` always (else the view follows the data)
   double lim[4] = {0, 1, 0, 1};
   std::vector<std::string> names;  // series labels (default: a long one, then "s")
+  ImVec2 size{900, 800};           // the window the plot fills [px]
   Harness() {
     uitest::make_headless_imgui(ImVec2(900, 800));
   }
@@ -36,7 +37,7 @@ struct Harness {
     io.MouseDown[0] = down;
     ImGui::NewFrame();
     ImGui::SetNextWindowPos(ImVec2(0, 0));
-    ImGui::SetNextWindowSize(ImVec2(900, 800));
+    ImGui::SetNextWindowSize(size);
     ImGui::Begin("w", nullptr, ImGuiWindowFlags_NoDecoration);
     ui::PlotOptions o;
     o.paper = true;  // boxed legend
@@ -230,6 +231,41 @@ TEST(PlotLegend, NeverCoversResidualSpikesThatReachEveryPlaceInside) {
     const std::vector<ui::LegendStat> stats = ui::TakeLegendStats();
     ASSERT_FALSE(stats.empty());
     EXPECT_EQ(stats.back().hidden, 0u) << "drawn segments under the legend";
+  }
+}
+// A narrow plot whose legend must go outside (spikes reach every place inside) and would need
+// more than two rows: a column on the right would take most of the width, so the legend goes in
+// rows above the plot area, and the plot area keeps at least two thirds of the window's width.
+// Widths from 260 to 420 px, 3 to 4 series with the Identify panel's round labels (fixed seed).
+TEST(PlotLegend, ANarrowPlotKeepsItsWidthWithTheLegendInRowsAbove) {
+  std::mt19937 rng(5150);
+  std::uniform_real_distribution<double> u(0, 1);
+  const std::vector<std::string> labels = {"+ inertia", "+ direction_asymmetry", "+ velocity_extra",
+                                           "+ discovered"};
+  for (int trial = 0; trial < 8; ++trial) {
+    Harness h;
+    h.size = ImVec2(static_cast<float>(260 + 160 * u(rng)), 320);
+    const int n_series = 3 + trial % 2;
+    for (int k = 0; k < n_series; ++k) {
+      auto& xs = h.xs.emplace_back();
+      auto& ys = h.ys.emplace_back();
+      h.names.push_back(labels[static_cast<std::size_t>(k)]);
+      for (int i = 0; i < 1500; ++i) {
+        xs.push_back(i / 1499.0);
+        ys.push_back(rng() % 8 == 0 ? u(rng) : 0.5 + 0.05 * (u(rng) - 0.5));
+      }
+      ys.front() = 0.0, ys.back() = 1.0;
+    }
+    h.fixed = true;
+    h.frame();
+    h.frame();
+    SCOPED_TRACE("trial " + std::to_string(trial) + ", width " + std::to_string(h.size.x) + " px");
+    ASSERT_GT(h.box.z - h.box.x, 10.0f) << "no legend drawn";
+    EXPECT_EQ(h.covered(), 0) << "samples under the legend";
+    EXPECT_LE(h.box.w, h.t.py0 + 0.5) << "the legend is not above the plot area";
+    EXPECT_GE(h.t.px1 - h.t.px0, 2.0 / 3.0 * h.size.x - 80.0)
+        << "the plot area lost its width to the legend";
+    EXPECT_LE(h.box.z, h.size.x) << "the legend leaves the window";
   }
 }
 #endif

@@ -290,6 +290,33 @@ void ablation_table(const ident::IdentReport& r) {
   ImGui::EndTable();
 }
 
+// The model the report gives: the final fit on all training samples after the rounds, credited
+// by ablation, at its minimum, with any discovered terms joined; its change is against the model
+// the last round started from.
+void final_model_row(const ident::IdentReport& r) {
+  ImGui::TableNextRow();
+  ImGui::TableNextColumn();
+  ImGui::TextUnformatted(r.discovery.joined ? "final: all samples, credited, + discovered"
+                                            : "final: all samples, credited");
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(
+        "The final fit on every training sample, the effects credited by ablation (a "
+        "round's effect the credit drops is left out), the shape taken to a minimum%s.",
+        r.discovery.joined ? ", and the discovered terms fitted jointly with the model" : "");
+  const double train_from =
+      r.rounds.empty() ? r.rms_before_train : r.rounds.back().rms_train_before;
+  const double val_from =
+      r.rounds.empty() ? r.rms_before_validation : r.rounds.back().rms_validation_before;
+  ImGui::TableNextColumn();
+  ImGui::Text("%.4g -> %.4g", train_from, r.rms_after_train);
+  ImGui::TableNextColumn();
+  ImGui::Text("%.4g -> %.4g", val_from, r.rms_after_validation);
+  ImGui::TableNextColumn();
+  if (val_from > 0) ImGui::Text("%+.1f %%", 100.0 * (r.rms_after_validation / val_from - 1.0));
+  ImGui::TableNextColumn();
+  ImGui::TableNextColumn();
+}
+
 void rounds_table(const ident::IdentReport& r) {
   const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit | ImGuiTableFlags_RowBg;
   if (!ImGui::BeginTable("rounds", 6, flags)) return;
@@ -318,12 +345,20 @@ void rounds_table(const ident::IdentReport& r) {
       ImGui::Text("round %zu: + %s", i + 1, std::string(ident::effect_name(*rd.added)).c_str());
     else
       ImGui::TextDisabled("round %zu: nothing kept (stop)", i + 1);
+    // A round that kept nothing changed nothing: its numbers are the model it started from (the
+    // report's last round carries the final model's, shown in the row below).
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g -> %.4g", rd.rms_train_before, rd.rms_train_after);
+    if (rd.added)
+      ImGui::Text("%.4g -> %.4g", rd.rms_train_before, rd.rms_train_after);
+    else
+      ImGui::TextDisabled("%.4g", rd.rms_train_before);
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g -> %.4g", rd.rms_validation_before, rd.rms_validation_after);
+    if (rd.added)
+      ImGui::Text("%.4g -> %.4g", rd.rms_validation_before, rd.rms_validation_after);
+    else
+      ImGui::TextDisabled("%.4g", rd.rms_validation_before);
     ImGui::TableNextColumn();
-    if (rd.rms_validation_before > 0)
+    if (rd.added && rd.rms_validation_before > 0)
       ImGui::Text("%+.1f %%", 100.0 * (rd.rms_validation_after / rd.rms_validation_before - 1.0));
     ImGui::TableNextColumn();
     std::string params;
@@ -341,6 +376,7 @@ void rounds_table(const ident::IdentReport& r) {
     TextWrappedAtSpaces(candidates_line(rd, 4));
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", evidence_text(rd).c_str());
   }
+  final_model_row(r);
   ImGui::EndTable();
 }
 

@@ -312,6 +312,37 @@ std::vector<std::size_t> legend_row_starts(const Building& b, float area_w) {
   return {};
 }
 
+// Rows for a legend outside the plot area that a column on the right would crowd (more than a
+// third of the frame's width): as few rows as fit, filled from the last, which shares its line
+// with the y label; at most kMaxLegendRows, else none (the column).
+constexpr std::size_t kMaxLegendRows = 4;
+std::vector<std::size_t> legend_row_starts_many(const Building& b, float area_w) {
+  const float fh = ImGui::GetFontSize(), gap = 1.2f * fh;
+  const float beside = area_w - ImGui::CalcTextSize(b.ay.shown.c_str()).x - 2.0f * fh;
+  std::vector<std::size_t> starts;  // from the last row up
+  std::size_t end = b.series.size();
+  while (end > 0 && starts.size() < kMaxLegendRows) {
+    const float room = starts.empty() ? beside : area_w - fh;
+    std::size_t i = end;
+    float row = 0.0f;
+    while (i > 0) {
+      const float w = legend_entry(nullptr, b.series[i - 1], {}, false);
+      if (i < end && row + w > room) break;
+      row += w + gap;
+      --i;
+    }
+    if (row - gap > room && !starts.empty()) return {};  // one entry wider than a row
+    if (row - gap > room) {  // the last entry does not fit beside the y label: a row above it
+      starts.push_back(end);
+      continue;
+    }
+    starts.push_back(i);
+    end = i;
+  }
+  if (end > 0) return {};
+  return {starts.rbegin(), starts.rend()};
+}
+
 std::vector<std::string> labels(const Ticks& t) {
   double mag = 0.0;
   for (const double v : t.values) mag = std::max(mag, std::fabs(v));
@@ -332,8 +363,13 @@ Layout layout(const Building& b, const View& v, ImRect frame, int extra_rows = -
   if (extra_rows < 0) {  // as many rows as the legend takes at the plot's width
     Layout one = layout(b, v, frame, 0);
     one.legend_rows = legend_row_starts(b, one.area.GetWidth());
-    if (one.legend_rows.empty() && b.legend_outside && b.opt.legend && !b.series.empty())
-      return layout(b, v, frame, 0, legend_column_width(b));  // more than two rows: a column on the right
+    if (one.legend_rows.empty() && b.legend_outside && b.opt.legend && !b.series.empty()) {
+      const float column = legend_column_width(b);
+      if (column > frame.GetWidth() / 3.0f)
+        one.legend_rows = legend_row_starts_many(b, one.area.GetWidth());
+      // more than two rows, and rows would be many or the column narrow: a column on the right
+      if (one.legend_rows.empty()) return layout(b, v, frame, 0, column);
+    }
     if (one.legend_rows.size() <= 1) return one;
     Layout two = layout(b, v, frame, static_cast<int>(one.legend_rows.size()) - 1);
     two.legend_rows = one.legend_rows;
@@ -513,6 +549,7 @@ void draw_legend(ImDrawList* dl, const Building& b, const Layout& L, const PlotT
     ImRect all(ImVec2(FLT_MAX, FLT_MAX), ImVec2(-FLT_MAX, -FLT_MAX));
     for (std::size_t r = 0; r < rows; ++r) {
       const std::size_t i0 = L.legend_rows[r], i1 = r + 1 < rows ? L.legend_rows[r + 1] : b.series.size();
+      if (i0 == i1) continue;  // the y label's line left empty (its entry did not fit beside it)
       float total = 0.0f;
       for (std::size_t i = i0; i < i1; ++i) total += legend_entry(dl, b.series[i], {}, false) + gap;
       float x = L.area.Max.x - (total - gap);
