@@ -588,6 +588,15 @@ void widen_element_range(LoopState& s, bool before_rounds) {
   if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = s.cur_val;
 }
 
+// The index of the last shape parameter `is` picks, or par.size() when none.
+template <class Pred>
+std::size_t shape_index(const Parameterization& par, Pred is) {
+  std::size_t k = par.size();
+  for (std::size_t i = 0; i < par.size(); ++i)
+    if (is(par.params()[i])) k = i;
+  return k;
+}
+
 // A Stribeck velocity beyond the record's speeds. The fits search Vs up to 2 x v_ref (the 95th
 // percentile of |v|); a record that stays below Vs (slow sliding on the falling branch: Fig. 2C at
 // 0.1 Hz, 0.31 mm/s against Vs = 1 mm/s) sees only the top of the Stribeck curve, where Fc, Vs,
@@ -604,9 +613,7 @@ void widen_stribeck_range(LoopState& s) {
   const ModelInfo& info = model_info(s.cur.spec.model);
   const Parameterization par(info, s.cur.spec.elements, s.c);
   if (par.size() != s.cur.u.size()) return;
-  std::size_t iv = par.size();
-  for (std::size_t i = 0; i < par.size(); ++i)
-    if (par.params()[i].unit == "m/s") iv = i;
+  const std::size_t iv = shape_index(par, [](const ShapeParam& p) { return p.unit == "m/s"; });
   if (iv == par.size()) return;
   // Pressed against the top: within a factor 1.2 of it (the search stops short of a bound it
   // presses on), or within a factor 3 of it while the base fit leaves more than twice the floor
@@ -713,9 +720,7 @@ void widen_break_away_range(LoopState& s, bool before_rounds) {
   while (s.c.fs_hi_factor < kWidestBreakAwayRatio && !s.cur.u.empty()) {
     const Parameterization par(info, s.cur.spec.elements, s.c);
     if (par.size() != s.cur.u.size()) return;
-    std::size_t ir = par.size();
-    for (std::size_t i = 0; i < par.size(); ++i)
-      if (par.params()[i].name == "Fs/Fc") ir = i;
+    const std::size_t ir = shape_index(par, [](const ShapeParam& p) { return p.name == "Fs/Fc"; });
     if (ir == par.size()) return;
     const double was = par.value(ir, s.cur.u[ir]);
     const double top = par.params()[ir].hi;
