@@ -2,9 +2,13 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -262,18 +266,40 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
   }
   const Parameterization par(model_info(f.spec.model), f.spec.elements, c);
   if (f.u.size() != par.size()) return out;
-  const double c0 = refit_linear(f.spec, d, c, f.u).rms_train;
   const double h = 1e-3;
-  double worst = 0;
-  std::string pinned;
-  for (std::size_t i = 0; i < f.u.size(); ++i) {
-    double side[2] = {c0, c0};
+  // Every point the test costs (the fit, a step each way per coordinate, an end within kNearEnd),
+  // costed at once on two threads (each a pure function of its point), then judged in order.
+  const std::size_t n = f.u.size();
+  std::vector<std::vector<double>> pts{f.u};
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::vector<std::array<std::size_t, 2>> step_at(n, {kNone, kNone}), end_at(n, {kNone, kNone});
+  for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 2; ++k) {
       std::vector<double> u = f.u;
       u[i] += k == 0 ? h : -h;
       if (u[i] < 0.0 || u[i] > 1.0) continue;
-      side[k] = refit_linear(f.spec, d, c, u).rms_train;
+      step_at[i][k] = pts.size();
+      pts.push_back(std::move(u));
     }
+    for (int k = 0; k < 2; ++k) {
+      const double end = k == 0 ? 1.0 : 0.0, gap = std::abs(end - f.u[i]);
+      if (!(gap > h && gap <= kNearEnd)) continue;
+      std::vector<double> u = f.u;
+      u[i] = end;
+      end_at[i][k] = pts.size();
+      pts.push_back(std::move(u));
+    }
+  }
+  std::vector<double> cost(pts.size());
+  run_tasks(pts.size(),
+            [&](std::size_t t, int) { cost[t] = refit_linear(f.spec, d, c, pts[t]).rms_train; });
+  const double c0 = cost[0];
+  double worst = 0;
+  std::string pinned;
+  for (std::size_t i = 0; i < n; ++i) {
+    double side[2] = {c0, c0};
+    for (int k = 0; k < 2; ++k)
+      if (step_at[i][k] != kNone) side[k] = cost[step_at[i][k]];
     const double drop = (c0 - std::min(side[0], side[1])) / std::max(c0, 1e-300);
     const bool curved_down = side[0] + side[1] - 2 * c0 < -1e-9 * c0;
     if ((drop > 1e-5 || curved_down) && drop >= worst) {
@@ -286,12 +312,10 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
     // at the scale of these steps (a break-away ratio beyond the range stopped 4 % short of its
     // top, and steps of 1e-3 saw no descent). Within kNearEnd of the box from an end, the end
     // itself is tried too: a lower RMS there is no minimum within the range.
-    for (const double end : {1.0, 0.0}) {
-      const double gap = std::abs(end - f.u[i]);
-      if (!(gap > h && gap <= kNearEnd)) continue;
-      std::vector<double> u = f.u;
-      u[i] = end;
-      const double at_end = refit_linear(f.spec, d, c, u).rms_train;
+    for (int k = 0; k < 2; ++k) {
+      if (end_at[i][k] == kNone) continue;
+      const double end = k == 0 ? 1.0 : 0.0;
+      const double at_end = cost[end_at[i][k]];
       const double fall = (c0 - at_end) / std::max(c0, 1e-300);
       if (fall > 1e-5 && fall >= worst) {
         const ShapeParam& sp = par.params()[i];
@@ -944,21 +968,35 @@ struct PatternSearch {
   // (1e-5 relative): crawling along a flat ridge for less would only spend the budget.
   static constexpr double kGain = 1e-6;
 
-  // Coordinate steps of size h around x (cost fx); returns the point reached and its cost.
+  // Coordinate steps of size h around x (cost fx); returns the point reached and its cost. Each
+  // coordinate's step up is kept when it lowers the cost, else its step down; the two are costed
+  // at once on two threads (the cost is a pure function of the point), so the search takes the
+  // same steps and counts the same evaluations as costing the step down only when needed.
   std::pair<std::vector<double>, double> explore(std::vector<double> x, double fx, double h) {
-    for (std::size_t i = 0; i < x.size() && evaluations < budget && !at_end; ++i)
-      for (double dir : {1.0, -1.0}) {
-        std::vector<double> w = x;
-        w[i] = std::clamp(x[i] + dir * h, 0.0, 1.0);
-        if (w[i] == x[i]) continue;
-        const double r = cost(w);
-        ++evaluations;
-        if (r < fx * (1.0 - kGain)) {
-          at_end = w[i] >= 1.0 - 1e-3;
-          x = std::move(w), fx = r;
-          break;
-        }
+    for (std::size_t i = 0; i < x.size() && evaluations < budget && !at_end; ++i) {
+      std::vector<double> up = x, down = x;
+      up[i] = std::clamp(x[i] + h, 0.0, 1.0);
+      down[i] = std::clamp(x[i] - h, 0.0, 1.0);
+      const bool try_up = up[i] != x[i], try_down = down[i] != x[i];
+      double r_up = std::numeric_limits<double>::infinity(), r_down = r_up;
+      if (try_up && try_down)
+        run_both([&] { r_down = cost(down); }, [&] { r_up = cost(up); });
+      else if (try_up)
+        r_up = cost(up);
+      else if (try_down)
+        r_down = cost(down);
+      evaluations += try_up;
+      if (try_up && r_up < fx * (1.0 - kGain)) {
+        at_end = up[i] >= 1.0 - 1e-3;
+        x = std::move(up), fx = r_up;
+        continue;
       }
+      evaluations += try_down;
+      if (try_down && r_down < fx * (1.0 - kGain)) {
+        at_end = down[i] >= 1.0 - 1e-3;
+        x = std::move(down), fx = r_down;
+      }
+    }
     return {std::move(x), fx};
   }
 
@@ -1026,6 +1064,55 @@ void discover_terms(LoopState& s) {
   s.rep.discovery = discover(s.full(), s.val(), s.c, ft, fv, s.credit_floor, o);
 }
 
+namespace {
+// A record's identity for the memo below: its samples and the path between them (FNV-1a over
+// the bytes of t, x, v and the sub-steps).
+std::uint64_t record_key(const Dataset& d) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto add = [&h](const void* p, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  auto add_vec = [&add](const auto& v) {
+    const std::size_t n = v.size();
+    add(&n, sizeof n);
+    if (n > 0) add(v.data(), n * sizeof v[0]);
+  };
+  add_vec(d.t), add_vec(d.x), add_vec(d.v), add_vec(d.sub), add_vec(d.sv), add_vec(d.sh);
+  return h;
+}
+
+// The model's force along a record, computed once per record: the discovered column is built
+// by every refit of the joint model (a pattern-search step builds one), and each would otherwise
+// run the model along the record again. The records a loop meets are few (training, its screen,
+// validation); the memo keeps the last four. Safe to call from the fits' two threads.
+std::function<std::vector<double>(const Dataset&)> memoised_force(const FitResult& f,
+                                                                  const EffectContext& c) {
+  struct Memo {
+    FitResult model;
+    EffectContext at;
+    std::mutex m;
+    std::vector<std::pair<std::uint64_t, std::shared_ptr<const std::vector<double>>>> kept;
+  };
+  auto memo = std::make_shared<Memo>();
+  memo->model = f;
+  memo->at = c;
+  return [memo](const Dataset& d) {
+    const std::uint64_t key = record_key(d);
+    {
+      std::lock_guard<std::mutex> lock(memo->m);
+      for (const auto& [k, force] : memo->kept)
+        if (k == key) return *force;
+    }
+    auto force = std::make_shared<const std::vector<double>>(predict(memo->model, d, memo->at));
+    std::lock_guard<std::mutex> lock(memo->m);
+    if (memo->kept.size() >= 4) memo->kept.erase(memo->kept.begin());
+    memo->kept.emplace_back(key, force);
+    return *force;
+  };
+}
+}  // namespace
+
 // The discovered terms in the model. Discovery fits its terms on the final model's residual, at a
 // shape the catalog's effects bent to whatever the terms explain (a reversal transient read as a
 // backlash or a sensor filter, a one-sided ripple as a position ripple). The model with the kept
@@ -1042,9 +1129,7 @@ void join_discovered(LoopState& s) {
   EffectContext joint = s.c;
   joint.discovered = ds.terms;
   // The force the terms were discovered on: the final model's, along any record.
-  auto model = std::make_shared<const FitResult>(s.cur);
-  auto at = std::make_shared<const EffectContext>(s.c);
-  joint.discovered_force = [model, at](const Dataset& d) { return predict(*model, d, *at); };
+  joint.discovered_force = memoised_force(s.cur, s.c);
   FitOptions fo = s.o.refit;
   fo.stage = "joint refit with the discovered terms";
   FitResult f = fit_model(with(s.cur.spec, Effect::Discovered), s.full(), joint, fo, &s.cur.u);
