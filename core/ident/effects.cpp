@@ -485,6 +485,10 @@ std::vector<Column> effect_columns(Effect e) {
       break;
     case Effect::NormalLoad:
       v.push_back(col("mu_load", "N", true, [](D d, C c, G g, O o) {
+        if (d.Fn.size() < d.size() || !(c.Fn0 != 0.0))
+          throw InputError(d.source +
+                           ": the normal_load effect needs a normal-force column (Fn, "
+                           "e.g. --columns Fn=Fn_N) with a nonzero mean");
         for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.Fn[k] / c.Fn0 - 1.0);
       }));
       break;

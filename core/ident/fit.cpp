@@ -782,6 +782,26 @@ FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectCo
   return make_result(spec, par, ev, u, th, rms, 1);
 }
 
+struct LinearRefit::Impl {
+  FitSpec spec;
+  Parameterization par;
+  Evaluator ev;
+  Impl(const FitSpec& s, const Dataset& d, const EffectContext& c)
+      : spec(s), par(model_info(s.model), s.elements, c), ev(spec, par, d, c) {}
+};
+
+LinearRefit::LinearRefit(const FitSpec& spec, const Dataset& train, const EffectContext& c)
+    : impl_(std::make_unique<Impl>(spec, train, c)) {}
+LinearRefit::~LinearRefit() = default;
+
+double LinearRefit::rms(const std::vector<double>& u) { return impl_->ev.cost(u); }
+
+FitResult LinearRefit::fit(const std::vector<double>& u) {
+  Eigen::VectorXd th;
+  const double rms = impl_->ev.cost(u, &th);
+  return make_result(impl_->spec, impl_->par, impl_->ev, u, th, rms, 1);
+}
+
 std::vector<double> shape_without_element(const FitResult& f, std::size_t row, const EffectContext& c) {
   const ModelInfo& info = model_info(f.spec.model);
   const auto alpha = info.column_index("alpha");

@@ -26,6 +26,7 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -168,6 +169,22 @@ FitResult polish_least_squares(const FitResult& f, const Dataset& train, const E
 // Re-solves only the linear coefficients for spec at a fixed shape u (screening).
 FitResult refit_linear(const FitSpec& spec, const Dataset& train, const EffectContext& c,
                        const std::vector<double>& u);
+// refit_linear at many shapes of one spec on one record, the record's fixed columns built once:
+// rms(u) is refit_linear(spec, train, c, u).rms_train and fit(u) its result, bit for bit. train
+// and c must outlive it. One object is used by one thread at a time.
+class LinearRefit {
+ public:
+  LinearRefit(const FitSpec& spec, const Dataset& train, const EffectContext& c);
+  ~LinearRefit();
+  LinearRefit(const LinearRefit&) = delete;
+  LinearRefit& operator=(const LinearRefit&) = delete;
+  double rms(const std::vector<double>& u);
+  FitResult fit(const std::vector<double>& u);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 // The shape of f with element `row` removed (the others keep their stiffness and their share of
 // the friction level), as unit-box coordinates of the model with one element less; empty when f's
 // model has no element weights or a single element.

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -291,8 +292,11 @@ OptimumCheck check_optimum(const FitResult& f, const Dataset& d, const EffectCon
     }
   }
   std::vector<double> cost(pts.size());
-  run_tasks(pts.size(),
-            [&](std::size_t t, int) { cost[t] = refit_linear(f.spec, d, c, pts[t]).rms_train; });
+  std::unique_ptr<LinearRefit> on[2];
+  run_tasks(pts.size(), [&](std::size_t t, int w) {
+    if (!on[w]) on[w] = std::make_unique<LinearRefit>(f.spec, d, c);
+    cost[t] = on[w]->rms(pts[t]);
+  });
   const double c0 = cost[0];
   double worst = 0;
   std::string pinned;
@@ -960,7 +964,8 @@ void credit(LoopState& s) {
 // those the credit decided.
 namespace {
 struct PatternSearch {
-  std::function<double(const std::vector<double>&)> cost;
+  // The cost of a point, on worker 0 (this thread) or 1 (the second one).
+  std::function<double(const std::vector<double>&, int)> cost;
   int evaluations = 0;
   int budget = 0;
   bool at_end = false;  // a kept step reached a coordinate's upper end
@@ -980,11 +985,11 @@ struct PatternSearch {
       const bool try_up = up[i] != x[i], try_down = down[i] != x[i];
       double r_up = std::numeric_limits<double>::infinity(), r_down = r_up;
       if (try_up && try_down)
-        run_both([&] { r_down = cost(down); }, [&] { r_up = cost(up); });
+        run_both([&] { r_down = cost(down, 1); }, [&] { r_up = cost(up, 0); });
       else if (try_up)
-        r_up = cost(up);
+        r_up = cost(up, 0);
       else if (try_down)
-        r_down = cost(down);
+        r_down = cost(down, 0);
       evaluations += try_up;
       if (try_up && r_up < fx * (1.0 - kGain)) {
         at_end = up[i] >= 1.0 - 1e-3;
@@ -1012,7 +1017,7 @@ struct PatternSearch {
         std::vector<double> p(x.size());
         for (std::size_t i = 0; i < x.size(); ++i) p[i] = std::clamp(2 * x[i] - base[i], 0.0, 1.0);
         base = x, fbase = fx;
-        const double fp = cost(p);
+        const double fp = cost(p, 0);
         ++evaluations;
         auto [y, fy] = explore(p, fp, h);
         if (!(fy < fbase * (1.0 - kGain))) break;
@@ -1034,17 +1039,16 @@ void descend_to_minimum(LoopState& s) {
   s.optimum = at;  // the test of cur, kept for the report while cur does not move
   if (at.verified || at.pinned) return;
   PatternSearch ps;
-  ps.cost = [&](const std::vector<double>& u) {
-    return refit_linear(cur.spec, full, s.c, u).rms_train;
-  };
+  LinearRefit on[2] = {LinearRefit(cur.spec, full, s.c), LinearRefit(cur.spec, full, s.c)};
+  ps.cost = [&on](const std::vector<double>& u, int worker) { return on[worker].rms(u); };
   // About 50 sweeps; each evaluation is one run along the record.
   ps.budget = 100 * static_cast<int>(cur.u.size());
   std::vector<double> u = cur.u;
-  double best = ps.cost(u);
+  double best = ps.cost(u, 0);
   const double start = best;
   ps.run(u, best);
   if (!(best < start) || !(best < cur.rms_train)) return;
-  FitResult f = refit_linear(cur.spec, full, s.c, u);
+  FitResult f = on[0].fit(u);
   f.evaluations = cur.evaluations + ps.evaluations + 1;
   s.optimum.reset();
   cur = std::move(f);
@@ -1065,20 +1069,21 @@ void discover_terms(LoopState& s) {
 }
 
 namespace {
-// A record's identity for the memo below: its samples and the path between them (FNV-1a over
-// the bytes of t, x, v and the sub-steps).
+// A record's identity for the memo below: its samples and the path between them (an FNV-1a
+// style hash over the 64-bit words of t, x, v and the sub-steps; a word at a time, so hashing a
+// record costs a small part of one run along it).
 std::uint64_t record_key(const Dataset& d) {
   std::uint64_t h = 1469598103934665603ull;
-  auto add = [&h](const void* p, std::size_t bytes) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  auto mix = [&h](std::uint64_t w) { h = (h ^ w) * 1099511628211ull, h ^= h >> 29; };
+  auto add = [&mix](const auto& v) {
+    mix(v.size());
+    for (const auto& e : v) {
+      std::uint64_t w = 0;
+      std::memcpy(&w, &e, sizeof e);
+      mix(w);
+    }
   };
-  auto add_vec = [&add](const auto& v) {
-    const std::size_t n = v.size();
-    add(&n, sizeof n);
-    if (n > 0) add(v.data(), n * sizeof v[0]);
-  };
-  add_vec(d.t), add_vec(d.x), add_vec(d.v), add_vec(d.sub), add_vec(d.sv), add_vec(d.sh);
+  add(d.t), add(d.x), add(d.v), add(d.sub), add(d.sv), add(d.sh);
   return h;
 }
 
