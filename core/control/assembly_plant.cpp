@@ -5,6 +5,7 @@
 #include <complex>
 
 #include "core/error.hpp"
+#include "core/friction/param_specs.hpp"
 
 namespace gmslab::control {
 
@@ -54,7 +55,7 @@ TransferFunction assembly_transfer_function(const Assembly& a, std::size_t drive
     } else {
       const double v = v0 > 0.0 ? v0 : default_sliding_velocity(c.friction);
       if (!(v > 0.0) || !std::isfinite(v))
-        throw InputError("sliding velocity " + std::to_string(v) + " m/s: must be > 0");
+        throw InputError("sliding velocity " + specs::num(v) + " m/s: must be > 0");
       const auto model = build_model(c.friction);
       const double h = 1e-4 * v;
       add(C, c.a, c.b, (model->steady_state(v + h) - model->steady_state(v - h)) / (2 * h));

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/friction/param_specs.hpp"
 
 namespace gmslab::control {
 
@@ -173,8 +174,9 @@ LeadLagDesign design_lead_lag(const TransferFunction& g, const LeadCompensator& 
   d.lead = lead;
   d.K_lead = lead.Kc * lead.z / lead.p * type.K0;
   if (!(K_target > d.K_lead) || !std::isfinite(K_target))
-    throw InputError("lead-lag: the target error constant " + std::to_string(K_target) +
-                     " must exceed the lead's own " + std::to_string(d.K_lead) + " (else no lag is needed)");
+    throw InputError("lead-lag: the target error constant " + specs::num(K_target) +
+                     " must exceed the lead's own " + specs::num(d.K_lead) +
+                     " (else no lag is needed)");
   if (!(zero_fraction > 0.0 && zero_fraction <= 1.0))
     throw InputError("lead-lag: the lag zero fraction of |Re s_d| must be in (0, 1]");
   const cplx sd = root.s();

@@ -1,15 +1,15 @@
 #include "core/control/loop_simulation.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <sstream>
-
-#include <Eigen/Dense>
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "core/error.hpp"
+#include "core/friction/param_specs.hpp"
 #include "core/friction/stribeck.hpp"
 
 namespace gmslab::control {
@@ -369,7 +369,7 @@ LoopStepper::Forces LoopStepper::step() {
   }
   if (done != 1)
     throw InputError("closed loop: stepped past its horizon of " +
-                     std::to_string(q.sim.scenario().run.duration) + " s");
+                     specs::num(q.sim.scenario().run.duration) + " s");
   ++k_;
   for (const auto& [j, sign] : q.ground) out.friction += sign * q.sim.contact_force(j);
   if (!std::isfinite(q.output()) || !std::isfinite(out.friction)) throw diverged();

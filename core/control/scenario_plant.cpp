@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/friction/param_specs.hpp"
 
 namespace gmslab::control {
 
@@ -47,7 +48,7 @@ LinearPlant linear_plant(const Scenario& s, Regime r, double v0) {
   } else {
     if (v0 == 0.0) v0 = default_sliding_velocity(s.friction);
     if (!(v0 > 0.0) || !std::isfinite(v0))
-      throw InputError("--velocity = " + std::to_string(v0) +
+      throw InputError("--velocity = " + specs::num(v0) +
                        " m/s: the sliding operating velocity must be > 0");
     const auto model = build_model(s.friction);
     const double h = 1e-4 * v0;  // central difference of the steady-state curve

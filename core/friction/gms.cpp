@@ -1,11 +1,12 @@
 #include "core/friction/gms.hpp"
-#include "core/simd_path.hpp"
-
-#include "core/friction/gms_elements.hpp"
 
 #include <cmath>
 #include <limits>
 #include <numeric>
+
+#include "core/friction/gms_elements.hpp"
+#include "core/friction/param_specs.hpp"
+#include "core/simd_path.hpp"
 
 namespace gmslab {
 
@@ -64,14 +65,11 @@ ModelInfo gms_model_info() {
   m.max_elements = 100000;
   m.defaults = [] { return GmsParams::reference(true).to_params(); };
   m.check = [](const ModelParams& p, std::vector<std::string>& out) {
-    if (p.scalar("Fc") > p.scalar("Fs"))
-      out.push_back("Fc must not exceed Fs (Fc = " + std::to_string(p.scalar("Fc")) +
-                    " N, Fs = " + std::to_string(p.scalar("Fs")) + " N)");
+    specs::check_fc_le_fs(p, out);
     const auto a = p.column("alpha");
     const double sum = std::accumulate(a.begin(), a.end(), 0.0);
     if (std::abs(sum - 1.0) > 1e-6)
-      out.push_back("element weights alpha must sum to 1 (they sum to " + std::to_string(sum) +
-                    ")");
+      out.push_back("element weights alpha must sum to 1 (they sum to " + specs::num(sum) + ")");
   };
   m.build = [](const ModelParams& p) { return std::make_unique<GmsModel>(p); };
   return m;

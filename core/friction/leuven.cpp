@@ -136,8 +136,8 @@ double LeuvenModel::state_increment(const double* F, double v, double s, double 
   for (int it = 0; left > 0.0; ++it) {
     if (it == max_substeps)
       throw SimulationError("Leuven step: the state equation did not settle within " +
-                            std::to_string(max_substeps) + " sub-steps (v = " + std::to_string(v) +
-                            " m/s, h = " + std::to_string(h) + " s)");
+                            std::to_string(max_substeps) + " sub-steps (v = " + specs::num(v) +
+                            " m/s, h = " + specs::num(h) + " s)");
     const HysteresisAt a = hysteresis_at(F, dz);
     if (std::abs(a.fh - s) <= 4.0 * eps * (a.magnitude + as)) break;  // on the fixed point
     const double u = a.fh / s, p = power(std::abs(u));

@@ -476,10 +476,10 @@ void screen_record(LoopState& s) {
     if (e > 1) s.screen_rec = decimated(train_in, e, PathRule{}), diff = difference(e, s.screen_rec);
   }
   if (e == s.every) return;
-  s.rep.notes.push_back("every " + ordinal(s.every) + " sample would change the base fit's friction by " +
-                        std::to_string(first_diff) + " N RMS (more than a quarter of the noise, " +
-                        std::to_string(0.25 * sigma) + " N): " +
-                        (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
+  s.rep.notes.push_back(
+      "every " + ordinal(s.every) + " sample would change the base fit's friction by " +
+      fmt(first_diff) + " N RMS (more than a quarter of the noise, " + fmt(0.25 * sigma) + " N): " +
+      (e == 1 ? std::string("all samples used") : "screened on every " + ordinal(e) + " sample"));
   s.every = e;
   if (s.every == 1) s.screen_rec = Dataset{};
   s.cur = s.fit_base_from_data(s.every > 1 ? s.screen_rec : train_in, s.val_in);
@@ -606,9 +606,10 @@ void widen_element_range(LoopState& s, bool before_rounds) {
     }
   }
   if (!better || effect_alike) return;
-  rep.notes.push_back("the element range was widened to " + std::to_string(1e6 * wide.x_hi_factor * wide.x_ba) +
-                      " um (softer elements than the swing after most reversals shows): validation RMS " +
-                      std::to_string(s.cur_val) + " -> " + std::to_string(again_val) + " N");
+  rep.notes.push_back(
+      "the element range was widened to " + fmt(1e6 * wide.x_hi_factor * wide.x_ba) +
+      " um (softer elements than the swing after most reversals shows): validation RMS " +
+      fmt(s.cur_val) + " -> " + fmt(again_val) + " N");
   cur = std::move(again), s.cur_val = again_val, s.c = wide, rep.range_widened = true;
   s.base_from_data.reset();
   rep.elements = cur.spec.elements;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/friction/param_specs.hpp"
 #include "core/io/atomic_file.hpp"
 #include "core/io/preset_io.hpp"
 
@@ -124,7 +125,7 @@ RunSettings run_settings_from_json(JsonReader& run) {
   rs.duration = run.number("duration", 0, 1e6, "s", true);
   rs.record_every = run.has("record_every") ? static_cast<int>(run.integer("record_every", 1, 1000000)) : 1;
   if (rs.duration / rs.dt > 1e10)
-    run.fail("dt", "duration / dt = " + std::to_string(rs.duration / rs.dt) +
+    run.fail("dt", "duration / dt = " + specs::num(rs.duration / rs.dt) +
                        " steps exceeds 1e10; raise dt or shorten the run");
   run.finish();
   return rs;
@@ -161,9 +162,8 @@ Signal signal_from_json_at(JsonReader& r, int depth) {
       if (!std::isfinite(ti) || !std::isfinite(yi))
         r.fail("points[" + std::to_string(i) + "]", "must be finite");
       if (!t.empty() && !(ti > t.back()))
-        r.fail("points[" + std::to_string(i) + "]",
-               "time must increase (" + std::to_string(ti) + " s after " +
-                   std::to_string(t.back()) + " s)");
+        r.fail("points[" + std::to_string(i) + "]", "time must increase (" + specs::num(ti) +
+                                                        " s after " + specs::num(t.back()) + " s)");
       t.push_back(ti);
       y.push_back(yi);
     }

@@ -36,9 +36,11 @@ TEST(LinearRefit, EqualsRefitLinearBitForBitAtEveryShape) {
     if (e == Effect::NormalLoad) {
       // The rig records no normal force: an error that says so, not a crash.
       EXPECT_FALSE(effect_applicable(e, d, c));
-      EXPECT_THROW(refit_linear(spec, d, c, std::vector<double>(
-                                                Parameterization(model_info(spec.model), spec.elements, c).size(), 0.5)),
-                   InputError);
+      EXPECT_THROW(
+          refit_linear(spec, d, c,
+                       std::vector<double>(
+                           Parameterization(model_info(spec.model), spec.elements, c).size(), 0.5)),
+          InputError);
       ++cases;
       continue;
     }
