@@ -413,6 +413,13 @@ void credit_by_ablation(IdentReport& rep, FitResult& cur, double& cur_val, const
 }
 }  // namespace
 
+void LoopState::set_last_stage() {
+  if (!rep.stages.empty()) rep.stages.back() = cur;
+  if (!rep.rounds.empty())
+    rep.rounds.back().rms_train_after = cur.rms_train,
+    rep.rounds.back().rms_validation_after = cur_val;
+}
+
 LoopState::LoopState(const Dataset& train, const Dataset& validation, const FitSpec& base_spec,
                      const LoopOptions& options)
     : train_in(train), val_in(validation), base(base_spec), o(options), c(make_context(train)) {
@@ -613,8 +620,7 @@ void widen_element_range(LoopState& s, bool before_rounds) {
   cur = std::move(again), s.cur_val = again_val, s.c = wide, rep.range_widened = true;
   s.base_from_data.reset();
   rep.elements = cur.spec.elements;
-  if (!rep.stages.empty()) rep.stages.back() = cur;
-  if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = s.cur_val;
+  s.set_last_stage();
 }
 
 // The index of the last shape parameter `is` picks, or par.size() when none.
@@ -801,10 +807,7 @@ void widen_break_away_range(LoopState& s, bool before_rounds) {
     s.add_shares();
     if (!before_rounds) {
       s.optimum.reset();
-      if (!s.rep.stages.empty()) s.rep.stages.back() = s.cur;
-      if (!s.rep.rounds.empty())
-        s.rep.rounds.back().rms_train_after = s.cur.rms_train,
-        s.rep.rounds.back().rms_validation_after = s.cur_val;
+      s.set_last_stage();
     }
   }
 }
@@ -904,8 +907,7 @@ void final_refit(LoopState& s) {
     if (f.rms_train < cur.rms_train) {
       cur = std::move(f);
       s.cur_val = rms_on(cur, s.val(), s.c);
-      rep.stages.back() = cur;
-      if (!rep.rounds.empty()) rep.rounds.back().rms_train_after = cur.rms_train, rep.rounds.back().rms_validation_after = s.cur_val;
+      s.set_last_stage();
     }
   }
   if (s.every == 1 && !rep.range_widened) widen_element_range(s, false);
@@ -1054,10 +1056,7 @@ void descend_to_minimum(LoopState& s) {
   s.optimum.reset();
   cur = std::move(f);
   s.cur_val = rms_on(cur, s.val(), s.c);
-  if (!s.rep.stages.empty()) s.rep.stages.back() = cur;
-  if (!s.rep.rounds.empty())
-    s.rep.rounds.back().rms_train_after = cur.rms_train,
-    s.rep.rounds.back().rms_validation_after = s.cur_val;
+  s.set_last_stage();
 }
 
 // Terms beyond the catalog (discovery.hpp): a sparse regression of the final model's residual on

@@ -78,6 +78,9 @@ struct LoopState {
   void add_model_shares(NoiseEstimate& e, const FitResult& f, const Dataset& d) const;
   // rep.noise: the data's noise with the shares through the current model along full().
   void add_shares();
+  // The report's last stage and the last round's numbers after it follow cur and cur_val (a
+  // stage that moved the model it ended with).
+  void set_last_stage();
 };
 
 void screen_record(LoopState& s);
