@@ -63,6 +63,41 @@ std::string truth_line(const Truth& t) {
   return b;
 }
 
+// The truth, the fitted parameters, the estimated floor and the truth through gmslab's GMS on
+// the validation record (--detail).
+void print_detail(const Truth& tr, const IdentReport& rep, const Dataset& val) {
+  std::printf(
+      "  truth: Fs %.4g Fc %.4g Vs %.3g delta %.3g C %.4g sigma2 %.4g | elements (alpha, x_ba um):",
+      tr.Fs, tr.Fc, tr.Vs, tr.delta, tr.C, tr.sigma2);
+  for (std::size_t e = 0; e < tr.elements(); ++e)
+    std::printf(" (%.3f, %.3g)", tr.alpha[e], 1e6 * tr.x_break(e));
+  const auto& f = rep.final_fit().friction;
+  std::printf("\n  fit:  ");
+  for (std::size_t j = 0; j < f.scalars.size(); ++j) std::printf(" %.4g", f.scalars[j]);
+  std::printf(" | elements (alpha, x_ba um at Fs):");
+  const double fs = f.model == "gms" ? f.scalar("Fs") : 1.0;
+  for (const auto& row : f.elements)
+    std::printf(" (%.3f, %.3g)", row[0], 1e6 * row[0] * fs / row[1]);
+  // The truth through gmslab's own GMS model along the validation record (viscous on d.v).
+  ModelParams m = model_info("gms").defaults();
+  m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
+  m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
+  m.elements.clear();
+  for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
+  std::vector<double> g;
+  simulate_along(*build_model(m), val, g);
+  double s2 = 0, n2 = 0;
+  for (std::size_t k = 0; k < val.size(); ++k)
+    if (val.use[k]) {
+      s2 += std::pow(val.F[k] - g[k] - tr.sigma2 * val.v[k], 2), n2 += 1;
+    }
+  std::printf("\n  estimated floor %.4g (sigma %.4g), retried %d", rep.noise.floor(),
+              rep.noise.sigma, int(rep.base_retried));
+  std::printf(
+      "\n  train rms %.4g, noise sd %.4g; the truth through gmslab's GMS on validation: RMS %.4g\n",
+      rep.rms_after_train, tr.noise, std::sqrt(s2 / n2));
+}
+
 int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool detail, std::size_t screen) {
   int pass = 0;
   double worst = 0, total_s = 0;
@@ -87,33 +122,7 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
     pass += ratio <= 1.2;
     std::printf("%-4u %-68s %10.4g %10.4g %6.3f %5zu %6.2f %s\n", seed, truth_line(tr).c_str(), floor,
                 rep.rms_after_validation, ratio, rep.final_fit().spec.elements, s, (std::string(rep.fine_path ? "fine " : "") + (rep.range_widened ? "wide " : "") + (rep.base_retried ? "retry" : "")).c_str());
-    if (detail) {
-      std::printf("  truth: Fs %.4g Fc %.4g Vs %.3g delta %.3g C %.4g sigma2 %.4g | elements (alpha, x_ba um):",
-                  tr.Fs, tr.Fc, tr.Vs, tr.delta, tr.C, tr.sigma2);
-      for (std::size_t e = 0; e < tr.elements(); ++e) std::printf(" (%.3f, %.3g)", tr.alpha[e], 1e6 * tr.x_break(e));
-      const auto& f = rep.final_fit().friction;
-      std::printf("\n  fit:  ");
-      for (std::size_t j = 0; j < f.scalars.size(); ++j) std::printf(" %.4g", f.scalars[j]);
-      std::printf(" | elements (alpha, x_ba um at Fs):");
-      const double fs = f.model == "gms" ? f.scalar("Fs") : 1.0;
-      for (const auto& row : f.elements) std::printf(" (%.3f, %.3g)", row[0], 1e6 * row[0] * fs / row[1]);
-      // The truth through gmslab's own GMS model along the validation record (viscous on d.v).
-      ModelParams m = model_info("gms").defaults();
-      m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
-      m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
-      m.elements.clear();
-      for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
-      std::vector<double> g;
-      simulate_along(*build_model(m), val, g);
-      double s2 = 0, n2 = 0;
-      for (std::size_t k = 0; k < val.size(); ++k)
-        if (val.use[k]) {
-          s2 += std::pow(val.F[k] - g[k] - tr.sigma2 * val.v[k], 2), n2 += 1;
-        }
-      std::printf("\n  estimated floor %.4g (sigma %.4g), retried %d", rep.noise.floor(), rep.noise.sigma, int(rep.base_retried));
-      std::printf("\n  train rms %.4g, noise sd %.4g; the truth through gmslab's GMS on validation: RMS %.4g\n",
-                  rep.rms_after_train, tr.noise, std::sqrt(s2 / n2));
-    }
+    if (detail) print_detail(tr, rep, val);
     std::fflush(stdout);
   }
   std::printf("\nbase fit: %d / %d records within 1.2x the floor (%.0f %%); worst %.3f; %.1f s per record\n",
@@ -128,7 +137,7 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
 // unit ln(1 + T_rest / 0.1 s)).
 int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
              const std::string& report_dir, std::size_t screen, std::optional<GenEffect> only,
-             bool credit_bound) {
+             bool credit_bound, bool detail) {
   int n0 = 0, ok0 = 0, n1 = 0, ok1 = 0, n2 = 0, ok2 = 0, floor_ok = 0;
   double total_s = 0;
   std::printf("%-4s %-40s %-40s %8s %6s %6s\n", "rec", "generated", "added", "val/floor", "s", "every");
@@ -176,6 +185,7 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
     floor_ok += ratio <= 1.5;
     std::printf("%-4u %-40s %-40s %8.3f %6.2f %6zu %s\n", seed, gen.empty() ? "-" : gen.c_str(),
                 added.empty() ? "-" : added.c_str(), ratio, s, rep.screen_every, right ? "" : "  <-- wrong");
+    if (detail) print_detail(tr, rep, val);
     std::fflush(stdout);
   }
   std::printf("\nno effect: nothing added in %d / %d; one effect: named first in %d / %d; two effects: "
@@ -512,5 +522,5 @@ int main(int argc, char** argv) {
   if (mode == "registry")
     return run_registry(records, seed, samples, GMSLAB_SOURCE_DIR "/presets", detail, preset);
   if (mode == "base") return run_base(records, seed, samples, auto_n, detail, screen);
-  return run_loop(records, seed, samples, skip, report_dir, screen, only, !no_bound);
+  return run_loop(records, seed, samples, skip, report_dir, screen, only, !no_bound, detail);
 }

@@ -113,12 +113,12 @@ std::vector<double> contribution(const FitResult& f, Effect e, const Dataset& d,
   std::vector<const LinearTerm*> ts;
   for (const auto& t : f.terms)
     if (t.effect == effect_name(e)) ts.push_back(&t);
-  std::vector<double> sum(d.size(), 0.0), col(d.size(), 0.0);
+  std::vector<double> sum(d.size(), 0.0), col(d.size(), 0.0), scratch;
   std::size_t j = 0;
   for (const auto& column : effect_columns(e)) {
     if (j >= ts.size()) break;
     std::fill(col.begin(), col.end(), 0.0);
-    column.fill(d, c, g2, col);
+    column.fill(d, c, column_input(column, g2, d.size(), {e}, scratch), col);
     for (std::size_t k = 0; k < d.size(); ++k) sum[k] += ts[j]->value * col[k];
     ++j;
   }

@@ -62,6 +62,23 @@ double legendre(int n, double xi) {
   }
 }
 
+// tau = (t - t_mid) / t_half over the record's own span (its first to its last used sample): a
+// drift is read as the same fraction of the level over every record, the training record's and a
+// held-out one's alike, however long each is.
+std::vector<double> record_tau(const Dataset& d) {
+  double t0 = 0.0, t1 = 0.0;
+  bool any = false;
+  for (std::size_t k = 0; k < d.size(); ++k)
+    if (d.use[k]) {
+      if (!any) t0 = d.t[k], any = true;
+      t1 = d.t[k];
+    }
+  const double mid = 0.5 * (t0 + t1), half = std::max(1e-9, 0.5 * (t1 - t0));
+  std::vector<double> tau(d.size());
+  for (std::size_t k = 0; k < d.size(); ++k) tau[k] = (d.t[k] - mid) / half;
+  return tau;
+}
+
 using Fill = std::function<void(const Dataset&, const EffectContext&, std::span<const double>,
                                 std::span<double>)>;
 
@@ -212,6 +229,92 @@ Dataset through_dead_band(const Dataset& d, double b) {
   return out;
 }
 
+Dataset shifted_motion(const Dataset& d, double tau) {
+  Dataset out = d;
+  const std::size_t n = d.size();
+  if (n < 2 || !(tau > 0.0)) return out;
+  // The path as segments of constant velocity: a rest of tau before the start, then each step
+  // (or its substeps); segment i starts at ts[i] at position xs[i].
+  std::vector<double> ts, xs, vs;
+  ts.push_back(d.t[0] - tau), xs.push_back(d.x[0]), vs.push_back(0.0);
+  for (std::size_t k = 1; k < n; ++k) {
+    double t = d.t[k - 1], x = d.x[k - 1];
+    auto part = [&](double v, double h) {
+      if (!(h > 0.0)) return;
+      ts.push_back(t), xs.push_back(x), vs.push_back(v);
+      t += h, x += v * h;
+    };
+    if (!d.sub.empty() && d.sub[k + 1] > d.sub[k]) {
+      for (std::uint32_t j = d.sub[k]; j < d.sub[k + 1]; ++j) part(d.sv[j], d.sh[j]);
+    } else {
+      part(d.vstep[k], d.h[k]);
+    }
+  }
+  ts.push_back(d.t[n - 1]), xs.push_back(d.x[n - 1]), vs.push_back(0.0);  // end marker
+  const std::size_t m = ts.size() - 1;                                    // segments
+  auto position = [&](std::size_t i, double t) { return xs[i] + vs[i] * (t - ts[i]); };
+  auto linear = [&](const std::vector<double>& y, double t, std::size_t& j) {
+    if (t <= d.t[0]) return y[0];
+    while (j + 2 < n && d.t[j + 1] <= t) ++j;
+    const double w = (t - d.t[j]) / (d.t[j + 1] - d.t[j]);
+    return y[j] + w * (y[j + 1] - y[j]);
+  };
+  out.sub.assign(n + 1, 0);
+  out.sv.clear(), out.sh.clear();
+  std::size_t i = 0, jv = 0, ja = 0;
+  out.x[0] = d.x[0];
+  out.v[0] = 0.0;
+  out.a[0] = 0.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    out.sub[k] = static_cast<std::uint32_t>(out.sv.size());
+    const double s0 = d.t[k - 1] - tau, s1 = d.t[k] - tau;
+    while (i + 1 < m && ts[i + 1] <= s0) ++i;
+    for (double s = s0; s < s1;) {
+      const double e = i + 1 < m ? std::min(ts[i + 1], s1) : s1;
+      if (e > s) out.sv.push_back(vs[i]), out.sh.push_back(e - s);
+      s = e;
+      if (s < s1) ++i;
+    }
+    if (out.sv.size() == out.sub[k]) out.sv.push_back(0.0), out.sh.push_back(d.h[k]);
+    while (i + 1 < m && ts[i + 1] <= s1) ++i;
+    out.x[k] = position(i, s1);
+    out.vstep[k] = d.h[k] > 0.0 ? (out.x[k] - out.x[k - 1]) / d.h[k] : 0.0;
+    out.v[k] = s1 < d.t[0] ? 0.0 : linear(d.v, s1, jv);
+    out.a[k] = s1 < d.t[0] ? 0.0 : linear(d.a, s1, ja);
+  }
+  out.sub[n] = static_cast<std::uint32_t>(out.sv.size());
+  return out;
+}
+
+std::vector<ExtraOutput> extra_outputs(const std::vector<Effect>& effects) {
+  const auto has = [&](Effect e) {
+    return std::find(effects.begin(), effects.end(), e) != effects.end();
+  };
+  std::vector<ExtraOutput> out;
+  if (has(Effect::DwellStiction)) out.push_back(ExtraOutput::Dwell);
+  if (has(Effect::TimeShift)) out.push_back(ExtraOutput::Shifted);
+  if (has(Effect::Backlash)) out.push_back(ExtraOutput::Contact);
+  return out;
+}
+
+std::span<const double> column_input(const Column& col, std::span<const double> outputs,
+                                     std::size_t n, const std::vector<Effect>& effects,
+                                     std::vector<double>& scratch) {
+  if (col.extra == ExtraOutput::None) return outputs;
+  const std::vector<ExtraOutput> ex = extra_outputs(effects);
+  const auto at = std::find(ex.begin(), ex.end(), col.extra);
+  if (at == ex.end() || outputs.size() < n * (2 + static_cast<std::size_t>(at - ex.begin())))
+    throw InternalError("column " + col.name +
+                        " without the extra output it takes (fit.hpp, unit_outputs)");
+  const std::size_t block = 1 + static_cast<std::size_t>(at - ex.begin());
+  if (block == 1) return outputs.first(2 * n);
+  scratch.resize(2 * n);
+  std::copy_n(outputs.begin(), n, scratch.begin());
+  std::copy_n(outputs.begin() + static_cast<std::ptrdiff_t>(block * n), n,
+              scratch.begin() + static_cast<std::ptrdiff_t>(n));
+  return scratch;
+}
+
 namespace {
 
 // The contact's velocity at the samples behind the dead band (through_dead_band's v), kept while
@@ -232,6 +335,25 @@ class DeadBandCache {
   std::mutex m_;
   double b_ = -1.0;
   std::vector<double> x_, v_, vb_;
+};
+
+// The velocity at the samples tau earlier (shifted_motion's v), kept while the record's motion
+// and tau are those it was made for.
+class ShiftCache {
+ public:
+  std::vector<double> velocity(const Dataset& d, double tau) {
+    std::lock_guard<std::mutex> lock(m_);
+    if (tau_ != tau || x_ != d.x || v_ != d.v) {
+      vs_ = shifted_motion(d, tau).v;
+      tau_ = tau, x_ = d.x, v_ = d.v;
+    }
+    return vs_;
+  }
+
+ private:
+  std::mutex m_;
+  double tau_ = -1.0;
+  std::vector<double> x_, v_, vs_;
 };
 
 }  // namespace
@@ -455,11 +577,13 @@ std::vector<Column> effect_columns(Effect e) {
         }));
       break;
     case Effect::TimeDrift:
-      v.push_back(col("drift", "N", false, [](D d, C c, G, O o) {
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] = (d.t[k] - c.t_mid) / c.t_half;
+      v.push_back(col("drift", "N", false, [](D d, C, G, O o) {
+        const std::vector<double> tau = record_tau(d);
+        std::copy(tau.begin(), tau.end(), o.begin());
       }));
-      v.push_back(col("drift_g", "N", true, [](D d, C c, G g, O o) {
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.t[k] - c.t_mid) / c.t_half;
+      v.push_back(col("drift_g", "N", true, [](D d, C, G g, O o) {
+        const std::vector<double> tau = record_tau(d);
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * tau[k];
       }));
       break;
     case Effect::VelocityExtra:
@@ -478,6 +602,7 @@ std::vector<Column> effect_columns(Effect e) {
         const std::size_t n = d.size();
         for (std::size_t k = 0; k < n; ++k) o[k] = g.size() >= 2 * n ? g[n + k] : 0.0;
       }));
+      v.back().extra = ExtraOutput::Dwell;
       v.push_back(col("dwell_level", "N", true, [](D d, C c, G g, O o) {
         const std::vector<double> w = dwell_weight(d, c);
         for (std::size_t k = 0; k < d.size(); ++k) o[k] = w[k] * g[k];
@@ -493,9 +618,21 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::TimeShift:
-      v.push_back(channel_column("shift_level", [](D d, std::span<const double> y, C c, O o) {
-        shifted(d, y, c.time_shift, o);
-      }));
+      // The model along the motion tau earlier (the last n values of g) less the model, and the
+      // viscous share at the velocity tau earlier less that now.
+      v.push_back(col("shift_level", "N", true,
+                      [cache = std::make_shared<ShiftCache>()](D d, C c, G g, O o) {
+                        const std::size_t n = d.size();
+                        if (g.size() < 2 * n)
+                          throw InternalError(
+                              "time_shift column without the model along the shifted motion "
+                              "(fit.hpp, unit_outputs)");
+                        const std::span<const double> gs = g.last(n);
+                        const std::vector<double> vs = cache->velocity(d, c.time_shift);
+                        for (std::size_t k = 0; k < n; ++k)
+                          o[k] = gs[k] - g[k] + c.viscous_ratio * (vs[k] - d.v[k]);
+                      }));
+      v.back().extra = ExtraOutput::Shifted;
       break;
     case Effect::SensorFilter:
       v.push_back(channel_column("filter_level", [](D d, std::span<const double> y, C c, O o) {
@@ -517,6 +654,7 @@ std::vector<Column> effect_columns(Effect e) {
                         for (std::size_t k = 0; k < n; ++k)
                           o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
                       }));
+      v.back().extra = ExtraOutput::Contact;
       break;
     case Effect::Discovered:
       for (std::size_t i = 0; i < kMaxDiscovered; ++i)

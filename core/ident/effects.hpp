@@ -14,7 +14,8 @@
 //   position_periodic    per ripple wavelength L_i (ripple_search in structure.hpp, over position
 //                        on sliding samples): sin, cos(2 pi x / L_i), g sin, g cos       [N]
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
-//   time_drift           tau, g tau; tau = (t - t_mid) / t_half                                [N]
+//   time_drift           tau, g tau; tau = (t - t_mid) / t_half over each record's own span
+//                        (first to last used sample): the same fraction over every record     [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
 //   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d), the
 //                        break-away ratio Fs/Fc raised by rho w, w = phi e^-q with q = s / s0
@@ -38,8 +39,8 @@
 //                        reversal the contact stays until the motor has travelled b, then follows
 //                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b
 //                        [m]
-// Normalisations (x_mid, t_mid, v_ref, L, s0, ...) are learned on the training record and applied
-// unchanged to validation records (EffectContext).
+// Normalisations (x_mid, v_ref, L, s0, ...) are learned on the training record and applied
+// unchanged to validation records (EffectContext); time is the exception (time_drift above).
 #pragma once
 
 #include <functional>
@@ -84,7 +85,8 @@ Effect effect_from_name(std::string_view name);
 // Scales learned on the training record.
 struct EffectContext {
   double x_mid = 0.0, x_half = 1.0;  // position normalisation [m]
-  double t_mid = 0.0, t_half = 1.0;  // time normalisation [s]
+  double t_mid = 0.0, t_half = 1.0;  // the training record's time span [s] (the time_drift
+                                     // columns use each record's own)
   double v_ref = 1.0;                // 95th percentile of |v| on used samples [m/s]
   double x_ba = 1e-5;                // break-away displacement estimated after reversals [m]
   double x_hi_factor = 20.0;         // the softest element the fits allow: x_hi_factor x x_ba
@@ -120,16 +122,34 @@ EffectContext make_context(const Dataset& train);
 
 // One linear column: its coefficient's name and unit, whether it depends on g (recomputed at each
 // evaluation of the nonlinear fit) and how to compute it.
+// A second simulation of the model some columns take besides g (unit_outputs, fit.hpp).
+enum class ExtraOutput {
+  None,
+  Dwell,    // the model with the dwell rise less the model (dwell_stiction)
+  Shifted,  // the model along the motion tau earlier (shifted_motion; time_shift)
+  Contact   // the model along the contact's motion behind the dead band (backlash)
+};
+
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
   std::string unit;  // unit of the coefficient, e.g. "kg"
-  bool uses_g = false;  // g: the unit model output (n samples), followed by g_rho - g (the
-                        // model with the dwell rise less the model) when the fit has a
-                        // dwell_stiction term (then g.size() == 2 n)
+  bool uses_g = false;  // g: the unit model output (n samples), followed by the n values of
+                        // the column's extra output when it has one (then g.size() == 2 n)
   std::function<void(const Dataset&, const EffectContext&, std::span<const double> g,
                      std::span<double> out)>
       fill;
+  ExtraOutput extra = ExtraOutput::None;
 };
+
+// The extra outputs a fit with these effects simulates, in the order unit_outputs appends them
+// after g.
+std::vector<ExtraOutput> extra_outputs(const std::vector<Effect>& effects);
+// What `col` takes as g from the unit outputs of a fit with `effects` (n samples each: g, then the
+// extra outputs in extra_outputs order): all of them for a column without an extra output, else g
+// and its own extra output (copied into `scratch` unless they lie side by side).
+std::span<const double> column_input(const Column& col, std::span<const double> outputs,
+                                     std::size_t n, const std::vector<Effect>& effects,
+                                     std::vector<double>& scratch);
 
 std::vector<Column> effect_columns(Effect e);
 // Whether the effect can be tested on this record (normal_load needs Fn, dwell_stiction dwells,
@@ -154,6 +174,13 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
 // record the friction model sees through the play. The encoder moves by the measured displacement
 // over each step, as the steps of d do.
 Dataset through_dead_band(const Dataset& d, double b);
+
+// The record's motion tau earlier (tau >= 0; the force channel lags the position channel by
+// tau): each sample k at t_k - tau along the same path (the steps and substeps of d cut at the
+// shifted times, the position at rest at x_0 before the record starts), v and a interpolated
+// linearly in time, t, F and the mask those of d. The model along it is the friction the force
+// channel records at t_k.
+Dataset shifted_motion(const Dataset& d, double tau);
 
 // Standing still: |v| below a twentieth of the rest threshold c.v_rest [m/s].
 double standstill(const EffectContext& c);

@@ -131,7 +131,11 @@ class ElementEvaluator {
       for (auto& col : effect_columns(e)) {
         if (col.uses_g && c.g_frozen.size() < d.size())
           throw InputError("internal: the grid fit takes effects with g columns only at a frozen g");
-        col.fill(d, c, col.uses_g ? std::span<const double>(c.g_frozen) : std::span<const double>{}, full);
+        std::vector<double> scratch;
+        col.fill(d, c,
+                 col.uses_g ? column_input(col, c.g_frozen, d.size(), spec.effects, scratch)
+                            : std::span<const double>{},
+                 full);
         cols.push_back(full);
         fixed_nonneg_.push_back(false);
       }

@@ -289,6 +289,7 @@ class Evaluator {
     for (Effect e : spec.effects) {
       needs_dwell_ |= e == Effect::DwellStiction;
       needs_contact_ |= e == Effect::Backlash;
+      needs_shift_ |= e == Effect::TimeShift;
     }
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
@@ -300,7 +301,7 @@ class Evaluator {
     Af_.resize(nu, static_cast<Eigen::Index>(fix_.size()));
     std::vector<double> full(d.size());
     for (std::size_t j = 0; j < fix_.size(); ++j) {
-      terms_[fix_[j]].column.fill(d, c, {}, full);
+      terms_[fix_[j]].column.fill(d, c, {}, full);  // no g: no extra output either
       gather(full, Af_.col(static_cast<Eigen::Index>(j)));
     }
     Gff_ = Af_.transpose() * Af_;
@@ -324,6 +325,17 @@ class Evaluator {
         std::vector<double> g2;
         dwell_response(mp, g, g2);
         g.insert(g.end(), g2.begin(), g2.end());
+      }
+      if (needs_shift_) {
+        if (!(shift_tau_ == c_.time_shift) || shifted_.size() != n) {
+          shifted_ = shifted_motion(d_, c_.time_shift);
+          shift_path_ = GmsPath{};
+          shift_runner_ = GmsPathRunner{};  // a path made again in place: a fresh runner
+          shift_tau_ = c_.time_shift;
+        }
+        std::vector<double> gs;
+        sim(mp, shifted_, shift_path_, shift_runner_, gs);
+        g.insert(g.end(), gs.begin(), gs.end());
       }
       if (needs_contact_) {
         if (!(contact_b_ == c_.backlash) || contact_.size() != n) {
@@ -355,7 +367,8 @@ class Evaluator {
   double solve(Eigen::VectorXd* theta) {
     std::vector<double> full(d_.size());
     for (std::size_t j = 0; j < dyn_.size(); ++j) {
-      terms_[dyn_[j]].column.fill(d_, c_, g_, full);
+      const Column& col = terms_[dyn_[j]].column;
+      col.fill(d_, c_, column_input(col, g_, d_.size(), spec_.effects, scratch_), full);
       gather(full, Ad_.col(static_cast<Eigen::Index>(j)));
     }
     const auto pd = static_cast<Eigen::Index>(dyn_.size());
@@ -398,9 +411,14 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_)) g_.assign((1 + needs_dwell_ + needs_contact_) * d_.size(), 0.0);
+    if (!simulate(u, g_))
+      g_.assign((1 + needs_dwell_ + needs_shift_ + needs_contact_) * d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
-      terms_[j].column.fill(d_, c_, g_, full);
+      const Column& col = terms_[j].column;
+      col.fill(d_, c_,
+               col.uses_g ? column_input(col, g_, d_.size(), spec_.effects, scratch_)
+                          : std::span<const double>{},
+               full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
     }
     return out;
@@ -466,7 +484,8 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
-  bool needs_dwell_ = false, needs_contact_ = false;
+  bool needs_dwell_ = false, needs_contact_ = false, needs_shift_ = false;
+  mutable std::vector<double> scratch_;  // column_input's copy of g and an extra output
   mutable std::vector<double> dwell_w_;  // dwell_weight of d_, for the decay length dwell_w_s0_
   mutable double dwell_w_s0_ = 0.0;
   mutable std::vector<double> dwell_ws_;  // dwell_weight_steps along path_, for dwell_ws_s0_
@@ -479,6 +498,11 @@ class Evaluator {
   mutable double contact_b_ = std::numeric_limits<double>::quiet_NaN();
   mutable GmsPath contact_path_;
   mutable GmsPathRunner contact_runner_;
+  // The record's motion tau earlier, for tau = shift_tau_ (time_shift).
+  mutable Dataset shifted_;
+  mutable double shift_tau_ = std::numeric_limits<double>::quiet_NaN();
+  mutable GmsPath shift_path_;
+  mutable GmsPathRunner shift_runner_;
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
@@ -881,6 +905,10 @@ std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const 
     if (!ev.simulate(r.u, gd) || gd.size() != 2 * d.size())
       throw SimulationError("the dwell response of the fitted model could not be simulated");
     g.insert(g.end(), gd.begin() + static_cast<std::ptrdiff_t>(d.size()), gd.end());
+  }
+  if (has(Effect::TimeShift)) {
+    const auto gs = unit_friction(r, shifted_motion(d, c.time_shift), c);
+    g.insert(g.end(), gs.begin(), gs.end());
   }
   if (has(Effect::Backlash)) {
     const auto gb = unit_friction(r, through_dead_band(d, c.backlash), c);

@@ -106,7 +106,8 @@ std::vector<std::vector<double>> effect_matrix(Effect e, const Dataset& d, const
   std::vector<std::vector<double>> out;
   for (const auto& col : effect_columns(e)) {
     std::vector<double> o(d.size(), 0.0);
-    col.fill(d, c, g2, o);
+    std::vector<double> scratch;
+    col.fill(d, c, column_input(col, g2, d.size(), {e}, scratch), o);
     out.push_back(std::move(o));
   }
   return out;
@@ -564,6 +565,41 @@ void retry_base_fit(LoopState& s) {
   }
 }
 
+// The final model with friction-scaling effects (g columns: the grid's linear element weights
+// cannot carry them) whose softest element is pinned at the soft end of its range (a friction
+// level drifting over the record, with the base shape fitted before the drift was in the model):
+// refitted in the wider range from its own shape, a local search and least squares, on the
+// record the final model was fitted on; kept when it lowers both the training and the validation
+// RMS.
+void widen_pinned_soft_element(LoopState& s, const EffectContext& wide) {
+  FitResult& cur = s.cur;
+  const Parameterization par(model_info(cur.spec.model), cur.spec.elements, s.c);
+  if (par.size() != cur.u.size()) return;
+  bool pinned = false;
+  for (std::size_t i = 0; i < par.size(); ++i)
+    pinned |= par.params()[i].name.starts_with("kappa[") && cur.u[i] <= 1e-3;
+  if (!pinned) return;
+  const Parameterization pw(model_info(cur.spec.model), cur.spec.elements, wide);
+  std::vector<double> start(par.size());
+  for (std::size_t i = 0; i < par.size(); ++i) start[i] = pw.box(i, par.value(i, cur.u[i]));
+  FitOptions fo = s.o.refit, lso = s.o.refit;
+  fo.stage = "final model with softer elements than the swing shows";
+  lso.stage = fo.stage + ", least squares";
+  const Dataset& rec = s.full();
+  FitResult f =
+      polish_least_squares(fit_model(cur.spec, rec, wide, fo, &start), rec, wide, 40, lso);
+  const double val = rms_on(f, s.val(), wide);
+  if (!(f.rms_train < cur.rms_train && val < s.cur_val)) return;
+  s.rep.notes.push_back(
+      "the element range was widened to " + fmt(1e6 * wide.x_hi_factor * wide.x_ba) +
+      " um (the final model's softest element was pinned at the soft end): validation RMS " +
+      fmt(s.cur_val) + " -> " + fmt(val) + " N");
+  cur = std::move(f), s.cur_val = val, s.c = wide, s.rep.range_widened = true;
+  s.base_from_data.reset();
+  s.rep.elements = cur.spec.elements;
+  s.set_last_stage();
+}
+
 // Softer elements than the swing estimate allows. The swing after a reversal is estimated by its
 // median travel; a soft element the motion rarely breaks loose (a slow attraction, a long
 // presliding) lies beyond the grid. Tested with the effects found in the model: when the
@@ -584,7 +620,11 @@ void widen_element_range(LoopState& s, bool before_rounds) {
   const bool g_columns = std::any_of(cur.spec.effects.begin(), cur.spec.effects.end(), multiplies_friction);
   EffectContext wide = c;
   wide.x_hi_factor = std::min(c.x_hi_factor * std::pow(10.0, 1.5), c.x_half / std::max(c.x_ba, 1e-12));
-  if (g_columns || !(wide.x_hi_factor > 1.5 * c.x_hi_factor)) return;
+  if (!(wide.x_hi_factor > 1.5 * c.x_hi_factor)) return;
+  if (g_columns) {
+    if (!before_rounds) widen_pinned_soft_element(s, wide);
+    return;
+  }
   const FitSpec probe = additive_probes_for(cur, train, c);
   const double c0 = grid_cost_at(probe, train, c, cur.u), c1 = grid_cost_at(probe, train, wide, cur.u);
   if (!(c1 < 0.98 * c0)) return;
