@@ -62,23 +62,6 @@ double legendre(int n, double xi) {
   }
 }
 
-// tau = (t - t_mid) / t_half over the record's own span (its first to its last used sample): a
-// drift is read as the same fraction of the level over every record, the training record's and a
-// held-out one's alike, however long each is.
-std::vector<double> record_tau(const Dataset& d) {
-  double t0 = 0.0, t1 = 0.0;
-  bool any = false;
-  for (std::size_t k = 0; k < d.size(); ++k)
-    if (d.use[k]) {
-      if (!any) t0 = d.t[k], any = true;
-      t1 = d.t[k];
-    }
-  const double mid = 0.5 * (t0 + t1), half = std::max(1e-9, 0.5 * (t1 - t0));
-  std::vector<double> tau(d.size());
-  for (std::size_t k = 0; k < d.size(); ++k) tau[k] = (d.t[k] - mid) / half;
-  return tau;
-}
-
 using Fill = std::function<void(const Dataset&, const EffectContext&, std::span<const double>,
                                 std::span<double>)>;
 
@@ -577,13 +560,11 @@ std::vector<Column> effect_columns(Effect e) {
         }));
       break;
     case Effect::TimeDrift:
-      v.push_back(col("drift", "N", false, [](D d, C, G, O o) {
-        const std::vector<double> tau = record_tau(d);
-        std::copy(tau.begin(), tau.end(), o.begin());
+      v.push_back(col("drift", "N", false, [](D d, C c, G, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = (d.t[k] - c.t_mid) / c.t_half;
       }));
-      v.push_back(col("drift_g", "N", true, [](D d, C, G g, O o) {
-        const std::vector<double> tau = record_tau(d);
-        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * tau[k];
+      v.push_back(col("drift_g", "N", true, [](D d, C c, G g, O o) {
+        for (std::size_t k = 0; k < d.size(); ++k) o[k] = g[k] * (d.t[k] - c.t_mid) / c.t_half;
       }));
       break;
     case Effect::VelocityExtra:

@@ -14,8 +14,8 @@
 //   position_periodic    per ripple wavelength L_i (ripple_search in structure.hpp, over position
 //                        on sliding samples): sin, cos(2 pi x / L_i), g sin, g cos       [N]
 //   position_dependent   P1..P3(xi), g P1(xi), g P2(xi); xi = (x - x_mid) / x_half (Legendre)   [N]
-//   time_drift           tau, g tau; tau = (t - t_mid) / t_half over each record's own span
-//                        (first to last used sample): the same fraction over every record     [N]
+//   time_drift           tau, g tau; tau = (t - t_mid) / t_half, t_mid and t_half the training
+//                        record's: a rate per second from the same time origin in every record [N]
 //   velocity_extra       v|v| / v_ref, g exp(-|v| / (0.2 v_ref))  (drag; low-speed shape)      [N]
 //   dwell_stiction       after each rest of T_d >= dwell_min: phi = ln(1 + T_d / tau_d), the
 //                        break-away ratio Fs/Fc raised by rho w, w = phi e^-q with q = s / s0
@@ -27,9 +27,9 @@
 // Measurement and transmission effects: the model seen through the channel; each adds one column
 // (model through the channel - model) whose coefficient is the force level (about Fc when the
 // effect is all there is), and one scalar found by a 1-D search on the training residual:
-//   time_shift           u(t - tau) - u(t), u = g + rho v: the force channel lags the position (tau
-//   > 0)
-//                        channel by tau (sub-sample, linear interpolation in time)     [N], tau [s]
+//   time_shift           u_tau - u, u = g + rho v: the force channel lags the position channel by
+//                        tau > 0 (sub-sample); u_tau is the model along the motion tau earlier
+//                        (shifted_motion: the record's own path between samples)      [N], tau [s]
 //   sensor_filter        lowpass_T(u) - u: first-order force sensor (filter) with time constant
 //                        T, exact for a piecewise-constant input on the record's grid  [N], T [s]
 //                        (rho = sigma2 / Fc of the current fit, held in the context: the lagged
@@ -40,7 +40,7 @@
 //                        b behind (g_b: g at travel s - b since the reversal; held below b) [N], b
 //                        [m]
 // Normalisations (x_mid, v_ref, L, s0, ...) are learned on the training record and applied
-// unchanged to validation records (EffectContext); time is the exception (time_drift above).
+// unchanged to validation records (EffectContext).
 #pragma once
 
 #include <functional>
@@ -85,8 +85,7 @@ Effect effect_from_name(std::string_view name);
 // Scales learned on the training record.
 struct EffectContext {
   double x_mid = 0.0, x_half = 1.0;  // position normalisation [m]
-  double t_mid = 0.0, t_half = 1.0;  // the training record's time span [s] (the time_drift
-                                     // columns use each record's own)
+  double t_mid = 0.0, t_half = 1.0;  // time normalisation [s]
   double v_ref = 1.0;                // 95th percentile of |v| on used samples [m/s]
   double x_ba = 1e-5;                // break-away displacement estimated after reversals [m]
   double x_hi_factor = 20.0;         // the softest element the fits allow: x_hi_factor x x_ba

@@ -40,7 +40,7 @@ enum class GenEffect {
   DirectionAsymmetry,  // friction x (1 + a sgn F): level differs per direction
   PositionRipple,      // friction x (1 + a sin(2 pi x / L + phi)), L in [0.3, 3] mm
   PositionDependent,   // friction x (1 + a xi), xi = position normalised to [-1, 1]
-  TimeDrift,           // friction x (1 + a tau), tau = time normalised to [-1, 1]
+  TimeDrift,           // friction x (1 + a tau), tau = time normalised to [-1, 1] over t_span
   VelocityExtra,       // + b v |v|
   DwellStiction,       // Fs grows by a ln(1 + T_dwell / 0.1 s), fading over 2 x_max of travel
   NormalLoad,          // friction x Fn / Fn0, Fn with a slow sinusoidal variation (Fn column)
@@ -90,6 +90,11 @@ struct Truth {
   // else each record's own span). A friction that depends on where the slide is must be the same
   // function of x in every record of the axis: synthesize_pair sets the training record's span.
   double x_span_lo = 0.0, x_span_hi = 0.0;
+  // Time span the drift (and the normal load's period) is normalised over [s] (> 0; else each
+  // record's own length): a drift is a rate per second from the record's start, the same in every
+  // record of the axis (a warm-up does not run faster in a shorter record); synthesize_pair sets
+  // the training record's.
+  double t_span = 0.0;
   // Every stroke followed by a rest of 0.05 s up to 4 s (log-uniform; draw_motion): what dwell
   // stiction needs to be seen. synthesize_pair sets it for a truth with dwell stiction, so that
   // the record with and without the effect follow the same motion.
@@ -480,7 +485,7 @@ inline Generated synthesize(const Truth& tr, unsigned seed, std::size_t samples 
     xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   }
   if (tr.x_span_lo < tr.x_span_hi) xlo = tr.x_span_lo, xhi = tr.x_span_hi;
-  const detail::Scales sc{xlo, xhi, ts.back()};
+  const detail::Scales sc{xlo, xhi, tr.t_span > 0 ? tr.t_span : ts.back()};
   Generated g;
   std::vector<double> Fn;
   auto pos = [&](double t, double& x, double& v, double& a) { m.at(t, x, v, a); };
@@ -570,6 +575,7 @@ inline std::pair<Generated, Generated> synthesize_pair(Truth& tr, unsigned seed,
   double xlo = 1e9, xhi = -1e9;
   for (double x : base.record.x) xlo = std::min(xlo, x), xhi = std::max(xhi, x);
   if (!(tr.x_span_lo < tr.x_span_hi)) tr.x_span_lo = xlo, tr.x_span_hi = xhi;  // validation alike
+  if (!(tr.t_span > 0)) tr.t_span = base.record.t.back();
   for (auto e : wanted) {
     if (e.kind == GenEffect::PositionRipple) {
       e.wavelength = std::min((xhi - xlo) / 3, 0.3e-3 * std::pow(10.0, U(rng)));
