@@ -301,7 +301,7 @@ class Evaluator {
     Af_.resize(nu, static_cast<Eigen::Index>(fix_.size()));
     std::vector<double> full(d.size());
     for (std::size_t j = 0; j < fix_.size(); ++j) {
-      terms_[fix_[j]].column.fill(d, c, {}, full);  // no g: no extra output either
+      terms_[fix_[j]].column.fill(d, c, {}, full);
       gather(full, Af_.col(static_cast<Eigen::Index>(j)));
     }
     Gff_ = Af_.transpose() * Af_;

@@ -194,8 +194,10 @@ std::vector<double> predict(const FitResult& r, const Dataset& d, const EffectCo
 // The friction model's unit-force-level output g along d for the fitted shape.
 std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const EffectContext& c);
 // What the effect columns of `spec` take as g at r's shape (Column::uses_g): the unit output, then
-// a stand-in for the dwell sensitivity (the unit output again) with a dwell_stiction term, then
-// the unit output along the contact's motion through the dead band with a backlash term.
+// the extra outputs in extra_outputs order (effects.hpp): the dwell response with a dwell_stiction
+// term, the unit output along the motion tau earlier with a time_shift term, the unit output
+// along the contact's motion through the dead band with a backlash term. column_input picks a
+// column's part.
 std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const Dataset& d,
                                  const EffectContext& c);
 // RMS of (F - predict) over d's used samples [N].
