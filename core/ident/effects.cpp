@@ -233,39 +233,62 @@ Dataset shifted_motion(const Dataset& d, double tau) {
       part(d.vstep[k], d.h[k]);
     }
   }
-  ts.push_back(d.t[n - 1]), xs.push_back(d.x[n - 1]), vs.push_back(0.0);  // end marker
-  const std::size_t m = ts.size() - 1;                                    // segments
-  auto position = [&](std::size_t i, double t) { return xs[i] + vs[i] * (t - ts[i]); };
+  const std::size_t m = ts.size();
   auto linear = [&](const std::vector<double>& y, double t, std::size_t& j) {
-    if (t <= d.t[0]) return y[0];
     while (j + 2 < n && d.t[j + 1] <= t) ++j;
     const double w = (t - d.t[j]) / (d.t[j + 1] - d.t[j]);
     return y[j] + w * (y[j + 1] - y[j]);
   };
+  // The positions at the shifted times, on the path; v and a interpolated (at rest before the
+  // start).
+  std::size_t i = 0, jv = 0, ja = 0;
+  const double start = d.t[0] - 1e-9 * (d.t[1] - d.t[0]);  // the first sample, up to a rounding
+  for (std::size_t k = 0; k < n; ++k) {
+    const double s = d.t[k] - tau;
+    while (i + 1 < m && ts[i + 1] <= s) ++i;
+    out.x[k] = xs[i] + vs[i] * (s - ts[i]);
+    out.v[k] = s < start ? 0.0 : linear(d.v, s, jv);
+    out.a[k] = s < start ? 0.0 : linear(d.a, s, ja);
+    for (std::size_t at : {jv, jv + 1})  // at a sample of d up to a rounding: that sample's values
+      if (at < n && std::abs(d.t[at] - s) <= 1e-9 * d.h[std::max<std::size_t>(at, 1)])
+        out.x[k] = d.x[at], out.v[k] = d.v[at], out.a[k] = d.a[at];
+  }
+  // The path between the shifted samples: the cubic through their positions and slopes (as
+  // set_path makes it), in as many parts as the most any step of d it overlaps has, so the model
+  // runs along it at d's own resolution (straight where d is straight).
+  auto parts_of = [&](std::size_t j) {
+    return d.sub.empty() ? std::uint32_t{1} : std::max<std::uint32_t>(1, d.sub[j + 1] - d.sub[j]);
+  };
   out.sub.assign(n + 1, 0);
   out.sv.clear(), out.sh.clear();
-  std::size_t i = 0, jv = 0, ja = 0;
-  out.x[0] = d.x[0];
-  out.v[0] = 0.0;
-  out.a[0] = 0.0;
+  std::size_t j = 1;  // the step of d (from sample j - 1 to j) the shifted step starts in
   for (std::size_t k = 1; k < n; ++k) {
     out.sub[k] = static_cast<std::uint32_t>(out.sv.size());
-    const double s0 = d.t[k - 1] - tau, s1 = d.t[k] - tau;
-    while (i + 1 < m && ts[i + 1] <= s0) ++i;
-    for (double s = s0; s < s1;) {
-      const double e = i + 1 < m ? std::min(ts[i + 1], s1) : s1;
-      if (e > s) out.sv.push_back(vs[i]), out.sh.push_back(e - s);
-      s = e;
-      if (s < s1) ++i;
+    const double h = d.h[k], s0 = d.t[k - 1] - tau, s1 = d.t[k] - tau;
+    out.vstep[k] = h > 0.0 ? (out.x[k] - out.x[k - 1]) / h : 0.0;
+    if (!(h > 0.0)) continue;
+    // A shifted sample within 1e-9 of a step of a sample time is at that sample (a whole-sample
+    // shift gives d's own steps, not their neighbours' by a rounding).
+    const double eps = 1e-9 * h;
+    while (j + 1 < n && d.t[j] <= s0 + eps) ++j;
+    std::uint32_t parts = s1 > d.t[0] + eps ? parts_of(j) : 1;
+    for (std::size_t jj = j + 1; jj < n && d.t[jj - 1] < s1 - eps; ++jj)
+      parts = std::max(parts, parts_of(jj));
+    if (parts <= 1) continue;
+    const double x0 = out.x[k - 1], x1 = out.x[k], m0 = out.v[k - 1] * h, m1 = out.v[k] * h;
+    double prev = x0;
+    for (std::uint32_t p = 1; p <= parts; ++p) {
+      const double u = static_cast<double>(p) / parts, u2 = u * u, u3 = u2 * u;
+      const double x = p == parts ? x1
+                                  : (2 * u3 - 3 * u2 + 1) * x0 + (u3 - 2 * u2 + u) * m0 +
+                                        (3 * u2 - 2 * u3) * x1 + (u3 - u2) * m1;
+      out.sv.push_back((x - prev) / (h / parts));
+      out.sh.push_back(h / parts);
+      prev = x;
     }
-    if (out.sv.size() == out.sub[k]) out.sv.push_back(0.0), out.sh.push_back(d.h[k]);
-    while (i + 1 < m && ts[i + 1] <= s1) ++i;
-    out.x[k] = position(i, s1);
-    out.vstep[k] = d.h[k] > 0.0 ? (out.x[k] - out.x[k - 1]) / d.h[k] : 0.0;
-    out.v[k] = s1 < d.t[0] ? 0.0 : linear(d.v, s1, jv);
-    out.a[k] = s1 < d.t[0] ? 0.0 : linear(d.a, s1, ja);
   }
   out.sub[n] = static_cast<std::uint32_t>(out.sv.size());
+  if (out.sv.empty()) out.sub.clear();
   return out;
 }
 
@@ -300,43 +323,28 @@ std::span<const double> column_input(const Column& col, std::span<const double> 
 
 namespace {
 
-// The contact's velocity at the samples behind the dead band (through_dead_band's v), kept while
-// the record's motion and b are those it was made for (the backlash column is filled at every
-// evaluation of a fit on one record).
-class DeadBandCache {
+// The velocity at the samples of a record's motion seen through a transmission (through_dead_band
+// for a lost motion b, shifted_motion for a lag tau: its v), kept while the record's motion and
+// the scalar are those it was made for (the column is filled at every evaluation of a fit on one
+// record).
+class MotionVelocityCache {
  public:
-  std::vector<double> velocity(const Dataset& d, double b) {
+  using Make = Dataset (*)(const Dataset&, double);
+  explicit MotionVelocityCache(Make make) : make_(make) {}
+  std::vector<double> velocity(const Dataset& d, double p) {
     std::lock_guard<std::mutex> lock(m_);
-    if (b_ != b || x_ != d.x || v_ != d.v) {
-      vb_ = through_dead_band(d, b).v;
-      b_ = b, x_ = d.x, v_ = d.v;
+    if (p_ != p || x_ != d.x || v_ != d.v) {
+      vm_ = make_(d, p).v;
+      p_ = p, x_ = d.x, v_ = d.v;
     }
-    return vb_;
+    return vm_;
   }
 
  private:
+  Make make_;
   std::mutex m_;
-  double b_ = -1.0;
-  std::vector<double> x_, v_, vb_;
-};
-
-// The velocity at the samples tau earlier (shifted_motion's v), kept while the record's motion
-// and tau are those it was made for.
-class ShiftCache {
- public:
-  std::vector<double> velocity(const Dataset& d, double tau) {
-    std::lock_guard<std::mutex> lock(m_);
-    if (tau_ != tau || x_ != d.x || v_ != d.v) {
-      vs_ = shifted_motion(d, tau).v;
-      tau_ = tau, x_ = d.x, v_ = d.v;
-    }
-    return vs_;
-  }
-
- private:
-  std::mutex m_;
-  double tau_ = -1.0;
-  std::vector<double> x_, v_, vs_;
+  double p_ = -1.0;
+  std::vector<double> x_, v_, vm_;
 };
 
 }  // namespace
@@ -601,18 +609,19 @@ std::vector<Column> effect_columns(Effect e) {
     case Effect::TimeShift:
       // The model along the motion tau earlier (the last n values of g) less the model, and the
       // viscous share at the velocity tau earlier less that now.
-      v.push_back(col("shift_level", "N", true,
-                      [cache = std::make_shared<ShiftCache>()](D d, C c, G g, O o) {
-                        const std::size_t n = d.size();
-                        if (g.size() < 2 * n)
-                          throw InternalError(
-                              "time_shift column without the model along the shifted motion "
-                              "(fit.hpp, unit_outputs)");
-                        const std::span<const double> gs = g.last(n);
-                        const std::vector<double> vs = cache->velocity(d, c.time_shift);
-                        for (std::size_t k = 0; k < n; ++k)
-                          o[k] = gs[k] - g[k] + c.viscous_ratio * (vs[k] - d.v[k]);
-                      }));
+      v.push_back(
+          col("shift_level", "N", true,
+              [cache = std::make_shared<MotionVelocityCache>(&shifted_motion)](D d, C c, G g, O o) {
+                const std::size_t n = d.size();
+                if (g.size() < 2 * n)
+                  throw InternalError(
+                      "time_shift column without the model along the shifted motion "
+                      "(fit.hpp, unit_outputs)");
+                const std::span<const double> gs = g.last(n);
+                const std::vector<double> vs = cache->velocity(d, c.time_shift);
+                for (std::size_t k = 0; k < n; ++k)
+                  o[k] = gs[k] - g[k] + c.viscous_ratio * (vs[k] - d.v[k]);
+              }));
       v.back().extra = ExtraOutput::Shifted;
       break;
     case Effect::SensorFilter:
@@ -623,18 +632,19 @@ std::vector<Column> effect_columns(Effect e) {
     case Effect::Backlash:
       // The model along the contact's motion (the last n values of g) less the model, and the
       // viscous share at the contact's velocity less that at the encoder's.
-      v.push_back(col("backlash_level", "N", true,
-                      [cache = std::make_shared<DeadBandCache>()](D d, C c, G g, O o) {
-                        const std::size_t n = d.size();
-                        if (g.size() < 2 * n)
-                          throw InternalError(
-                              "backlash column without the model along the contact's motion "
-                              "(fit.hpp, unit_outputs)");
-                        const std::span<const double> gb = g.last(n);
-                        const std::vector<double> vb = cache->velocity(d, c.backlash);
-                        for (std::size_t k = 0; k < n; ++k)
-                          o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
-                      }));
+      v.push_back(col(
+          "backlash_level", "N", true,
+          [cache = std::make_shared<MotionVelocityCache>(&through_dead_band)](D d, C c, G g, O o) {
+            const std::size_t n = d.size();
+            if (g.size() < 2 * n)
+              throw InternalError(
+                  "backlash column without the model along the contact's motion "
+                  "(fit.hpp, unit_outputs)");
+            const std::span<const double> gb = g.last(n);
+            const std::vector<double> vb = cache->velocity(d, c.backlash);
+            for (std::size_t k = 0; k < n; ++k)
+              o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
+          }));
       v.back().extra = ExtraOutput::Contact;
       break;
     case Effect::Discovered:

@@ -175,10 +175,11 @@ void lowpass(const Dataset& d, std::span<const double> y, double T, std::span<do
 Dataset through_dead_band(const Dataset& d, double b);
 
 // The record's motion tau earlier (tau >= 0; the force channel lags the position channel by
-// tau): each sample k at t_k - tau along the same path (the steps and substeps of d cut at the
-// shifted times, the position at rest at x_0 before the record starts), v and a interpolated
-// linearly in time, t, F and the mask those of d. The model along it is the friction the force
-// channel records at t_k.
+// tau): each sample k at t_k - tau on d's path (its steps and substeps; at rest at x_0 before the
+// record starts), v and a interpolated linearly in time, t, F and the mask those of d; between
+// the shifted samples the cubic through their positions and slopes, in as many parts as the most
+// any step of d it overlaps has (straight where d is). The model along it is the friction the
+// force channel records at t_k.
 Dataset shifted_motion(const Dataset& d, double tau);
 
 // Standing still: |v| below a twentieth of the rest threshold c.v_rest [m/s].

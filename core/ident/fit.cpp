@@ -312,12 +312,11 @@ class Evaluator {
   const std::vector<Term>& terms() const { return terms_; }
   double null_rms() const { return std::sqrt(yy_ / static_cast<double>(rows_.size())); }
 
-  // Simulates g for shape u; false when the model cannot be built or diverges. With a
-  // dwell_stiction term, g also carries (next n values) the dwell response (dwell_response);
-  // with a backlash term (last n values) the model along the contact's motion through the dead
-  // band (effects.hpp, Column::uses_g).
+  // Simulates g for shape u; false when the model cannot be built or diverges. g then carries the
+  // extra outputs the spec's effects take, n values each in extra_outputs order (effects.hpp): the
+  // dwell response, the model along the motion tau earlier, the model along the contact's motion
+  // through the dead band.
   bool simulate(const std::vector<double>& u, std::vector<double>& g) const {
-    const std::size_t n = d_.size();
     try {
       auto mp = par_.unit_model(u);
       sim(mp, d_, path_, runner_, g);
@@ -326,28 +325,8 @@ class Evaluator {
         dwell_response(mp, g, g2);
         g.insert(g.end(), g2.begin(), g2.end());
       }
-      if (needs_shift_) {
-        if (!(shift_tau_ == c_.time_shift) || shifted_.size() != n) {
-          shifted_ = shifted_motion(d_, c_.time_shift);
-          shift_path_ = GmsPath{};
-          shift_runner_ = GmsPathRunner{};  // a path made again in place: a fresh runner
-          shift_tau_ = c_.time_shift;
-        }
-        std::vector<double> gs;
-        sim(mp, shifted_, shift_path_, shift_runner_, gs);
-        g.insert(g.end(), gs.begin(), gs.end());
-      }
-      if (needs_contact_) {
-        if (!(contact_b_ == c_.backlash) || contact_.size() != n) {
-          contact_ = through_dead_band(d_, c_.backlash);
-          contact_path_ = GmsPath{};
-          contact_runner_ = GmsPathRunner{};  // a path made again in place: a fresh runner
-          contact_b_ = c_.backlash;
-        }
-        std::vector<double> gb;
-        sim(mp, contact_, contact_path_, contact_runner_, gb);
-        g.insert(g.end(), gb.begin(), gb.end());
-      }
+      if (needs_shift_) along(mp, shifted_, c_.time_shift, &shifted_motion, g);
+      if (needs_contact_) along(mp, contact_, c_.backlash, &through_dead_band, g);
     } catch (const InputError&) {  // a shape the model rejects (e.g. W sum below Fs): a bad point
       return false;
     } catch (const SimulationError&) {
@@ -493,16 +472,29 @@ class Evaluator {
   mutable GmsPathRunner dwell_runner_;
   mutable GmsPath path_;
   mutable GmsPathRunner runner_;
-  // The record as the contact moves behind the backlash dead band, for b = contact_b_.
-  mutable Dataset contact_;
-  mutable double contact_b_ = std::numeric_limits<double>::quiet_NaN();
-  mutable GmsPath contact_path_;
-  mutable GmsPathRunner contact_runner_;
-  // The record's motion tau earlier, for tau = shift_tau_ (time_shift).
-  mutable Dataset shifted_;
-  mutable double shift_tau_ = std::numeric_limits<double>::quiet_NaN();
-  mutable GmsPath shift_path_;
-  mutable GmsPathRunner shift_runner_;
+  // The record's motion through a transmission (made by `make` for the scalar p) and the model's
+  // path along it, made again when p changes.
+  struct Motion {
+    Dataset rec;
+    double p = std::numeric_limits<double>::quiet_NaN();
+    GmsPath path;
+    GmsPathRunner runner;
+  };
+  // Appends the model mp along m's motion for p to g.
+  void along(const ModelParams& mp, Motion& m, double p, Dataset (*make)(const Dataset&, double),
+             std::vector<double>& g) const {
+    if (!(m.p == p) || m.rec.size() != d_.size()) {
+      m.rec = make(d_, p);
+      m.path = GmsPath{};
+      m.runner = GmsPathRunner{};  // a path made again in place: a fresh runner
+      m.p = p;
+    }
+    std::vector<double> gm;
+    sim(mp, m.rec, m.path, m.runner, gm);
+    g.insert(g.end(), gm.begin(), gm.end());
+  }
+  mutable Motion contact_;  // behind the backlash dead band, b = c_.backlash
+  mutable Motion shifted_;  // tau = c_.time_shift earlier (time_shift)
 };
 
 FitResult make_result(const FitSpec& spec, const Parameterization& par, const Evaluator& ev,
