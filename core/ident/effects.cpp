@@ -347,6 +347,28 @@ class MotionVelocityCache {
   std::vector<double> x_, v_, vm_;
 };
 
+// A transmission effect's column (time_shift, backlash): the model along the record's motion seen
+// through the transmission (`make` at the context's scalar; the column's extra output, the last n
+// values of g) less the model, and the viscous share at that motion's velocity less that at the
+// record's, so its coefficient is the level it explains.
+Column transmission_column(std::string name, double EffectContext::*scalar,
+                           MotionVelocityCache::Make make, ExtraOutput extra, std::string what) {
+  Column out{std::move(name), "N", true,
+             [cache = std::make_shared<MotionVelocityCache>(make), scalar, what](
+                 const Dataset& d, const EffectContext& c, std::span<const double> g,
+                 std::span<double> o) {
+               const std::size_t n = d.size();
+               if (g.size() < 2 * n)
+                 throw InternalError("column without " + what + " (fit.hpp, unit_outputs)");
+               const std::span<const double> gm = g.last(n);
+               const std::vector<double> vm = cache->velocity(d, c.*scalar);
+               for (std::size_t k = 0; k < n; ++k)
+                 o[k] = gm[k] - g[k] + c.viscous_ratio * (vm[k] - d.v[k]);
+             }};
+  out.extra = extra;
+  return out;
+}
+
 }  // namespace
 
 const std::vector<Effect>& effect_catalog() {
@@ -607,22 +629,9 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::TimeShift:
-      // The model along the motion tau earlier (the last n values of g) less the model, and the
-      // viscous share at the velocity tau earlier less that now.
-      v.push_back(
-          col("shift_level", "N", true,
-              [cache = std::make_shared<MotionVelocityCache>(&shifted_motion)](D d, C c, G g, O o) {
-                const std::size_t n = d.size();
-                if (g.size() < 2 * n)
-                  throw InternalError(
-                      "time_shift column without the model along the shifted motion "
-                      "(fit.hpp, unit_outputs)");
-                const std::span<const double> gs = g.last(n);
-                const std::vector<double> vs = cache->velocity(d, c.time_shift);
-                for (std::size_t k = 0; k < n; ++k)
-                  o[k] = gs[k] - g[k] + c.viscous_ratio * (vs[k] - d.v[k]);
-              }));
-      v.back().extra = ExtraOutput::Shifted;
+      // The model along the motion tau earlier less the model, with the viscous share.
+      v.push_back(transmission_column("shift_level", &EffectContext::time_shift, &shifted_motion,
+                                      ExtraOutput::Shifted, "the model along the shifted motion"));
       break;
     case Effect::SensorFilter:
       v.push_back(channel_column("filter_level", [](D d, std::span<const double> y, C c, O o) {
@@ -630,22 +639,10 @@ std::vector<Column> effect_columns(Effect e) {
       }));
       break;
     case Effect::Backlash:
-      // The model along the contact's motion (the last n values of g) less the model, and the
-      // viscous share at the contact's velocity less that at the encoder's.
-      v.push_back(col(
-          "backlash_level", "N", true,
-          [cache = std::make_shared<MotionVelocityCache>(&through_dead_band)](D d, C c, G g, O o) {
-            const std::size_t n = d.size();
-            if (g.size() < 2 * n)
-              throw InternalError(
-                  "backlash column without the model along the contact's motion "
-                  "(fit.hpp, unit_outputs)");
-            const std::span<const double> gb = g.last(n);
-            const std::vector<double> vb = cache->velocity(d, c.backlash);
-            for (std::size_t k = 0; k < n; ++k)
-              o[k] = gb[k] - g[k] + c.viscous_ratio * (vb[k] - d.v[k]);
-          }));
-      v.back().extra = ExtraOutput::Contact;
+      // The model along the contact's motion less the model, with the viscous share.
+      v.push_back(transmission_column("backlash_level", &EffectContext::backlash,
+                                      &through_dead_band, ExtraOutput::Contact,
+                                      "the model along the contact's motion"));
       break;
     case Effect::Discovered:
       for (std::size_t i = 0; i < kMaxDiscovered; ++i)
