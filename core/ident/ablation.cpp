@@ -118,7 +118,7 @@ std::vector<double> contribution(const FitResult& f, Effect e, const Dataset& d,
   for (const auto& column : effect_columns(e)) {
     if (j >= ts.size()) break;
     std::fill(col.begin(), col.end(), 0.0);
-    column.fill(d, c, column_input(column, g2, d.size(), {e}, scratch), col);
+    column.fill(d, c, column_input(column, g2, d.size(), extra_outputs({e}), scratch), col);
     for (std::size_t k = 0; k < d.size(); ++k) sum[k] += ts[j]->value * col[k];
     ++j;
   }

@@ -304,10 +304,9 @@ std::vector<ExtraOutput> extra_outputs(const std::vector<Effect>& effects) {
 }
 
 std::span<const double> column_input(const Column& col, std::span<const double> outputs,
-                                     std::size_t n, const std::vector<Effect>& effects,
+                                     std::size_t n, const std::vector<ExtraOutput>& ex,
                                      std::vector<double>& scratch) {
   if (col.extra == ExtraOutput::None) return outputs;
-  const std::vector<ExtraOutput> ex = extra_outputs(effects);
   const auto at = std::find(ex.begin(), ex.end(), col.extra);
   if (at == ex.end() || outputs.size() < n * (2 + static_cast<std::size_t>(at - ex.begin())))
     throw InternalError("column " + col.name +

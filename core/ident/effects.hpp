@@ -119,8 +119,6 @@ struct EffectContext {
 // Scales from the training record (robust statistics of the used samples).
 EffectContext make_context(const Dataset& train);
 
-// One linear column: its coefficient's name and unit, whether it depends on g (recomputed at each
-// evaluation of the nonlinear fit) and how to compute it.
 // A second simulation of the model some columns take besides g (unit_outputs, fit.hpp).
 enum class ExtraOutput {
   None,
@@ -128,6 +126,9 @@ enum class ExtraOutput {
   Shifted,  // the model along the motion tau earlier (shifted_motion; time_shift)
   Contact   // the model along the contact's motion behind the dead band (backlash)
 };
+
+// One linear column: its coefficient's name and unit, whether it depends on g (recomputed at each
+// evaluation of the nonlinear fit) and how to compute it.
 
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
@@ -143,11 +144,12 @@ struct Column {
 // The extra outputs a fit with these effects simulates, in the order unit_outputs appends them
 // after g.
 std::vector<ExtraOutput> extra_outputs(const std::vector<Effect>& effects);
-// What `col` takes as g from the unit outputs of a fit with `effects` (n samples each: g, then the
-// extra outputs in extra_outputs order): all of them for a column without an extra output, else g
-// and its own extra output (copied into `scratch` unless they lie side by side).
+// What `col` takes as g from the unit outputs of a fit whose extra outputs are `extras`
+// (extra_outputs of its effects; n samples each: g, then the extra outputs in that order): all of
+// them for a column without an extra output, else g and its own extra output (copied into `scratch`
+// unless they lie side by side).
 std::span<const double> column_input(const Column& col, std::span<const double> outputs,
-                                     std::size_t n, const std::vector<Effect>& effects,
+                                     std::size_t n, const std::vector<ExtraOutput>& extras,
                                      std::vector<double>& scratch);
 
 std::vector<Column> effect_columns(Effect e);

@@ -127,13 +127,14 @@ class ElementEvaluator {
       cols.push_back(d.v);
       fixed_nonneg_.push_back(true);
     }
+    const std::vector<ExtraOutput> extras = extra_outputs(spec.effects);
+    std::vector<double> scratch;
     for (Effect e : spec.effects)
       for (auto& col : effect_columns(e)) {
         if (col.uses_g && c.g_frozen.size() < d.size())
           throw InputError("internal: the grid fit takes effects with g columns only at a frozen g");
-        std::vector<double> scratch;
         col.fill(d, c,
-                 col.uses_g ? column_input(col, c.g_frozen, d.size(), spec.effects, scratch)
+                 col.uses_g ? column_input(col, c.g_frozen, d.size(), extras, scratch)
                             : std::span<const double>{},
                  full);
         cols.push_back(full);

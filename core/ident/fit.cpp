@@ -285,12 +285,12 @@ class Evaluator {
  public:
   Evaluator(const FitSpec& spec, const Parameterization& par, const Dataset& d,
             const EffectContext& c)
-      : spec_(spec), par_(par), d_(d), c_(c), terms_(design(spec, par)) {
-    for (Effect e : spec.effects) {
-      needs_dwell_ |= e == Effect::DwellStiction;
-      needs_contact_ |= e == Effect::Backlash;
-      needs_shift_ |= e == Effect::TimeShift;
-    }
+      : spec_(spec),
+        par_(par),
+        d_(d),
+        c_(c),
+        terms_(design(spec, par)),
+        extras_(extra_outputs(spec.effects)) {
     for (std::size_t k = 0; k < d.size(); ++k)
       if (d.use[k]) rows_.push_back(k);
     const auto nu = static_cast<Eigen::Index>(rows_.size());
@@ -320,13 +320,22 @@ class Evaluator {
     try {
       auto mp = par_.unit_model(u);
       sim(mp, d_, path_, runner_, g);
-      if (needs_dwell_) {
-        std::vector<double> g2;
-        dwell_response(mp, g, g2);
-        g.insert(g.end(), g2.begin(), g2.end());
-      }
-      if (needs_shift_) along(mp, shifted_, c_.time_shift, &shifted_motion, g);
-      if (needs_contact_) along(mp, contact_, c_.backlash, &through_dead_band, g);
+      for (ExtraOutput x : extras_) switch (x) {
+          case ExtraOutput::Dwell: {  // first in extras_: g holds the unit output alone here
+            std::vector<double> g2;
+            dwell_response(mp, g, g2);
+            g.insert(g.end(), g2.begin(), g2.end());
+            break;
+          }
+          case ExtraOutput::Shifted:
+            along(mp, shifted_, c_.time_shift, &shifted_motion, g);
+            break;
+          case ExtraOutput::Contact:
+            along(mp, contact_, c_.backlash, &through_dead_band, g);
+            break;
+          case ExtraOutput::None:
+            break;
+        }
     } catch (const InputError&) {  // a shape the model rejects (e.g. W sum below Fs): a bad point
       return false;
     } catch (const SimulationError&) {
@@ -347,7 +356,7 @@ class Evaluator {
     std::vector<double> full(d_.size());
     for (std::size_t j = 0; j < dyn_.size(); ++j) {
       const Column& col = terms_[dyn_[j]].column;
-      col.fill(d_, c_, column_input(col, g_, d_.size(), spec_.effects, scratch_), full);
+      col.fill(d_, c_, column_input(col, g_, d_.size(), extras_, scratch_), full);
       gather(full, Ad_.col(static_cast<Eigen::Index>(j)));
     }
     const auto pd = static_cast<Eigen::Index>(dyn_.size());
@@ -390,12 +399,11 @@ class Evaluator {
   // Prediction on every sample for shape u and coefficients theta.
   std::vector<double> predict(const std::vector<double>& u, const std::vector<double>& theta) {
     std::vector<double> out(d_.size(), 0.0), full(d_.size());
-    if (!simulate(u, g_))
-      g_.assign((1 + needs_dwell_ + needs_shift_ + needs_contact_) * d_.size(), 0.0);
+    if (!simulate(u, g_)) g_.assign((1 + extras_.size()) * d_.size(), 0.0);
     for (std::size_t j = 0; j < terms_.size(); ++j) {
       const Column& col = terms_[j].column;
       col.fill(d_, c_,
-               col.uses_g ? column_input(col, g_, d_.size(), spec_.effects, scratch_)
+               col.uses_g ? column_input(col, g_, d_.size(), extras_, scratch_)
                           : std::span<const double>{},
                full);
       for (std::size_t k = 0; k < d_.size(); ++k) out[k] += theta[j] * full[k];
@@ -463,7 +471,7 @@ class Evaluator {
   Eigen::MatrixXd Af_, Ad_, Gff_;
   double yy_ = 0;
   std::vector<double> g_;
-  bool needs_dwell_ = false, needs_contact_ = false, needs_shift_ = false;
+  std::vector<ExtraOutput> extras_;      // in the order simulate appends them to g
   mutable std::vector<double> scratch_;  // column_input's copy of g and an extra output
   mutable std::vector<double> dwell_w_;  // dwell_weight of d_, for the decay length dwell_w_s0_
   mutable double dwell_w_s0_ = 0.0;
@@ -886,25 +894,21 @@ std::vector<double> unit_friction(const FitResult& r, const Dataset& d, const Ef
 std::vector<double> unit_outputs(const FitResult& r, const FitSpec& spec, const Dataset& d,
                                  const EffectContext& c) {
   std::vector<double> g = unit_friction(r, d, c);
-  const auto has = [&](Effect e) {
-    return std::find(spec.effects.begin(), spec.effects.end(), e) != spec.effects.end();
-  };
-  if (has(Effect::DwellStiction)) {  // the dwell response, as the fit's Evaluator has it
-    const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
-    const FitSpec dwell{r.spec.model, r.spec.elements, {Effect::DwellStiction}};
-    const Evaluator ev(dwell, par, d, c);
-    std::vector<double> gd;
-    if (!ev.simulate(r.u, gd) || gd.size() != 2 * d.size())
-      throw SimulationError("the dwell response of the fitted model could not be simulated");
-    g.insert(g.end(), gd.begin() + static_cast<std::ptrdiff_t>(d.size()), gd.end());
-  }
-  if (has(Effect::TimeShift)) {
-    const auto gs = unit_friction(r, shifted_motion(d, c.time_shift), c);
-    g.insert(g.end(), gs.begin(), gs.end());
-  }
-  if (has(Effect::Backlash)) {
-    const auto gb = unit_friction(r, through_dead_band(d, c.backlash), c);
-    g.insert(g.end(), gb.begin(), gb.end());
+  for (ExtraOutput x : extra_outputs(spec.effects)) {
+    std::vector<double> gx;
+    if (x == ExtraOutput::Dwell) {  // the dwell response, as the fit's Evaluator has it
+      const Parameterization par(model_info(r.spec.model), r.spec.elements, c);
+      const FitSpec dwell{r.spec.model, r.spec.elements, {Effect::DwellStiction}};
+      const Evaluator ev(dwell, par, d, c);
+      if (!ev.simulate(r.u, gx) || gx.size() != 2 * d.size())
+        throw SimulationError("the dwell response of the fitted model could not be simulated");
+      gx.erase(gx.begin(), gx.begin() + static_cast<std::ptrdiff_t>(d.size()));
+    } else if (x == ExtraOutput::Shifted) {
+      gx = unit_friction(r, shifted_motion(d, c.time_shift), c);
+    } else if (x == ExtraOutput::Contact) {
+      gx = unit_friction(r, through_dead_band(d, c.backlash), c);
+    }
+    g.insert(g.end(), gx.begin(), gx.end());
   }
   return g;
 }

@@ -104,10 +104,11 @@ std::vector<std::vector<double>> effect_matrix(Effect e, const Dataset& d, const
                                                const FitResult& f) {
   const std::vector<double> g2 = unit_outputs(f, FitSpec{f.spec.model, f.spec.elements, {e}}, d, c);
   std::vector<std::vector<double>> out;
+  const std::vector<ExtraOutput> extras = extra_outputs({e});
+  std::vector<double> scratch;
   for (const auto& col : effect_columns(e)) {
     std::vector<double> o(d.size(), 0.0);
-    std::vector<double> scratch;
-    col.fill(d, c, column_input(col, g2, d.size(), {e}, scratch), o);
+    col.fill(d, c, column_input(col, g2, d.size(), extras, scratch), o);
     out.push_back(std::move(o));
   }
   return out;
@@ -585,7 +586,7 @@ void widen_pinned_soft_element(LoopState& s, const EffectContext& wide) {
   FitOptions fo = s.o.refit, lso = s.o.refit;
   fo.stage = "final model with softer elements than the swing shows";
   lso.stage = fo.stage + ", least squares";
-  const Dataset& rec = s.full();
+  const Dataset& rec = s.train();  // the record cur was fitted on (screened or all samples)
   FitResult f =
       polish_least_squares(fit_model(cur.spec, rec, wide, fo, &start), rec, wide, 40, lso);
   const double val = rms_on(f, s.val(), wide);
