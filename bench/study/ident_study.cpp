@@ -20,6 +20,12 @@
 //                        Leuven, Maxwell-slip and elasto-plastic, with GMS (structure mismatch:
 //                        what is named, and what remains, against the generating model's floor)
 //
+//   gmslab_study floor   [--records 60] [--seed 1] [--samples 3000]   the floor's estimate against
+//                        the generator's on effect-free records of the loop study's truths,
+//                        through the truth's own model (no fit): the quantisation and sampling
+//                        shares as the loop estimates them, what the path actually leaves, and two
+//                        alternative estimators (docs/identification.md, *How close the floor is*)
+//
 //   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits
 //   (core/control/limit_cycles.hpp)
 //                        of random loops (tests/control/random_loops.hpp) against their long
@@ -38,6 +44,7 @@
 #include "core/friction/model.hpp"
 #include "core/ident/element_fit.hpp"
 #include "core/ident/loop.hpp"
+#include "core/ident/structure.hpp"
 #include "core/io/scenario_io.hpp"
 #include "core/sim/assembly.hpp"
 #include "core/sim/simulation.hpp"
@@ -65,7 +72,7 @@ std::string truth_line(const Truth& t) {
 
 // The truth, the fitted parameters, the estimated floor and the truth through gmslab's GMS on
 // the validation record (--detail).
-void print_detail(const Truth& tr, const IdentReport& rep, const Dataset& val) {
+void print_detail(const Truth& tr, const IdentReport& rep, const Dataset& val, double floor_train) {
   std::printf(
       "  truth: Fs %.4g Fc %.4g Vs %.3g delta %.3g C %.4g sigma2 %.4g | elements (alpha, x_ba um):",
       tr.Fs, tr.Fc, tr.Vs, tr.delta, tr.C, tr.sigma2);
@@ -91,8 +98,11 @@ void print_detail(const Truth& tr, const IdentReport& rep, const Dataset& val) {
     if (val.use[k]) {
       s2 += std::pow(val.F[k] - g[k] - tr.sigma2 * val.v[k], 2), n2 += 1;
     }
-  std::printf("\n  estimated floor %.4g (sigma %.4g), retried %d", rep.noise.floor(),
-              rep.noise.sigma, int(rep.base_retried));
+  std::printf(
+      "\n  estimated floor %.4g (sigma %.4g, quantisation %.3g, sampling %.3g; the generator's on "
+      "training %.4g: %.2fx), retried %d",
+      rep.noise.floor(), rep.noise.sigma, rep.noise.quantisation, rep.noise.sampling, floor_train,
+      rep.noise.floor() / floor_train, int(rep.base_retried));
   std::printf(
       "\n  train rms %.4g, noise sd %.4g; the truth through gmslab's GMS on validation: RMS %.4g\n",
       rep.rms_after_train, tr.noise, std::sqrt(s2 / n2));
@@ -122,7 +132,7 @@ int run_base(int records, unsigned seed0, std::size_t samples, bool auto_n, bool
     pass += ratio <= 1.2;
     std::printf("%-4u %-68s %10.4g %10.4g %6.3f %5zu %6.2f %s\n", seed, truth_line(tr).c_str(), floor,
                 rep.rms_after_validation, ratio, rep.final_fit().spec.elements, s, (std::string(rep.fine_path ? "fine " : "") + (rep.range_widened ? "wide " : "") + (rep.base_retried ? "retry" : "")).c_str());
-    if (detail) print_detail(tr, rep, val);
+    if (detail) print_detail(tr, rep, val, floor_rms(tr, g_train));
     std::fflush(stdout);
   }
   std::printf("\nbase fit: %d / %d records within 1.2x the floor (%.0f %%); worst %.3f; %.1f s per record\n",
@@ -185,12 +195,74 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
     floor_ok += ratio <= 1.5;
     std::printf("%-4u %-40s %-40s %8.3f %6.2f %6zu %s\n", seed, gen.empty() ? "-" : gen.c_str(),
                 added.empty() ? "-" : added.c_str(), ratio, s, rep.screen_every, right ? "" : "  <-- wrong");
-    if (detail) print_detail(tr, rep, val);
+    if (detail) print_detail(tr, rep, val, floor_rms(tr, g_train));
     std::fflush(stdout);
   }
   std::printf("\nno effect: nothing added in %d / %d; one effect: named first in %d / %d; two effects: "
               "both named in %d / %d; validation <= 1.5x floor in %d / %d; %.1f s per record\n",
               ok0, n0, ok1, n1, ok2, n2, floor_ok, records, total_s / records);
+  return 0;
+}
+
+// The floor's estimate through the truth's own model on effect-free records (`floor` mode). Per
+// record: the generator's floor (floor_rms), what gmslab's path leaves of the truth's force with
+// and without the encoder's rounding (the records made again with quantum 0), the loop's
+// quantisation share (add_quantisation) against the model along the smoothest positions within
+// half an encoder step (within_encoder_step), and the loop's sampling share (add_sampling: the
+// cubic less straight steps, over sqrt(3)) against what halving the rate changes, over 2 (the
+// model along every 2nd sample, decimated). The estimated floors use the generator's noise sd.
+int run_floor(int records, unsigned seed0, std::size_t samples) {
+  std::printf("%-6s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %6s %6s %6s\n", "rec", "noise", "floor",
+              "path N", "no enc N", "quant N", "enc N", "samp N", "half N", "C h/Fs", "loop", "alt");
+  auto rms = [](const std::vector<double>& a, const std::vector<double>& b, const Dataset& d,
+                std::size_t stride = 1) {
+    double s = 0, n = 0;
+    for (std::size_t k = 0; k < d.size() && k / stride < b.size(); k += stride)
+      if (d.use[k]) s += (a[k] - b[k / stride]) * (a[k] - b[k / stride]), n += 1;
+    return n > 0 ? std::sqrt(s / n) : 0.0;
+  };
+  int in_loop = 0, in_alt = 0;
+  for (int i = 0; i < records; ++i) {
+    const unsigned seed = seed0 + static_cast<unsigned>(i);
+    Truth tr = study::loop_truth(seed, i);
+    tr.effects.clear();
+    auto [gt, gv] = synthesize_pair(tr, seed, samples);
+    Truth tq = tr;
+    tq.quantum = 0;
+    const auto gq = synthesize_pair(tq, seed, samples).first;
+    const Dataset d = prepare_dataset(gt.record), dq = prepare_dataset(gq.record);
+    ModelParams m = model_info("gms").defaults();
+    m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
+    m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
+    m.elements.clear();
+    for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
+    const auto model = build_model(m);
+    // The truth (viscous on the dataset's v) along a dataset's path.
+    auto along = [&](const Dataset& x) {
+      std::vector<double> f;
+      simulate_along(*model, x, f);
+      for (std::size_t k = 0; k < x.size(); ++k) f[k] += tr.sigma2 * x.v[k];
+      return f;
+    };
+    const auto f = along(d), fq = along(dq);
+    const double path = rms(f, gt.clean_base, d), path_nq = rms(fq, gq.clean_base, dq);
+    NoiseEstimate loop;
+    add_quantisation(loop, d, make_context(d), f);
+    add_sampling(loop, d, f, along(with_straight_steps(d)));
+    const double enc = loop.quantum > 0 ? rms(f, along(within_encoder_step(d, loop.quantum, PathRule{})), d) : 0.0;
+    const double half = rms(f, along(decimated(d, 2, PathRule{})), d, 2) / 2.0;
+    const double gen = floor_rms(tr, gt);
+    const double est_loop = std::hypot(tr.noise, loop.quantisation, loop.sampling) / gen;
+    const double est_alt = std::hypot(tr.noise, enc, std::min(loop.sampling, half)) / gen;
+    in_loop += est_loop >= 1 / 1.5 && est_loop <= 1.5, in_alt += est_alt >= 1 / 1.5 && est_alt <= 1.5;
+    std::printf("%-6u %9.3g %9.3g | %9.3g %9.3g | %9.3g %9.3g | %9.3g %9.3g | %6.2f %6.2f %6.2f\n",
+                seed, tr.noise, gen, path, path_nq, loop.quantisation, enc, loop.sampling, half,
+                tr.C * d.h[1] / tr.Fs, est_loop, est_alt);
+    std::fflush(stdout);
+  }
+  std::printf("\nestimated floor within 1.5x of the generator's: the loop's shares %d / %d, "
+              "the alternative (encoder path, min(sampling, halving)) %d / %d\n",
+              in_loop, records, in_alt, records);
   return 0;
 }
 
@@ -472,8 +544,8 @@ int main(int argc, char** argv) {
   int skip = 0;
   std::string report_dir;
   std::size_t screen = LoopOptions{}.screen_samples;
-  app.add_option("mode", mode, "base | loop | self | coverage | registry | cycles")
-      ->check(CLI::IsMember({"base", "loop", "self", "coverage", "registry", "cycles"}));
+  app.add_option("mode", mode, "base | loop | self | coverage | registry | cycles | floor")
+      ->check(CLI::IsMember({"base", "loop", "self", "coverage", "registry", "cycles", "floor"}));
   std::string preset;
   app.add_option("--preset", preset,
                  "self: only this preset (its name without .json); registry: only this model tag");
@@ -518,6 +590,7 @@ int main(int argc, char** argv) {
   }
   if (mode == "coverage") return run_coverage(records, seed, samples, report_dir);
   if (mode == "cycles") return run_cycles(records, seed);
+  if (mode == "floor") return run_floor(records, seed, samples);
   if (mode == "self") return run_self(preset, GMSLAB_SOURCE_DIR "/presets");
   if (mode == "registry")
     return run_registry(records, seed, samples, GMSLAB_SOURCE_DIR "/presets", detail, preset);
