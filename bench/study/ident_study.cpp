@@ -24,7 +24,7 @@
 //                        the generator's on effect-free records of the loop study's truths,
 //                        through the truth's own model (no fit): the quantisation and sampling
 //                        shares as the loop estimates them, what the path actually leaves, and two
-//                        alternative estimators (docs/identification.md, *How close the floor is*)
+//                        alternative estimators (docs/identification.md, *How close the floor estimate is*)
 //
 //   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits
 //   (core/control/limit_cycles.hpp)
@@ -86,13 +86,8 @@ void print_detail(const Truth& tr, const IdentReport& rep, const Dataset& val, d
   for (const auto& row : f.elements)
     std::printf(" (%.3f, %.3g)", row[0], 1e6 * row[0] * fs / row[1]);
   // The truth through gmslab's own GMS model along the validation record (viscous on d.v).
-  ModelParams m = model_info("gms").defaults();
-  m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
-  m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
-  m.elements.clear();
-  for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
   std::vector<double> g;
-  simulate_along(*build_model(m), val, g);
+  simulate_along(*build_model(study::gms_params_of(tr)), val, g);
   double s2 = 0, n2 = 0;
   for (std::size_t k = 0; k < val.size(); ++k)
     if (val.use[k]) {
@@ -210,15 +205,16 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
 // quantisation share (add_quantisation) against the model along the smoothest positions within
 // half an encoder step (within_encoder_step), and the loop's sampling share (add_sampling: the
 // cubic less straight steps, over sqrt(3)) against what halving the rate changes, over 2 (the
-// model along every 2nd sample, decimated). The estimated floors use the generator's noise sd.
+// model along every 2nd sample: add_sampling_halving). The estimated floors use the generator's
+// noise sd; "alt" is the credit bound's sampling share (the smaller of the two) with the encoder
+// path's quantisation share.
 int run_floor(int records, unsigned seed0, std::size_t samples) {
   std::printf("%-6s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %6s %6s %6s\n", "rec", "noise", "floor",
               "path N", "no enc N", "quant N", "enc N", "samp N", "half N", "C h/Fs", "loop", "alt");
-  auto rms = [](const std::vector<double>& a, const std::vector<double>& b, const Dataset& d,
-                std::size_t stride = 1) {
+  auto rms = [](const std::vector<double>& a, const std::vector<double>& b, const Dataset& d) {
     double s = 0, n = 0;
-    for (std::size_t k = 0; k < d.size() && k / stride < b.size(); k += stride)
-      if (d.use[k]) s += (a[k] - b[k / stride]) * (a[k] - b[k / stride]), n += 1;
+    for (std::size_t k = 0; k < d.size() && k < b.size(); ++k)
+      if (d.use[k]) s += (a[k] - b[k]) * (a[k] - b[k]), n += 1;
     return n > 0 ? std::sqrt(s / n) : 0.0;
   };
   int in_loop = 0, in_alt = 0;
@@ -231,12 +227,7 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
     tq.quantum = 0;
     const auto gq = synthesize_pair(tq, seed, samples).first;
     const Dataset d = prepare_dataset(gt.record), dq = prepare_dataset(gq.record);
-    ModelParams m = model_info("gms").defaults();
-    m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
-    m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
-    m.elements.clear();
-    for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
-    const auto model = build_model(m);
+    const auto model = build_model(study::gms_params_of(tr));
     // The truth (viscous on the dataset's v) along a dataset's path.
     auto along = [&](const Dataset& x) {
       std::vector<double> f;
@@ -250,7 +241,8 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
     add_quantisation(loop, d, make_context(d), f);
     add_sampling(loop, d, f, along(with_straight_steps(d)));
     const double enc = loop.quantum > 0 ? rms(f, along(within_encoder_step(d, loop.quantum, PathRule{})), d) : 0.0;
-    const double half = rms(f, along(decimated(d, 2, PathRule{})), d, 2) / 2.0;
+    add_sampling_halving(loop, d, f, along(decimated(d, 2, PathRule{})));
+    const double half = loop.sampling_halving;
     const double gen = floor_rms(tr, gt);
     const double est_loop = std::hypot(tr.noise, loop.quantisation, loop.sampling) / gen;
     const double est_alt = std::hypot(tr.noise, enc, std::min(loop.sampling, half)) / gen;

@@ -439,6 +439,8 @@ void LoopState::add_model_shares(NoiseEstimate& e, const FitResult& f, const Dat
   const auto ff = friction_force(f, d);
   add_quantisation(e, d, c, ff);
   add_sampling(e, d, ff, friction_force(f, d, true));
+  add_sampling_halving(e, d, ff,
+                       friction_force(f, decimated(d, 2, rep.fine_path ? kFinePath : PathRule{})));
 }
 
 FitResult LoopState::fit_base_from_data(const Dataset& d, const Dataset& v) {
@@ -876,8 +878,11 @@ void widen_break_away_range(LoopState& s, bool before_rounds) {
 bool no_effect_creditable(LoopState& s) {
   const NoiseEstimate& n = s.rep.noise;
   const double noise = n.from_rests ? n.sigma : 0.0;
+  // The sampling share's lower estimate where it is lower (structure.hpp: the straight-step bound
+  // overstates the share up to 50x where the force follows the speed at each instant).
+  const double sampling = n.sampling_halving >= 0 ? std::min(n.sampling, n.sampling_halving) : n.sampling;
   const double floor =
-      std::sqrt(noise * noise + n.quantisation * n.quantisation + n.sampling * n.sampling);
+      std::sqrt(noise * noise + n.quantisation * n.quantisation + sampling * sampling);
   if (!s.o.credit_bound || !(floor > 0)) return false;
   auto within = [&](double val) {
     return val >= floor && val * val - floor * floor < floor * floor;

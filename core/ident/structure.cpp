@@ -161,6 +161,17 @@ void add_sampling(NoiseEstimate& e, const Dataset& d, const std::vector<double>&
   e.sampling = n > 0 ? std::sqrt(s / n / 3.0) : 0.0;
 }
 
+void add_sampling_halving(NoiseEstimate& e, const Dataset& d, const std::vector<double>& f,
+                          const std::vector<double>& f_half) {
+  double s = 0, n = 0;
+  for (std::size_t k = 0; k < d.size() && k < f.size() && k / 2 < f_half.size(); k += 2) {
+    if (!d.use[k]) continue;
+    s += (f[k] - f_half[k / 2]) * (f[k] - f_half[k / 2]);
+    n += 1;
+  }
+  e.sampling_halving = n > 0 ? std::sqrt(s / n) / 2.0 : -1.0;
+}
+
 namespace {
 struct PeriodogramSums {
   double v[10];  // C0 S0 C1 S1 C2 S2 bs bc bgs bgc

@@ -35,6 +35,8 @@ struct NoiseEstimate {
   double quantum = 0;        // encoder step found in x (smallest position step) [m]
   double quantisation = 0;   // RMS force error that step gives through the model's stiffness [N]
   double sampling = 0;       // RMS force the unmeasured path between samples can change [N]
+  // A second, lower estimate of the sampling share (add_sampling_halving) [N]; < 0: not made.
+  double sampling_halving = -1;
   // What noise, quantisation and sampling alone leave [N].
   double floor() const { return std::sqrt(sigma * sigma + quantisation * quantisation + sampling * sampling); }
 };
@@ -49,6 +51,17 @@ void add_quantisation(NoiseEstimate& e, const Dataset& d, const EffectContext& c
 // these differ; no model driven by the samples alone can resolve that.
 void add_sampling(NoiseEstimate& e, const Dataset& d, const std::vector<double>& f,
                   const std::vector<double>& f_straight);
+// Sets e.sampling_halving: the RMS over every 2nd used sample of f less the model along the path
+// through every 2nd sample only (f_half[k / 2], the same velocities: dataset.hpp, decimated), over
+// 2: what doubling the step changes. A path error that grows in proportion to the step and is
+// independent between the two paths makes that difference sqrt(5) x the error at the record's
+// own step; one that grows faster (a smooth motion's cubic), more. On random records it tracks
+// what the path leaves far closer than add_sampling (docs/identification.md, *How close the floor
+// estimate is*), but through a fitted model it can fall below what the fit leaves; the credit
+// bound, which must not skip the rounds on a floor estimate set too high, takes the smaller of
+// the two.
+void add_sampling_halving(NoiseEstimate& e, const Dataset& d, const std::vector<double>& f,
+                          const std::vector<double>& f_half);
 
 struct RipplePeak {
   double wavelength = 0;       // [m]

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/friction/model.hpp"
 #include "core/ident/loop.hpp"
 #include "tests/ident/random_records.hpp"
 
@@ -84,6 +85,17 @@ inline records::Truth loop_truth(unsigned seed, int i,
     tr.effects.push_back({one[(i / 3) % ne], 2.0 + 8.0 * U(rng)});
   if (kind == 2) tr.effects.push_back({one[(i / 3 + 3) % ne], 2.0 + 8.0 * U(rng)});
   return tr;
+}
+
+// The truth's friction as gmslab's GMS model (no micro-damping, sigma2 0: the viscous term is
+// added on a dataset's own v by the caller).
+inline ModelParams gms_params_of(const records::Truth& tr) {
+  ModelParams m = model_info("gms").defaults();
+  m.set_scalar("Fs", tr.Fs), m.set_scalar("Fc", tr.Fc), m.set_scalar("Vs", tr.Vs);
+  m.set_scalar("delta", tr.delta), m.set_scalar("C", tr.C), m.set_scalar("sigma2", 0.0);
+  m.elements.clear();
+  for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
+  return m;
 }
 
 // A record of the coverage study (`gmslab_study coverage`, coverage_test.cpp): the random truth of
