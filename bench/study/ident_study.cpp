@@ -24,7 +24,8 @@
 //                        the generator's on effect-free records of the loop study's truths,
 //                        through the truth's own model (no fit): the quantisation and sampling
 //                        shares as the loop estimates them, what the path actually leaves, and two
-//                        alternative estimators (docs/identification.md, *How close the floor estimate is*)
+//                        alternative estimators (docs/identification.md, *How close the floor
+//                        estimate is*)
 //
 //   gmslab_study cycles  [--records 240] [--seed 5000]   periodic orbits
 //   (core/control/limit_cycles.hpp)
@@ -210,7 +211,8 @@ int run_loop(int records, unsigned seed0, std::size_t samples, int skip,
 // path's quantisation share.
 int run_floor(int records, unsigned seed0, std::size_t samples) {
   std::printf("%-6s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %6s %6s %6s\n", "rec", "noise", "floor",
-              "path N", "no enc N", "quant N", "enc N", "samp N", "half N", "C h/Fs", "loop", "alt");
+              "path N", "no enc N", "quant N", "enc N", "samp N", "half N", "C h/Fs", "loop",
+              "alt");
   auto rms = [](const std::vector<double>& a, const std::vector<double>& b, const Dataset& d) {
     double s = 0, n = 0;
     for (std::size_t k = 0; k < d.size() && k < b.size(); ++k)
@@ -240,21 +242,24 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
     NoiseEstimate loop;
     add_quantisation(loop, d, make_context(d), f);
     add_sampling(loop, d, f, along(with_straight_steps(d)));
-    const double enc = loop.quantum > 0 ? rms(f, along(within_encoder_step(d, loop.quantum, PathRule{})), d) : 0.0;
+    const double enc =
+        loop.quantum > 0 ? rms(f, along(within_encoder_step(d, loop.quantum, PathRule{})), d) : 0.0;
     add_sampling_halving(loop, d, f, along(decimated(d, 2, PathRule{})));
     const double half = loop.sampling_halving;
     const double gen = floor_rms(tr, gt);
     const double est_loop = std::hypot(tr.noise, loop.quantisation, loop.sampling) / gen;
     const double est_alt = std::hypot(tr.noise, enc, std::min(loop.sampling, half)) / gen;
-    in_loop += est_loop >= 1 / 1.5 && est_loop <= 1.5, in_alt += est_alt >= 1 / 1.5 && est_alt <= 1.5;
+    in_loop += est_loop >= 1 / 1.5 && est_loop <= 1.5,
+        in_alt += est_alt >= 1 / 1.5 && est_alt <= 1.5;
     std::printf("%-6u %9.3g %9.3g | %9.3g %9.3g | %9.3g %9.3g | %9.3g %9.3g | %6.2f %6.2f %6.2f\n",
                 seed, tr.noise, gen, path, path_nq, loop.quantisation, enc, loop.sampling, half,
                 tr.C * d.h[1] / tr.Fs, est_loop, est_alt);
     std::fflush(stdout);
   }
-  std::printf("\nestimated floor within 1.5x of the generator's: the loop's shares %d / %d, "
-              "the alternative (encoder path, min(sampling, halving)) %d / %d\n",
-              in_loop, records, in_alt, records);
+  std::printf(
+      "\nestimated floor within 1.5x of the generator's: the loop's shares %d / %d, "
+      "the alternative (encoder path, min(sampling, halving)) %d / %d\n",
+      in_loop, records, in_alt, records);
   return 0;
 }
 

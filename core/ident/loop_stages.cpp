@@ -880,7 +880,8 @@ bool no_effect_creditable(LoopState& s) {
   const double noise = n.from_rests ? n.sigma : 0.0;
   // The sampling share's lower estimate where it is lower (structure.hpp: the straight-step bound
   // overstates the share up to 50x where the force follows the speed at each instant).
-  const double sampling = n.sampling_halving >= 0 ? std::min(n.sampling, n.sampling_halving) : n.sampling;
+  const double sampling =
+      n.sampling_halving >= 0 ? std::min(n.sampling, n.sampling_halving) : n.sampling;
   const double floor =
       std::sqrt(noise * noise + n.quantisation * n.quantisation + sampling * sampling);
   if (!s.o.credit_bound || !(floor > 0)) return false;

@@ -73,18 +73,20 @@ TEST(FloorShares, TheSamplingSharesAgainstWhatThePathLeaves) {
     err_straight.push_back(std::abs(std::log(e.sampling / path)));
     err_bound.push_back(std::abs(std::log(bound / path)));
     closer += err_bound.back() <= err_straight.back();
-    std::printf("seed %u: path leaves %.3g N (noise %.3g); straight-step share %.3g, halving %.3g, "
-                "bound's share with the noise %.2fx\n",
-                seed, path, tr.noise, e.sampling, e.sampling_halving, with_noise);
+    std::printf(
+        "seed %u: path leaves %.3g N (noise %.3g); straight-step share %.3g, halving %.3g, "
+        "bound's share with the noise %.2fx\n",
+        seed, path, tr.noise, e.sampling, e.sampling_halving, with_noise);
   }
   auto median = [](std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
     return v[v.size() / 2];
   };
-  std::printf("straight-step share at or above what the path leaves: %d / %d; the bound's share "
-              "with the noise within 1.5x: %d / %d; closer: %d / %d; median |ln ratio| %.2f / %.2f\n",
-              upper, kRecords, tracked, kRecords, closer, kRecords, median(err_straight),
-              median(err_bound));
+  std::printf(
+      "straight-step share at or above what the path leaves: %d / %d; the bound's share "
+      "with the noise within 1.5x: %d / %d; closer: %d / %d; median |ln ratio| %.2f / %.2f\n",
+      upper, kRecords, tracked, kRecords, closer, kRecords, median(err_straight),
+      median(err_bound));
   // Calibration (seeds 1-60 / 52001-52016): 52 / 60 and 15 / 16 at or above; 53 / 60 and 16 / 16
   // within 1.5x.
   EXPECT_GE(upper, kRecords * 7 / 10);
