@@ -230,13 +230,7 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
     const auto gq = synthesize_pair(tq, seed, samples).first;
     const Dataset d = prepare_dataset(gt.record), dq = prepare_dataset(gq.record);
     const auto model = build_model(study::gms_params_of(tr));
-    // The truth (viscous on the dataset's v) along a dataset's path.
-    auto along = [&](const Dataset& x) {
-      std::vector<double> f;
-      simulate_along(*model, x, f);
-      for (std::size_t k = 0; k < x.size(); ++k) f[k] += tr.sigma2 * x.v[k];
-      return f;
-    };
+    auto along = [&](const Dataset& x) { return study::truth_force_along(*model, tr, x); };
     const auto f = along(d), fq = along(dq);
     const double path = rms(f, gt.clean_base, d), path_nq = rms(fq, gq.clean_base, dq);
     NoiseEstimate loop;

@@ -53,12 +53,7 @@ TEST(FloorShares, TheSamplingSharesAgainstWhatThePathLeaves) {
     const auto g = records::synthesize_pair(tr, seed, 3000).first;
     const Dataset d = prepare_dataset(g.record);
     const auto model = build_model(study::gms_params_of(tr));
-    auto along = [&](const Dataset& x) {
-      std::vector<double> f;
-      simulate_along(*model, x, f);
-      for (std::size_t k = 0; k < x.size(); ++k) f[k] += tr.sigma2 * x.v[k];
-      return f;
-    };
+    auto along = [&](const Dataset& x) { return study::truth_force_along(*model, tr, x); };
     const auto f = along(d);
     const double path = rms_used(d, f, g.clean_base);
     ASSERT_GT(path, 0.0) << "seed " << seed;

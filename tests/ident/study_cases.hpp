@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/friction/model.hpp"
+#include "core/ident/fit.hpp"
 #include "core/ident/loop.hpp"
 #include "tests/ident/random_records.hpp"
 
@@ -96,6 +97,16 @@ inline ModelParams gms_params_of(const records::Truth& tr) {
   m.elements.clear();
   for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
   return m;
+}
+
+// The truth's force along a dataset's path: its friction (model: built from gms_params_of) with
+// the viscous term on the dataset's own v [N].
+inline std::vector<double> truth_force_along(const FrictionModel& model, const records::Truth& tr,
+                                             const ident::Dataset& x) {
+  std::vector<double> f;
+  ident::simulate_along(model, x, f);
+  for (std::size_t k = 0; k < x.size(); ++k) f[k] += tr.sigma2 * x.v[k];
+  return f;
 }
 
 // A record of the coverage study (`gmslab_study coverage`, coverage_test.cpp): the random truth of
