@@ -5,7 +5,7 @@
 // than what lies above the floor); its block-test clause (z >= 3) is what the screening checks.
 // Checked here on random-truth records (tests/ident/random_records.hpp) with one effect of
 // 1.5-50x the noise (log-uniform; backlash, dwell stiction, time drift, inertia and others) and
-// effect-free ones:
+// effect-free ones (one of them resting after every stroke, on which the bound fires):
 //   - where the bound skipped the rounds, the same record identified without the bound names
 //     nothing either;
 //   - where it did not, the rounds ran; on the first such record the answer is also the same to
@@ -41,8 +41,9 @@ struct Counts {
 };
 
 // One record: identified with the bound and without it; the checks above.
-void check_record(unsigned seed, const std::vector<records::EffectSpec>& effects, Counts& n) {
-  study::Case k{seed, effects};
+void check_record(unsigned seed, const std::vector<records::EffectSpec>& effects, Counts& n,
+                  bool rests = false) {
+  study::Case k{seed, effects, rests};
   const study::Record r = study::make_record(k);
   const Dataset train = prepare_dataset(r.train.record), val = prepare_dataset(r.validation.record);
   const FitSpec spec;
@@ -50,7 +51,7 @@ void check_record(unsigned seed, const std::vector<records::EffectSpec>& effects
   without.credit_bound = false;
   const IdentReport a = identify(train, val, spec, with);
   ++n.records;
-  std::printf("seed %u", seed);
+  std::printf("seed %u%s", seed, rests ? " (a rest after every stroke)" : "");
   for (const auto& e : effects)
     std::printf(" [%s %.1fx noise]", records::gen_effect_name(e.kind), e.size);
   if (!a.rounds_skipped.empty()) {
@@ -98,22 +99,27 @@ TEST(IdentCreditBound, SkipsOnlyWhereTheRoundsWouldCreditNothing) {
     const double size = 1.5 * std::pow(50.0 / 1.5, U(rng));  // log-uniform 1.5..50 x the noise
     check_record(seed++, {{e, size}}, n);
   }
+  // The bound fires on few random records: it needs the base fit between the floor and sqrt(2) x
+  // it, with the noise measured at rests. Of the effect-free records 8800-8802 and 8811-8814,
+  // resting after every stroke, it fires on 8802 alone.
+  check_record(8802, {}, n, true);
   std::printf(
       "credit bound: %d records, rounds skipped on %d (%d of them with an effect), run on %d of "
       "the %d others\n",
       n.records, n.skipped, n.skipped_with_effect, n.ran, n.records - n.skipped);
-  EXPECT_EQ(n.records, 11);
+  EXPECT_EQ(n.records, 12);
   EXPECT_GE(n.skipped, 1) << "the bound never fired: the test would check nothing";
   EXPECT_TRUE(n.compared) << "no record ran the rounds: the reuse was not checked";
 }
 
 // The loop study's records 7-12 (`gmslab_study loop`: the truth of the seed over the full draw
 // ranges, no effect / one / two catalog effects of 2-10x the noise, drawn as the study draws
-// them). On three of them the floor gmslab estimates is mostly its sampling share (the path
-// anywhere between straight steps and the cubic: 1.7-6.5x the noise), so the base fit lies within
-// sqrt(2) x that floor although an effect is missing; the screening's block test must then run
-// the rounds. Every record: the effect-free one names nothing, the one effect is named first, both
-// of two are named; and the screening must have run the rounds on at least two records.
+// them): the effect-free one names nothing, the one effect is named first, both of two are
+// named. Where the floor's sampling share is mostly the straight-step bound (1.7-6.5x the noise
+// on three of them), the bound takes the halving estimate, and the rounds run on the size clause.
+// The screening's block test is what runs the rounds where the size bound holds although an
+// effect is there: an offset of 0.7x the noise on an effect-free record resting after every
+// stroke (seed 8802, on which the bound fires without it) must be screened in and named.
 TEST(IdentCreditBound, TheScreeningRunsTheRoundsWhereTheBlockTestResolvesAnEffect) {
   const GenEffect one[] = {GenEffect::Inertia,
                            GenEffect::Offset,
@@ -165,6 +171,22 @@ TEST(IdentCreditBound, TheScreeningRunsTheRoundsWhereTheBlockTestResolvesAnEffec
     }
   }
   EXPECT_EQ(records_run, 6);
-  EXPECT_GE(screened_in, 2)
+  {
+    const study::Record r = study::make_record({8802, {{GenEffect::Offset, 0.7}}, true});
+    const Dataset train = prepare_dataset(r.train.record),
+                  val = prepare_dataset(r.validation.record);
+    const IdentReport a = identify(train, val, FitSpec{}, study::study_options());
+    bool screened = false;
+    for (const auto& n : a.notes)
+      screened |= n.find("but the screening of offset") != std::string::npos;
+    screened_in += screened;
+    std::printf("seed 8802 (a rest after every stroke) [offset 0.7x noise] named %s%s\n",
+                named(a).c_str(),
+                screened ? " (size bound held; the screening ran the rounds)" : "");
+    EXPECT_TRUE(screened) << "the size bound did not hold, or the screening did not run the rounds";
+    ASSERT_FALSE(a.effects_added.empty()) << "nothing named";
+    EXPECT_EQ(a.effects_added.front(), Effect::Offset) << named(a);
+  }
+  EXPECT_GE(screened_in, 1)
       << "the screening never ran the rounds: the test would check nothing new";
 }

@@ -32,6 +32,7 @@ inline records::DrawRanges ranges(unsigned seed) {
 struct Case {
   unsigned seed = 0;
   std::vector<records::EffectSpec> effects;
+  bool rests = false;  // a rest after every stroke (records::Truth::dwell_rests)
 };
 
 struct Record {
@@ -44,6 +45,7 @@ inline Record make_record(const Case& k) {
   Record r;
   r.truth = records::draw_truth(k.seed, ranges(k.seed));
   r.truth.effects = k.effects;
+  r.truth.dwell_rests = k.rests;
   auto [tg, vg] = records::synthesize_pair(r.truth, k.seed, 3000);
   r.train = std::move(tg), r.validation = std::move(vg);
   r.floor = records::floor_rms(r.truth, r.validation);
