@@ -878,8 +878,8 @@ void widen_break_away_range(LoopState& s, bool before_rounds) {
 bool no_effect_creditable(LoopState& s) {
   const NoiseEstimate& n = s.rep.noise;
   const double noise = n.from_rests ? n.sigma : 0.0;
-  // The sampling share's lower estimate where it is lower (structure.hpp: the straight-step bound
-  // overstates the share up to 50x where the force follows the speed at each instant).
+  // The smaller of the two sampling estimates (structure.hpp: the straight-step bound overstates
+  // the share up to 50x where the force follows the speed at each instant).
   const double sampling =
       n.sampling_halving >= 0 ? std::min(n.sampling, n.sampling_halving) : n.sampling;
   const double floor =

@@ -35,7 +35,7 @@ struct NoiseEstimate {
   double quantum = 0;        // encoder step found in x (smallest position step) [m]
   double quantisation = 0;   // RMS force error that step gives through the model's stiffness [N]
   double sampling = 0;       // RMS force the unmeasured path between samples can change [N]
-  // A second, lower estimate of the sampling share (add_sampling_halving) [N]; < 0: not made.
+  // A second estimate of the sampling share (add_sampling_halving) [N]; < 0: not made.
   double sampling_halving = -1;
   // What noise, quantisation and sampling alone leave [N].
   double floor() const { return std::sqrt(sigma * sigma + quantisation * quantisation + sampling * sampling); }
