@@ -213,12 +213,6 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
   std::printf("%-6s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %6s %6s %6s\n", "rec", "noise", "floor",
               "path N", "no enc N", "quant N", "enc N", "samp N", "half N", "C h/Fs", "loop",
               "alt");
-  auto rms = [](const std::vector<double>& a, const std::vector<double>& b, const Dataset& d) {
-    double s = 0, n = 0;
-    for (std::size_t k = 0; k < d.size() && k < b.size(); ++k)
-      if (d.use[k]) s += (a[k] - b[k]) * (a[k] - b[k]), n += 1;
-    return n > 0 ? std::sqrt(s / n) : 0.0;
-  };
   int in_loop = 0, in_alt = 0;
   for (int i = 0; i < records; ++i) {
     const unsigned seed = seed0 + static_cast<unsigned>(i);
@@ -232,12 +226,15 @@ int run_floor(int records, unsigned seed0, std::size_t samples) {
     const auto model = build_model(study::gms_params_of(tr));
     auto along = [&](const Dataset& x) { return study::truth_force_along(*model, tr, x); };
     const auto f = along(d), fq = along(dq);
-    const double path = rms(f, gt.clean_base, d), path_nq = rms(fq, gq.clean_base, dq);
+    const double path = study::rms_between(d, f, gt.clean_base),
+                 path_nq = study::rms_between(dq, fq, gq.clean_base);
     NoiseEstimate loop;
     add_quantisation(loop, d, make_context(d), f);
     add_sampling(loop, d, f, along(with_straight_steps(d)));
     const double enc =
-        loop.quantum > 0 ? rms(f, along(within_encoder_step(d, loop.quantum, PathRule{})), d) : 0.0;
+        loop.quantum > 0
+            ? study::rms_between(d, f, along(within_encoder_step(d, loop.quantum, PathRule{})))
+            : 0.0;
     add_sampling_halving(loop, d, f, along(decimated(d, 2, PathRule{})));
     const double half = loop.sampling_halving;
     const double gen = floor_rms(tr, gt);

@@ -129,7 +129,6 @@ enum class ExtraOutput {
 
 // One linear column: its coefficient's name and unit, whether it depends on g (recomputed at each
 // evaluation of the nonlinear fit) and how to compute it.
-
 struct Column {
   std::string name;  // e.g. "M", "ripple_sin1"
   std::string unit;  // unit of the coefficient, e.g. "kg"

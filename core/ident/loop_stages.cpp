@@ -439,8 +439,6 @@ void LoopState::add_model_shares(NoiseEstimate& e, const FitResult& f, const Dat
   const auto ff = friction_force(f, d);
   add_quantisation(e, d, c, ff);
   add_sampling(e, d, ff, friction_force(f, d, true));
-  add_sampling_halving(e, d, ff,
-                       friction_force(f, decimated(d, 2, rep.fine_path ? kFinePath : PathRule{})));
 }
 
 FitResult LoopState::fit_base_from_data(const Dataset& d, const Dataset& v) {
@@ -454,6 +452,10 @@ FitResult LoopState::fit_base_from_data(const Dataset& d, const Dataset& v) {
 void LoopState::add_shares() {
   rep.noise = noise_data;
   add_model_shares(rep.noise, cur, full());
+  // The credit bound's second sampling estimate (no_effect_creditable).
+  add_sampling_halving(
+      rep.noise, full(), friction_force(cur, full()),
+      friction_force(cur, decimated(full(), 2, rep.fine_path ? kFinePath : PathRule{})));
 }
 
 // A long record is screened on every k-th sample (at least screen_samples of them): the base fit

@@ -76,7 +76,8 @@ struct LoopState {
   std::vector<double> friction_force(const FitResult& f, const Dataset& d, bool straight = false) const;
   // e with the quantisation and sampling shares through model f along d.
   void add_model_shares(NoiseEstimate& e, const FitResult& f, const Dataset& d) const;
-  // rep.noise: the data's noise with the shares through the current model along full().
+  // rep.noise: the data's noise with the shares through the current model along full(), and the
+  // credit bound's halving estimate of the sampling share.
   void add_shares();
   // The report's last stage and the last round's numbers after it follow cur and cur_val (a
   // stage that moved the model it ended with).

@@ -30,17 +30,6 @@
 using namespace gmslab;
 using namespace gmslab::ident;
 
-namespace {
-
-double rms_used(const Dataset& d, const std::vector<double>& a, const std::vector<double>& b) {
-  double s = 0, n = 0;
-  for (std::size_t k = 0; k < d.size(); ++k)
-    if (d.use[k]) s += (a[k] - b[k]) * (a[k] - b[k]), n += 1;
-  return std::sqrt(s / n);
-}
-
-}  // namespace
-
 TEST(FloorShares, TheSamplingSharesAgainstWhatThePathLeaves) {
   constexpr int kRecords = 24;
   int upper = 0, tracked = 0, closer = 0;
@@ -55,7 +44,7 @@ TEST(FloorShares, TheSamplingSharesAgainstWhatThePathLeaves) {
     const auto model = build_model(study::gms_params_of(tr));
     auto along = [&](const Dataset& x) { return study::truth_force_along(*model, tr, x); };
     const auto f = along(d);
-    const double path = rms_used(d, f, g.clean_base);
+    const double path = study::rms_between(d, f, g.clean_base);
     ASSERT_GT(path, 0.0) << "seed " << seed;
     NoiseEstimate e;
     add_sampling(e, d, f, along(with_straight_steps(d)));

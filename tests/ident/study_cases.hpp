@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/friction/model.hpp"
+#include "core/ident/ablation.hpp"
 #include "core/ident/fit.hpp"
 #include "core/ident/loop.hpp"
 #include "tests/ident/random_records.hpp"
@@ -99,6 +100,14 @@ inline ModelParams gms_params_of(const records::Truth& tr) {
   m.elements.clear();
   for (std::size_t e = 0; e < tr.elements(); ++e) m.elements.push_back({tr.alpha[e], tr.k[e], 0.0});
   return m;
+}
+
+// RMS of a - b over d's used samples [N].
+inline double rms_between(const ident::Dataset& d, const std::vector<double>& a,
+                          const std::vector<double>& b) {
+  std::vector<double> r(d.size());
+  for (std::size_t k = 0; k < d.size(); ++k) r[k] = a[k] - b[k];
+  return ident::rms_of(d, r);
 }
 
 // The truth's force along a dataset's path: its friction (model: built from gms_params_of) with
